@@ -1,0 +1,33 @@
+# Third-party dependencies, all from Debian 12 packages (scripts/setup.sh installs them).
+find_package(Threads REQUIRED)
+find_package(glm REQUIRED)
+find_package(nlohmann_json 3.10 REQUIRED)
+find_package(CLI11 REQUIRED)
+find_package(embree 3.13 REQUIRED)
+find_package(OpenImageIO REQUIRED)
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(EGL REQUIRED IMPORTED_TARGET egl)
+pkg_check_modules(OSMESA REQUIRED IMPORTED_TARGET osmesa)
+
+# Debian 12's OpenImageIO target lists /usr/include/opencv4, which does not exist without OpenCV's dev
+# package (PLATFORM.md); drop it so configuration does not fail.
+get_target_property(_oiio_includes OpenImageIO::OpenImageIO INTERFACE_INCLUDE_DIRECTORIES)
+if(_oiio_includes)
+  list(FILTER _oiio_includes EXCLUDE REGEX "opencv4")
+  set_target_properties(OpenImageIO::OpenImageIO PROPERTIES INTERFACE_INCLUDE_DIRECTORIES "${_oiio_includes}")
+endif()
+
+# tinygltf: Debian ships libtinygltf.so with its json and stb inside.
+find_path(TINYGLTF_INCLUDE_DIR tiny_gltf.h REQUIRED)
+find_library(TINYGLTF_LIBRARY tinygltf REQUIRED)
+add_library(tinygltf::tinygltf UNKNOWN IMPORTED)
+set_target_properties(tinygltf::tinygltf PROPERTIES IMPORTED_LOCATION "${TINYGLTF_LIBRARY}"
+  INTERFACE_INCLUDE_DIRECTORIES "${TINYGLTF_INCLUDE_DIR}")
+
+if(CHCRT_BUILD_VIEWER)
+  find_package(glfw3 3.3 REQUIRED)
+  pkg_check_modules(IMGUI REQUIRED IMPORTED_TARGET imgui)
+endif()
+if(CHCRT_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+endif()

@@ -1,0 +1,37 @@
+#pragma once
+// Image files through OpenImageIO. Writes are atomic: the image goes to "<name>.tmp<ext>" next to the target
+// and is renamed into place, so an error never leaves a partial output file.
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace chcrt {
+
+// Linear float RGBA image, rows top to bottom.
+struct ImageRgba32f {
+    int width = 0;
+    int height = 0;
+    std::vector<float> pixels; // width * height * 4
+    float* at(int x, int y) { return &pixels[(size_t(y) * width + x) * 4]; }
+    const float* at(int x, int y) const { return &pixels[(size_t(y) * width + x) * 4]; }
+};
+
+// Writes PNG/JPEG (8-bit sRGB-encoded from linear, alpha dropped for JPEG) or EXR/HDR/TIFF (float, linear)
+// chosen by extension. `alreadyDisplayEncoded` skips the sRGB encode (for tone-mapped or debug images whose
+// values are display values). Throws InputError for an unsupported extension or an unwritable path.
+void writeImage(const std::filesystem::path& file, const ImageRgba32f& image, bool alreadyDisplayEncoded = false);
+
+// Reads any format OpenImageIO reads into linear float RGBA (8-bit sources are sRGB-decoded).
+ImageRgba32f readImage(const std::filesystem::path& file);
+
+// Image comparison used by bench/verify and image tests (values compared after clamping to [0, 1]).
+struct ImageDifference {
+    uint64_t differingPixels = 0; // pixels whose max channel difference exceeds the threshold
+    double meanAbsoluteError = 0.0; // over RGB of all pixels
+    double psnrDb = 0.0;            // over RGB; +infinity when identical
+    double maxAbsoluteError = 0.0;
+};
+ImageDifference compareImages(const ImageRgba32f& a, const ImageRgba32f& b, float pixelThreshold = 0.0f);
+
+} // namespace chcrt

@@ -1,0 +1,2 @@
+// placeholder until the render pipeline lands
+namespace chcrt {}

@@ -1,0 +1,65 @@
+#ifndef CHCRT_SHARED_INTERSECT_H
+#define CHCRT_SHARED_INTERSECT_H
+// Ray/box and ray/triangle tests, written once in the common subset of GLSL 4.50 and C++/GLM so that the
+// GLSL tracer and the CPU tracer (its test twin) run the same arithmetic. tests/gpu/intersect_twin_test.cpp
+// dispatches these in a shader and compares with the C++ build of the same text.
+#include "shared_begin.h"
+
+#ifdef __cplusplus
+#define CHCRT_INLINE inline
+using glm::abs;
+using glm::cross;
+using glm::dot;
+using glm::max;
+using glm::min;
+#else
+#define CHCRT_INLINE
+#endif
+
+// Slab test. Returns (tEntry, tExit) of the ray's line with the box; the ray [tmin, tmax] hits the box when
+// tEntry <= tExit && tExit >= tmin && tEntry <= tmax. invDir = 1 / direction (IEEE infinities for zero
+// components are fine: the min/max ordering handles them, except 0 * inf, which the box tests avoid by
+// computing (bound - origin) * invDir).
+CHCRT_INLINE vec2 intersectRayAabb(vec3 origin, vec3 invDir, vec3 boundsMin, vec3 boundsMax) {
+    vec3 t0 = (boundsMin - origin) * invDir;
+    vec3 t1 = (boundsMax - origin) * invDir;
+    vec3 tNear = min(t0, t1);
+    vec3 tFar = max(t0, t1);
+    float tEntry = max(max(tNear.x, tNear.y), tNear.z);
+    float tExit = min(min(tFar.x, tFar.y), tFar.z);
+    return vec2(tEntry, tExit);
+}
+
+CHCRT_INLINE bool rayHitsAabb(vec2 entryExit, float tmin, float tmax) {
+    return entryExit.x <= entryExit.y && entryExit.y >= tmin && entryExit.x <= tmax;
+}
+
+// Möller-Trumbore. Returns (t, u, v) with barycentrics u (of v1) and v (of v2); t = -1 when the ray's line
+// misses the triangle or is parallel to it. Both faces count (the scenes are not closed).
+CHCRT_INLINE vec3 intersectRayTriangle(vec3 origin, vec3 direction, vec3 v0, vec3 v1, vec3 v2) {
+    vec3 e1 = v1 - v0;
+    vec3 e2 = v2 - v0;
+    vec3 p = cross(direction, e2);
+    float det = dot(e1, p);
+    // Parallel (or degenerate) triangles have det == 0 exactly; no epsilon so that thin triangles still hit.
+    if (det == 0.0f) {
+        return vec3(-1.0f, 0.0f, 0.0f);
+    }
+    float invDet = 1.0f / det;
+    vec3 s = origin - v0;
+    float u = dot(s, p) * invDet;
+    if (u < 0.0f || u > 1.0f) {
+        return vec3(-1.0f, 0.0f, 0.0f);
+    }
+    vec3 q = cross(s, e1);
+    float v = dot(direction, q) * invDet;
+    if (v < 0.0f || u + v > 1.0f) {
+        return vec3(-1.0f, 0.0f, 0.0f);
+    }
+    float t = dot(e2, q) * invDet;
+    return vec3(t, u, v);
+}
+
+#undef CHCRT_INLINE
+#include "shared_end.h"
+#endif

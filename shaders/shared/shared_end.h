@@ -1,0 +1,3 @@
+#ifdef __cplusplus
+} // namespace chcrt::gpu
+#endif
