@@ -1,6 +1,5 @@
 chcrt_add_library(chcrt_scene
   scene/scene.cpp
-  scene/camera_path.cpp
   scene/gltf_loader.cpp
   scene/ply_loader.cpp
   scene/obj_loader.cpp
