@@ -6,13 +6,15 @@
 
 namespace chcrt {
 
-// Throws InputError for malformed text, negative numbers, reversed ranges or a zero step. Duplicates are
-// kept in order of appearance removed (first occurrence wins); the result is never empty.
+// Returns the selected frames in order of appearance with duplicates removed (the first occurrence keeps
+// its place: "5,1-6" -> 5,1,2,3,4,6); the result is never empty. Spaces around items are allowed. Throws
+// InputError for malformed text, negative numbers, reversed ranges, a zero step or more than 10^7 frames.
 std::vector<int> parseFrameRange(const std::string& text);
 
 // Replaces the last run of '#' in `pattern` with the zero-padded frame number ("out_####.png" + 7 ->
-// "out_0007.png"); a pattern without '#' is returned unchanged when `frameCount` == 1, otherwise the number
-// is inserted before the extension ("out.png" -> "out_0007.png").
+// "out_0007.png"; a longer number is not truncated); a pattern without '#' is returned unchanged when
+// `frameCount` == 1, otherwise the number (at least 4 digits, more if frameCount - 1 needs them) is inserted
+// before the extension of the file name ("out.png" -> "out_0007.png").
 std::string formatFramePath(const std::string& pattern, int frame, int frameCount);
 
 } // namespace chcrt

@@ -8,7 +8,8 @@
 
 namespace chcrt {
 
-// Linear float RGBA image, rows top to bottom.
+// Linear float RGBA image, rows top to bottom. Alpha is straight (not premultiplied) and is written and
+// read as stored, without OIIO's premultiplication.
 struct ImageRgba32f {
     int width = 0;
     int height = 0;
@@ -25,12 +26,13 @@ void writeImage(const std::filesystem::path& file, const ImageRgba32f& image, bo
 // Reads any format OpenImageIO reads into linear float RGBA (8-bit sources are sRGB-decoded).
 ImageRgba32f readImage(const std::filesystem::path& file);
 
-// Image comparison used by bench/verify and image tests (values compared after clamping to [0, 1]).
+// Image comparison used by bench/verify and image tests: RGB only (alpha is ignored), values compared after
+// clamping to [0, 1], PSNR with peak 1.0. Throws InputError when the sizes differ.
 struct ImageDifference {
-    uint64_t differingPixels = 0; // pixels whose max channel difference exceeds the threshold
+    uint64_t differingPixels = 0; // pixels whose max RGB channel difference exceeds the threshold
     double meanAbsoluteError = 0.0; // over RGB of all pixels
     double psnrDb = 0.0;            // over RGB; +infinity when identical
-    double maxAbsoluteError = 0.0;
+    double maxAbsoluteError = 0.0; // largest RGB channel difference
 };
 ImageDifference compareImages(const ImageRgba32f& a, const ImageRgba32f& b, float pixelThreshold = 0.0f);
 

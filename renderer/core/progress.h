@@ -21,7 +21,18 @@ public:
 Progress& nullProgress();
 
 // Terminal progress bar on stderr; draws only when stderr is a TTY and `enabled` is true, and only for steps
-// that last longer than a second. Shows percent, elapsed time and an ETA.
+// that last longer than a second. Shows percent, elapsed time and an ETA (unknown total: a spinner and the
+// count). Redraws at most ~10 times a second from a helper thread that lives from begin() to end(), so
+// update() is a single atomic operation. Steps do not nest: begin() during a step ends that step first.
 std::unique_ptr<Progress> makeTerminalProgress(bool enabled);
+
+// The same bar with its output and timing made explicit, so tests can observe it without a terminal.
+struct TerminalProgressOptions {
+    int fd = 2;                // file descriptor the bar is written to
+    bool requireTty = true;    // draw only when isatty(fd)
+    double delaySeconds = 1.0; // a step draws nothing until it has lasted this long
+    double redrawSeconds = 0.1;
+};
+std::unique_ptr<Progress> makeTerminalProgress(bool enabled, const TerminalProgressOptions& options);
 
 } // namespace chcrt

@@ -40,6 +40,10 @@ GlInfo queryGlInfo();
 // (optional: warns only). Extensions are tested by name, never by function pointer.
 void checkRequiredGlFeatures();
 
+// True when the current context lists the extension (glGetStringi); never inferred from function pointers.
+// (Added by the GL infrastructure work, beyond the original interface.)
+bool hasGlExtension(const std::string& name);
+
 // Routes KHR_debug messages (errors, warnings, performance) to stderr with source/type/severity.
 // When `throwOnError` is set, GL errors reported through the callback are remembered and the next
 // checkGlErrors() call throws them.

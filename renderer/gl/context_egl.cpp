@@ -1,1 +1,207 @@
-// to be implemented
+// Headless EGL: OpenGL 4.5 core contexts without a display server, made current with no surface (the renderer
+// draws into FBOs only). The device platform (EGL_EXT_platform_device) comes first because it is how NVIDIA's
+// driver runs headless; Mesa's surfaceless platform is the fallback (PLATFORM.md).
+// CHCRT_EGL_PLATFORM=device|surfaceless restricts the search to one platform (tests use it to cover both).
+#define EGL_NO_X11 // keep X11's macros (None, Bool, ...) out of this translation unit
+#include "renderer/core/error.h"
+#include "renderer/gl/gl_internal.h"
+
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+
+#include <cstdlib>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace chcrt::detail {
+namespace {
+
+bool hasEglExtension(const char* extensions, std::string_view name) {
+    if (extensions == nullptr) {
+        return false;
+    }
+    std::string_view list(extensions);
+    size_t pos = 0;
+    while (pos < list.size()) {
+        size_t end = list.find(' ', pos);
+        if (end == std::string_view::npos) {
+            end = list.size();
+        }
+        if (list.substr(pos, end - pos) == name) {
+            return true;
+        }
+        pos = end + 1;
+    }
+    return false;
+}
+
+std::string eglErrorName(EGLint error) {
+    switch (error) {
+    case EGL_SUCCESS: return "EGL_SUCCESS";
+    case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
+    case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
+    case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
+    case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
+    case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
+    case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
+    case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
+    case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
+    case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
+    default: {
+        std::ostringstream s;
+        s << "EGL error 0x" << std::hex << error;
+        return s.str();
+    }
+    }
+}
+
+void* eglProcLoader(const char* name) { return reinterpret_cast<void*>(eglGetProcAddress(name)); }
+
+class EglContext final : public HeadlessContext {
+public:
+    EglContext(EGLDisplay display, EGLContext context, std::string description)
+        : display_(display), context_(context), description_(std::move(description)) {}
+    ~EglContext() override {
+        eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+        eglDestroyContext(display_, context_);
+        eglTerminate(display_);
+        eglReleaseThread();
+    }
+    EglContext(const EglContext&) = delete;
+    EglContext& operator=(const EglContext&) = delete;
+    std::string description() const override { return description_; }
+    ProcLoader procLoader() const override { return &eglProcLoader; }
+
+private:
+    EGLDisplay display_;
+    EGLContext context_;
+    std::string description_;
+};
+
+// Initializes `display` and makes a 4.5 core context current on it with no surface. On failure, terminates the
+// display, appends the reason to `why` and returns nullptr.
+std::unique_ptr<HeadlessContext> tryDisplay(EGLDisplay display, bool debugContext, const std::string& label,
+                                            std::string& why) {
+    auto fail = [&](const std::string& reason) -> std::unique_ptr<HeadlessContext> {
+        why += (why.empty() ? "" : "; ") + label + ": " + reason;
+        if (display != EGL_NO_DISPLAY) {
+            eglTerminate(display);
+        }
+        return nullptr;
+    };
+    if (display == EGL_NO_DISPLAY) {
+        return fail("no display (" + eglErrorName(eglGetError()) + ")");
+    }
+    EGLint major = 0, minor = 0;
+    if (eglInitialize(display, &major, &minor) != EGL_TRUE) {
+        return fail("eglInitialize failed (" + eglErrorName(eglGetError()) + ")");
+    }
+    const char* extensions = eglQueryString(display, EGL_EXTENSIONS);
+    if (!hasEglExtension(extensions, "EGL_KHR_surfaceless_context")) {
+        return fail("no EGL_KHR_surfaceless_context");
+    }
+    const bool egl15 = major > 1 || (major == 1 && minor >= 5);
+    if (!egl15 && !hasEglExtension(extensions, "EGL_KHR_create_context")) {
+        return fail("EGL " + std::to_string(major) + "." + std::to_string(minor) +
+                    " without EGL_KHR_create_context");
+    }
+    if (eglBindAPI(EGL_OPENGL_API) != EGL_TRUE) {
+        return fail("eglBindAPI(EGL_OPENGL_API) failed (" + eglErrorName(eglGetError()) + ")");
+    }
+    // No surface will be created, so any surface type will do (the EGL default would demand a window).
+    const EGLint configAttribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE, 0, EGL_NONE};
+    EGLConfig config = nullptr;
+    EGLint configCount = 0;
+    if (eglChooseConfig(display, configAttribs, &config, 1, &configCount) != EGL_TRUE || configCount == 0) {
+        return fail("no config with EGL_OPENGL_BIT");
+    }
+    std::vector<EGLint> contextAttribs = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
+                                          EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT};
+    if (debugContext) {
+        // EGL 1.5 has its own attribute; 1.4 + EGL_KHR_create_context uses the flags word.
+        contextAttribs.insert(contextAttribs.end(), {egl15 ? EGL_CONTEXT_OPENGL_DEBUG : EGL_CONTEXT_FLAGS_KHR,
+                                                     egl15 ? EGL_TRUE : EGL_CONTEXT_OPENGL_DEBUG_BIT_KHR});
+    }
+    contextAttribs.push_back(EGL_NONE);
+    EGLContext context = eglCreateContext(display, config, EGL_NO_CONTEXT, contextAttribs.data());
+    if (context == EGL_NO_CONTEXT) {
+        return fail("eglCreateContext(4.5 core) failed (" + eglErrorName(eglGetError()) + ")");
+    }
+    if (eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context) != EGL_TRUE) {
+        const EGLint error = eglGetError();
+        eglDestroyContext(display, context);
+        return fail("eglMakeCurrent without surface failed (" + eglErrorName(error) + ")");
+    }
+    const char* vendor = eglQueryString(display, EGL_VENDOR);
+    return std::make_unique<EglContext>(display, context,
+                                        "EGL " + std::to_string(major) + "." + std::to_string(minor) + " (" +
+                                            label + ", " + (vendor != nullptr ? vendor : "unknown vendor") + ")");
+}
+
+} // namespace
+
+std::unique_ptr<HeadlessContext> createEglContext(bool debugContext) {
+    const char* forced = std::getenv("CHCRT_EGL_PLATFORM");
+    const std::string only = forced != nullptr ? forced : "";
+    if (!only.empty() && only != "device" && only != "surfaceless") {
+        throw GlError("EGL: CHCRT_EGL_PLATFORM must be 'device' or 'surfaceless', not '" + only + "'");
+    }
+    // Client extensions (EGL_NO_DISPLAY) say which platforms exist; entry points of extensions are fetched with
+    // eglGetProcAddress, and only after their extension string was seen.
+    const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+    if (clientExtensions == nullptr || !hasEglExtension(clientExtensions, "EGL_EXT_platform_base")) {
+        throw GlError("EGL: the EGL library lacks EGL_EXT_platform_base, so no headless display can be opened "
+                      "(is libegl1 from glvnd or Mesa installed?)");
+    }
+    auto getPlatformDisplay =
+        reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
+    std::string why;
+
+    // Step 1: the device platform, first device that yields a 4.5 core context.
+    const bool deviceEnumeration = hasEglExtension(clientExtensions, "EGL_EXT_device_enumeration") ||
+                                   hasEglExtension(clientExtensions, "EGL_EXT_device_base");
+    if (only != "surfaceless") {
+        if (hasEglExtension(clientExtensions, "EGL_EXT_platform_device") && deviceEnumeration) {
+            auto queryDevices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
+            EGLint deviceCount = 0;
+            std::vector<EGLDeviceEXT> devices;
+            if (queryDevices(0, nullptr, &deviceCount) == EGL_TRUE && deviceCount > 0) {
+                devices.resize(static_cast<size_t>(deviceCount));
+                if (queryDevices(deviceCount, devices.data(), &deviceCount) != EGL_TRUE) {
+                    deviceCount = 0;
+                }
+            }
+            if (deviceCount == 0) {
+                why += "device platform: no devices";
+            }
+            for (EGLint i = 0; i < deviceCount; ++i) {
+                EGLDisplay display = getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
+                std::string label = "device platform, device " + std::to_string(i) + " of " +
+                                    std::to_string(deviceCount);
+                if (auto context = tryDisplay(display, debugContext, label, why)) {
+                    return context;
+                }
+            }
+        } else {
+            why += "device platform: not supported";
+        }
+    }
+
+    // Step 2: Mesa's surfaceless platform.
+    if (only != "device") {
+        if (hasEglExtension(clientExtensions, "EGL_MESA_platform_surfaceless")) {
+            EGLDisplay display = getPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+            if (auto context = tryDisplay(display, debugContext, "surfaceless platform", why)) {
+                return context;
+            }
+        } else {
+            why += std::string(why.empty() ? "" : "; ") + "surfaceless platform: not supported";
+        }
+    }
+    throw GlError("EGL: no device or surfaceless platform could create an OpenGL 4.5 core context (" + why +
+                  "); is libgl1-mesa-dri installed, or try the OSMesa backend");
+}
+
+} // namespace chcrt::detail

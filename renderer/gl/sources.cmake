@@ -4,6 +4,7 @@ chcrt_add_library(chcrt_gl
   gl/context_egl.cpp
   gl/context_osmesa.cpp
   gl/shader.cpp
+  gl/shader_preprocess.cpp
   gl/gl_objects.cpp
   ${CHCRT_GL_LOADER_SOURCES}
 )

@@ -1,2 +1,344 @@
-// placeholder until the render pipeline lands
-namespace chcrt {}
+#include "renderer/render/renderer.h"
+
+#include "renderer/render/bvh_tracer.h"
+#include "renderer/render/camera_math.h"
+#include "shaders/shared/render_layout.h"
+
+#include <chrono>
+#include <cstring>
+
+namespace chcrt {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double millisecondsSince(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+ShaderProgram makeFullscreenProgram(const char* fragment, std::vector<ShaderDefine> defines = {}) {
+    return ShaderProgram({{GL_VERTEX_SHADER, "common/fullscreen.vert.glsl"}, {GL_FRAGMENT_SHADER, fragment}},
+                         defines);
+}
+
+void setLightUniforms(const ShaderProgram& program, const AreaLight& light) {
+    program.set("lightCorner", light.corner);
+    program.set("lightEdgeU", light.edgeU);
+    program.set("lightEdgeV", light.edgeV);
+    program.set("lightRadiance", light.radiance);
+}
+
+int rayProgramIndex(RayType type) {
+    switch (type) {
+    case RayType::Primary: return CHCRT_RAY_PRIMARY;
+    case RayType::Shadow: return CHCRT_RAY_SHADOW;
+    case RayType::Ao: return CHCRT_RAY_AO;
+    case RayType::Diffuse: return CHCRT_RAY_DIFFUSE;
+    }
+    return CHCRT_RAY_PRIMARY;
+}
+
+// Reads a 4-channel texture (float or 32-bit integer) as 4 values per pixel, rows bottom to top.
+template <typename T>
+std::vector<T> readTexture(GLuint texture, int width, int height, GLenum format, GLenum type) {
+    std::vector<T> data(size_t(width) * height * 4);
+    glGetTextureImage(texture, 0, format, type, GLsizei(data.size() * sizeof(T)), data.data());
+    return data;
+}
+
+// Reads a colour target as an image (rows top to bottom).
+ImageRgba32f readImageTexture(GLuint texture, int width, int height) {
+    ImageRgba32f image{width, height, readTexture<float>(texture, width, height, GL_RGBA, GL_FLOAT)};
+    const size_t row = size_t(width) * 4;
+    for (int y = 0; y < height / 2; ++y) {
+        std::swap_ranges(image.pixels.begin() + y * row, image.pixels.begin() + (y + 1) * row,
+                         image.pixels.end() - (y + 1) * row);
+    }
+    return image;
+}
+
+} // namespace
+
+double FrameStats::traceMs() const {
+    double sum = 0;
+    for (const TraceStats& t : trace) sum += t.milliseconds;
+    return sum;
+}
+
+Renderer::Renderer(const Scene& scene, const Bvh& bvh, const AreaLight& light, const RenderSettings& settings)
+    : light_(light), sceneBounds_(scene.bounds()) {
+    sceneDiagonal_ = std::max(sceneBounds_.diagonal(), 1e-6f);
+    sceneGpu_ = std::make_unique<SceneGpu>(scene, bvh);
+    tracer_ = std::make_unique<BvhTracer>();
+    gbufferProgram_ = ShaderProgram(
+        {{GL_VERTEX_SHADER, "raster/gbuffer.vert.glsl"}, {GL_FRAGMENT_SHADER, "raster/gbuffer.frag.glsl"}});
+    for (int type = 0; type < int(raygenPrograms_.size()); ++type) {
+        raygenPrograms_[type] = makeFullscreenProgram("rays/raygen.frag.glsl", {{"RAY_TYPE", std::to_string(type)}});
+    }
+    accumulateShadow_ = makeFullscreenProgram("shading/accumulate.frag.glsl", {{"ACCUMULATE", "CHCRT_RAY_SHADOW"}});
+    accumulateAo_ = makeFullscreenProgram("shading/accumulate.frag.glsl", {{"ACCUMULATE", "CHCRT_RAY_AO"}});
+    accumulateDiffuse_ =
+        makeFullscreenProgram("shading/accumulate.frag.glsl", {{"ACCUMULATE", "CHCRT_RAY_DIFFUSE"}});
+    composeProgram_ = makeFullscreenProgram("shading/compose.frag.glsl");
+    const uint32_t zero = 0;
+    cappedRayCounter_ = createBuffer(sizeof(uint32_t), &zero, GL_DYNAMIC_STORAGE_BIT);
+    setSettings(settings);
+}
+
+Renderer::~Renderer() = default;
+
+void Renderer::setSettings(const RenderSettings& settings) {
+    validateSettings(settings);
+    if (!targets_ || settings.width != settings_.width || settings.height != settings_.height) {
+        targets_ = std::make_unique<FrameTargets>(settings.width, settings.height);
+    }
+    settings_ = settings;
+}
+
+void Renderer::setTracer(std::unique_ptr<Tracer> tracer) { tracer_ = std::move(tracer); }
+
+FrameStats Renderer::renderFrame(const Camera& camera) {
+    const auto start = Clock::now();
+    FrameStats stats;
+    renderGBuffer(camera, stats);
+    const float clearZero[4] = {0, 0, 0, 0};
+    glClearNamedFramebufferfv(targets_->accumDirectFbo.id(), GL_COLOR, 0, clearZero);
+    glClearNamedFramebufferfv(targets_->accumAoFbo.id(), GL_COLOR, 0, clearZero);
+    glClearNamedFramebufferfv(targets_->accumIndirectFbo.id(), GL_COLOR, 0, clearZero);
+
+    const EffectSet& effects = settings_.effects;
+    for (int sample = 0; sample < settings_.samplesPerPixel; ++sample) {
+        if (effects.shadows) {
+            generateRays(camera, CHCRT_RAY_SHADOW, sample, 0, stats);
+            trace(camera, RayType::Shadow, false, sample, 0, 0, stats);
+            accumulate(RayType::Shadow, sample, stats);
+        }
+        if (effects.ao) {
+            generateRays(camera, CHCRT_RAY_AO, sample, 0, stats);
+            trace(camera, RayType::Ao, false, sample, 0, 0, stats);
+            accumulate(RayType::Ao, sample, stats);
+        }
+        if (effects.diffuse) {
+            // One bounce: trace the diffuse rays (set 0 → hits 0), then shadow rays from their hits to the light
+            // (set 1 → hits 1), then accumulate the light reflected at the hits.
+            generateRays(camera, CHCRT_RAY_DIFFUSE, sample, 0, stats);
+            trace(camera, RayType::Diffuse, false, sample, 0, 0, stats);
+            generateRays(camera, CHCRT_RAY_BOUNCE_SHADOW, sample, 1, stats);
+            trace(camera, RayType::Diffuse, true, sample, 1, 1, stats);
+            accumulate(RayType::Diffuse, sample, stats);
+        }
+    }
+    compose(stats);
+    stats.cappedRays = readAndResetCappedRays();
+    stats.totalMs = millisecondsSince(start);
+    return stats;
+}
+
+void Renderer::renderGBuffer(const Camera& camera, FrameStats& stats) {
+    const auto start = Clock::now();
+    const FrameTargets& t = *targets_;
+    const CameraFrame frame = makeCameraFrame(camera, t.width, t.height);
+    const glm::mat4 clipFromWorld = clipFromView(frame, nearPlaneFor(sceneBounds_)) * viewFromWorld(frame);
+
+    glBindFramebuffer(GL_FRAMEBUFFER, t.gbuffer.id());
+    glViewport(0, 0, t.width, t.height);
+    const float zero[4] = {0, 0, 0, 0};
+    const GLuint noTriangle[4] = {CHCRT_NO_HIT_ID, 0, 0, 0};
+    glClearBufferfv(GL_COLOR, CHCRT_GBUFFER_OUT_POSITION, zero);
+    glClearBufferfv(GL_COLOR, CHCRT_GBUFFER_OUT_NORMAL, zero);
+    glClearBufferfv(GL_COLOR, CHCRT_GBUFFER_OUT_ALBEDO, zero);
+    glClearBufferuiv(GL_COLOR, CHCRT_GBUFFER_OUT_TRIANGLE, noTriangle);
+    const float farDepth = 0.0f; // reversed Z
+    glClearBufferfv(GL_DEPTH, 0, &farDepth);
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    glDisable(GL_CULL_FACE); // scenes are not closed: both faces are visible
+    glDisable(GL_BLEND);
+
+    gbufferProgram_.use();
+    gbufferProgram_.set("clipFromWorld", clipFromWorld);
+    gbufferProgram_.set("cameraPosition", frame.eye);
+    gbufferProgram_.set("cameraForward", frame.forward);
+    sceneGpu_->bindForShading();
+    sceneGpu_->drawTriangles();
+
+    glDisable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+    glFinish();
+    stats.gbufferMs += millisecondsSince(start);
+}
+
+void Renderer::generateRayPass(const Camera& camera, RayType type, int sampleIndex, FrameStats& stats) {
+    generateRays(camera, rayProgramIndex(type), sampleIndex, 0, stats);
+}
+
+void Renderer::traceRayPass(const Camera& camera, RayType type, int sampleIndex, FrameStats& stats) {
+    trace(camera, type, false, sampleIndex, 0, 0, stats);
+    stats.cappedRays += readAndResetCappedRays();
+}
+
+void Renderer::generateRays(const Camera& camera, int rayProgram, int sampleIndex, int raySet, FrameStats& stats) {
+    const auto start = Clock::now();
+    const FrameTargets& t = *targets_;
+    const CameraFrame frame = makeCameraFrame(camera, t.width, t.height);
+    const ShaderProgram& program = raygenPrograms_[rayProgram];
+    program.use();
+    program.set("sampleIndex", unsigned(sampleIndex));
+    program.set("seed", settings_.seed);
+    program.set("maxRotation", glm::radians(settings_.rotationDegrees));
+    const float lengthFraction =
+        rayProgram == CHCRT_RAY_AO ? settings_.aoLengthFraction : settings_.diffuseLengthFraction;
+    program.set("rayLength", lengthFraction * sceneDiagonal_);
+    program.set("offsetScale", settings_.originOffset);
+    program.set("cameraPosition", frame.eye);
+    program.set("cameraForward", frame.forward);
+    program.set("cameraRight", frame.right * frame.tanHalfFovY * frame.aspect);
+    program.set("cameraUp", frame.up * frame.tanHalfFovY);
+    program.set("viewportSize", glm::vec2(t.width, t.height));
+    setLightUniforms(program, light_);
+
+    glBindFramebuffer(GL_FRAMEBUFFER, t.rays[raySet].framebuffer.id());
+    glViewport(0, 0, t.width, t.height);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    sceneGpu_->bindForShading();
+    glBindTextureUnit(CHCRT_UNIT_GBUFFER_POSITION, t.gbufferPosition.id());
+    glBindTextureUnit(CHCRT_UNIT_GBUFFER_NORMAL, t.gbufferNormal.id());
+    glBindTextureUnit(CHCRT_UNIT_GBUFFER_TRIANGLE, t.gbufferTriangle.id());
+    // Bounce shadow rays read the diffuse rays (set 0) and their hits (hit set 0).
+    glBindTextureUnit(CHCRT_UNIT_RAY_ORIGIN, t.rays[0].origin.id());
+    glBindTextureUnit(CHCRT_UNIT_RAY_DIRECTION, t.rays[0].direction.id());
+    glBindTextureUnit(CHCRT_UNIT_BOUNCE_HIT, t.hits[0].hit.id());
+    drawFullscreenTriangle();
+    glFinish();
+    stats.raygenMs += millisecondsSince(start);
+    stats.raysGenerated += uint64_t(t.width) * t.height;
+}
+
+void Renderer::trace(const Camera& camera, RayType type, bool bounceShadow, int sampleIndex, int raySet,
+                     int hitSet, FrameStats& stats) {
+    TraceRequest request;
+    request.rayType = type;
+    request.anyHit = bounceShadow || isAnyHit(type);
+    request.bounceShadow = bounceShadow;
+    request.sampleIndex = sampleIndex;
+    request.camera = camera;
+    sceneGpu_->bindForTracing();
+    glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, CHCRT_ATOMIC_BINDING_CAPPED_RAYS, cappedRayCounter_.id());
+    glFinish();
+    const auto start = Clock::now();
+    TraceStats& traceStats = stats.trace[size_t(type)];
+    tracer_->trace(request, targets_->rays[raySet], targets_->hits[hitSet], targets_->width, targets_->height,
+                   traceStats);
+    glFinish();
+    traceStats.milliseconds += millisecondsSince(start);
+}
+
+void Renderer::accumulate(RayType type, int /*sampleIndex*/, FrameStats& stats) {
+    const auto start = Clock::now();
+    const FrameTargets& t = *targets_;
+    const ShaderProgram* program = &accumulateShadow_;
+    GLuint fbo = t.accumDirectFbo.id();
+    int raySet = 0;
+    if (type == RayType::Ao) {
+        program = &accumulateAo_;
+        fbo = t.accumAoFbo.id();
+    } else if (type == RayType::Diffuse) {
+        program = &accumulateDiffuse_;
+        fbo = t.accumIndirectFbo.id();
+        raySet = 1; // the bounce shadow rays
+    }
+    program->use();
+    setLightUniforms(*program, light_);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glViewport(0, 0, t.width, t.height);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
+    sceneGpu_->bindForShading();
+    glBindTextureUnit(CHCRT_UNIT_GBUFFER_NORMAL, t.gbufferNormal.id());
+    glBindTextureUnit(CHCRT_UNIT_GBUFFER_ALBEDO, t.gbufferAlbedo.id());
+    glBindTextureUnit(CHCRT_UNIT_GBUFFER_TRIANGLE, t.gbufferTriangle.id());
+    glBindTextureUnit(CHCRT_UNIT_RAY_ORIGIN, t.rays[raySet].origin.id());
+    glBindTextureUnit(CHCRT_UNIT_RAY_DIRECTION, t.rays[raySet].direction.id());
+    glBindTextureUnit(CHCRT_UNIT_HIT, t.hits[raySet].hit.id());
+    glBindTextureUnit(CHCRT_UNIT_BOUNCE_HIT, t.hits[0].hit.id());
+    drawFullscreenTriangle();
+    glDisable(GL_BLEND);
+    glFinish();
+    stats.shadeMs += millisecondsSince(start);
+}
+
+void Renderer::compose(FrameStats& stats) {
+    const auto start = Clock::now();
+    const FrameTargets& t = *targets_;
+    composeProgram_.use();
+    setLightUniforms(composeProgram_, light_);
+    composeProgram_.set("shadowsEnabled", int(settings_.effects.shadows));
+    composeProgram_.set("aoEnabled", int(settings_.effects.ao));
+    composeProgram_.set("diffuseEnabled", int(settings_.effects.diffuse));
+    composeProgram_.set("skyAmbient", glm::vec3(0.85f, 0.92f, 1.0f) * settings_.skyAmbient);
+    composeProgram_.set("backgroundColor", glm::vec3(0.55f, 0.7f, 0.9f));
+    composeProgram_.set("exposure", settings_.exposure);
+    composeProgram_.set("outputMode", 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, t.output.id());
+    glViewport(0, 0, t.width, t.height);
+    glBindTextureUnit(CHCRT_UNIT_GBUFFER_POSITION, t.gbufferPosition.id());
+    glBindTextureUnit(CHCRT_UNIT_GBUFFER_NORMAL, t.gbufferNormal.id());
+    glBindTextureUnit(CHCRT_UNIT_GBUFFER_ALBEDO, t.gbufferAlbedo.id());
+    glBindTextureUnit(CHCRT_UNIT_GBUFFER_TRIANGLE, t.gbufferTriangle.id());
+    glBindTextureUnit(CHCRT_UNIT_ACCUM_DIRECT, t.accumDirect.id());
+    glBindTextureUnit(CHCRT_UNIT_ACCUM_AO, t.accumAo.id());
+    glBindTextureUnit(CHCRT_UNIT_ACCUM_INDIRECT, t.accumIndirect.id());
+    drawFullscreenTriangle();
+    glFinish();
+    stats.shadeMs += millisecondsSince(start);
+}
+
+uint64_t Renderer::readAndResetCappedRays() {
+    uint32_t count = 0;
+    glGetNamedBufferSubData(cappedRayCounter_.id(), 0, sizeof(count), &count);
+    const uint32_t zero = 0;
+    glNamedBufferSubData(cappedRayCounter_.id(), 0, sizeof(zero), &zero);
+    return count;
+}
+
+ImageRgba32f Renderer::readDisplayImage() const {
+    return readImageTexture(targets_->outputDisplay.id(), targets_->width, targets_->height);
+}
+
+ImageRgba32f Renderer::readHdrImage() const {
+    return readImageTexture(targets_->outputHdr.id(), targets_->width, targets_->height);
+}
+
+std::vector<Ray> Renderer::readRays(int set) const {
+    const int w = targets_->width, h = targets_->height;
+    const std::vector<float> origins = readTexture<float>(targets_->rays[set].origin.id(), w, h, GL_RGBA, GL_FLOAT);
+    const std::vector<float> directions =
+        readTexture<float>(targets_->rays[set].direction.id(), w, h, GL_RGBA, GL_FLOAT);
+    std::vector<Ray> rays(size_t(w) * h);
+    for (size_t i = 0; i < rays.size(); ++i) {
+        rays[i].origin = glm::vec3(origins[i * 4], origins[i * 4 + 1], origins[i * 4 + 2]);
+        rays[i].tmin = origins[i * 4 + 3];
+        rays[i].direction = glm::vec3(directions[i * 4], directions[i * 4 + 1], directions[i * 4 + 2]);
+        rays[i].tmax = directions[i * 4 + 3];
+    }
+    return rays;
+}
+
+std::vector<Hit> Renderer::readHits(int set) const {
+    const int w = targets_->width, h = targets_->height;
+    const std::vector<uint32_t> data =
+        readTexture<uint32_t>(targets_->hits[set].hit.id(), w, h, GL_RGBA_INTEGER, GL_UNSIGNED_INT);
+    std::vector<Hit> hits(size_t(w) * h);
+    for (size_t i = 0; i < hits.size(); ++i) {
+        std::memcpy(&hits[i].t, &data[i * 4], sizeof(float));
+        hits[i].triangleId = data[i * 4 + 1];
+        std::memcpy(&hits[i].u, &data[i * 4 + 2], sizeof(float));
+        std::memcpy(&hits[i].v, &data[i * 4 + 3], sizeof(float));
+    }
+    return hits;
+}
+
+} // namespace chcrt

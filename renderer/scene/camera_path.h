@@ -2,9 +2,17 @@
 // Camera paths (walkthroughs): JSON files of the form
 //   {"version": 1, "fps": 30, "fovY": 60,
 //    "keyframes": [{"t": 0.0, "eye": [x,y,z], "target": [x,y,z], "up": [0,1,0]}, ...]}
-// Frame k is at time k / fps. Between keyframes, eye and target follow a centripetal Catmull-Rom spline
-// through the keyframe positions (so paths pass through every keyframe without overshoot), up is linearly
-// interpolated and renormalised; before the first / after the last keyframe the camera is clamped.
+// "fps" (default 30) and "fovY" (degrees, default 60) are optional, as is each keyframe's "up" (default
+// [0,1,0]); unknown fields are errors. Frame k is at time t0 + k / fps.
+//
+// Interpolation: between keyframes, eye and target each follow a centripetal Catmull-Rom spline (alpha = 1/2,
+// Barry-Goldman evaluation) through the keyframe positions, so paths pass exactly through every keyframe
+// without cusps or overshooting loops. Within segment [t_i, t_{i+1}] the spline parameter is linear in time,
+// so unevenly spaced keyframe times are respected. A missing neighbour at either end of the path (or one at
+// the same position) is replaced by reflecting the segment (P_{-1} = 2 P_0 - P_1), so two keyframes give a
+// straight line; an eye (or target) that is the same at both ends of a segment stays still. up is linearly
+// interpolated and renormalised, fovY is constant; before the first / after the last keyframe the camera is
+// clamped to it.
 #include "renderer/scene/scene.h"
 
 #include <filesystem>
@@ -27,7 +35,7 @@ struct CameraPath {
     std::vector<CameraKeyframe> keyframes; // at least one
 
     double duration() const { return keyframes.empty() ? 0.0 : keyframes.back().t - keyframes.front().t; }
-    // Number of frames covering [first keyframe t, last keyframe t] at fps (at least 1).
+    // Number of frames covering [first keyframe t, last keyframe t] at fps: floor(duration * fps) + 1.
     int frameCount() const;
     // The camera at time seconds (clamped to the path).
     Camera cameraAt(double seconds) const;

@@ -1,6 +1,8 @@
 chcrt_add_library(chcrt_scene
   scene/scene.cpp
+  scene/mesh_utils.cpp
   scene/gltf_loader.cpp
+  scene/gltf_accessors.cpp
   scene/ply_loader.cpp
   scene/obj_loader.cpp
   scene/scene_loader.cpp

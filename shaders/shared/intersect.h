@@ -1,7 +1,7 @@
 #ifndef CHCRT_SHARED_INTERSECT_H
 #define CHCRT_SHARED_INTERSECT_H
 // Ray/box and ray/triangle tests, written once in the common subset of GLSL 4.50 and C++/GLM so that the
-// GLSL tracer and the CPU tracer (its test twin) run the same arithmetic. tests/gpu/intersect_twin_test.cpp
+// GLSL tracer and the CPU tracer (its test twin) run the same arithmetic. tests/gl/intersect_twin_test.cpp
 // dispatches these in a shader and compares with the C++ build of the same text.
 #include "shared_begin.h"
 
@@ -9,12 +9,18 @@
 #define CHCRT_INLINE inline
 using glm::abs;
 using glm::cross;
-using glm::dot;
 using glm::max;
 using glm::min;
 #else
 #define CHCRT_INLINE
 #endif
+
+// Dot product with a fixed summation order. GLSL's dot() on llvmpipe sums as x + (y + z) while glm::dot sums
+// left to right; spelling the order out makes the C++ twin bit-identical to the shader (measured in
+// tests/gl/intersect_twin_test.cpp). Drivers that fuse multiply-adds (NVIDIA) may still differ in the last bits.
+CHCRT_INLINE float dotOrdered(vec3 a, vec3 b) {
+    return (a.x * b.x + a.y * b.y) + a.z * b.z;
+}
 
 // Slab test. Returns (tEntry, tExit) of the ray's line with the box; the ray [tmin, tmax] hits the box when
 // tEntry <= tExit && tExit >= tmin && tEntry <= tmax. invDir = 1 / direction (IEEE infinities for zero
@@ -40,23 +46,23 @@ CHCRT_INLINE vec3 intersectRayTriangle(vec3 origin, vec3 direction, vec3 v0, vec
     vec3 e1 = v1 - v0;
     vec3 e2 = v2 - v0;
     vec3 p = cross(direction, e2);
-    float det = dot(e1, p);
+    float det = dotOrdered(e1, p);
     // Parallel (or degenerate) triangles have det == 0 exactly; no epsilon so that thin triangles still hit.
     if (det == 0.0f) {
         return vec3(-1.0f, 0.0f, 0.0f);
     }
     float invDet = 1.0f / det;
     vec3 s = origin - v0;
-    float u = dot(s, p) * invDet;
+    float u = dotOrdered(s, p) * invDet;
     if (u < 0.0f || u > 1.0f) {
         return vec3(-1.0f, 0.0f, 0.0f);
     }
     vec3 q = cross(s, e1);
-    float v = dot(direction, q) * invDet;
+    float v = dotOrdered(direction, q) * invDet;
     if (v < 0.0f || u + v > 1.0f) {
         return vec3(-1.0f, 0.0f, 0.0f);
     }
-    float t = dot(e2, q) * invDet;
+    float t = dotOrdered(e2, q) * invDet;
     return vec3(t, u, v);
 }
 

@@ -1,0 +1,167 @@
+// `chcrt bench`: compares tracing methods on the same rays, per ray type, over frames of a walkthrough.
+// Method: for every run, frame and sample the rays are generated once and every method traces those same rays
+// (ratios within one run, as DEVELOPERS.md asks); only tracing is timed (glFinish before and after). One
+// untimed warm-up run compiles shaders and fills caches. ms_median = median over runs of the mean tracing
+// time per frame (all samples of a frame). Mrays/s counts active rays (pixels without a surface shoot no
+// secondary rays). diff_pixels / psnr_db compare with pure BVH GLSL tracing: for embree, diff_pixels counts
+// hit-buffer pixels that differ beyond the stated tolerance (renderer/render/hit_comparison.h) and psnr_db is
+// null (it produces hits, not an image).
+#include "app/commands.h"
+#include "app/report.h"
+#include "app/session.h"
+#include "renderer/core/error.h"
+#include "renderer/gl/context.h"
+#include "renderer/reference/embree_tracer.h"
+#include "renderer/render/hit_comparison.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <map>
+
+namespace chcrt::app {
+namespace {
+
+struct MethodResult {
+    std::vector<double> runMs; // mean ms per frame, per timed run
+    uint64_t activeRays = 0;   // per timed run, summed over frames and samples
+    HitComparison comparison;
+};
+
+double median(std::vector<double> values) {
+    if (values.empty()) return 0.0;
+    std::sort(values.begin(), values.end());
+    const size_t n = values.size();
+    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+uint64_t countActive(const std::vector<Ray>& rays) {
+    return uint64_t(std::count_if(rays.begin(), rays.end(), [](const Ray& r) { return r.tmax > r.tmin; }));
+}
+
+} // namespace
+
+int runBench(const BenchOptions& options) {
+    const CommonOptions& o = options.common;
+    const std::vector<std::string> methods = splitList(options.methods);
+    std::vector<RayType> rayTypes;
+    for (const std::string& name : splitList(options.rayTypes)) rayTypes.push_back(parseRayType(name));
+    for (const std::string& m : methods) {
+        if (m != "bvh" && m != "embree") {
+            throw InputError("--method: unknown method '" + m + "' (available: bvh, embree)");
+        }
+    }
+    if (options.runs < 1) throw InputError("--runs must be at least 1");
+    if (options.warmupRuns < 0) throw InputError("--warmup must not be negative");
+    const RenderSettings settings = toRenderSettings(o, 1);
+
+    SceneSession session = openSceneSession(o);
+    const std::vector<int> frames = selectFrames(o, session.path, "spread:5");
+    GpuSession gpu = openGpuSession(o, session, settings);
+    Renderer& renderer = *gpu.renderer;
+    std::unique_ptr<EmbreeTracer> embree;
+    if (std::find(methods.begin(), methods.end(), "embree") != methods.end()) {
+        embree = std::make_unique<EmbreeTracer>(session.scene);
+    }
+    const float diagonal = renderer.sceneDiagonal();
+    HitTolerance tolerance;
+    tolerance.absoluteT *= diagonal;
+
+    Table table;
+    table.header = {"scene", "path", "ray_type", "method", "size", "spp", "ms/frame", "Mrays/s", "speedup", "diff_px",
+                    "PSNR dB"};
+    nlohmann::json rowsJson = nlohmann::json::array();
+    const int totalRuns = options.warmupRuns + options.runs;
+    session.progress->begin("Benchmarking", uint64_t(rayTypes.size()) * totalRuns * frames.size());
+    uint64_t progressDone = 0;
+    for (RayType type : rayTypes) {
+        std::map<std::string, MethodResult> results;
+        for (int run = 0; run < totalRuns; ++run) {
+            const bool timed = run >= options.warmupRuns;
+            std::map<std::string, double> runMs;
+            for (int frame : frames) {
+                const Camera camera = session.path.cameraAtFrame(frame);
+                FrameStats scratch;
+                if (type != RayType::Primary) renderer.renderGBuffer(camera, scratch);
+                for (int sample = 0; sample < settings.samplesPerPixel; ++sample) {
+                    renderer.generateRayPass(camera, type, sample, scratch);
+                    FrameStats bvhStats;
+                    renderer.traceRayPass(camera, type, sample, bvhStats);
+                    if (bvhStats.cappedRays > 0) {
+                        throw std::runtime_error("rays reached the shader loop cap during the benchmark");
+                    }
+                    runMs["bvh"] += bvhStats.traceMs();
+                    if (!embree && !timed) continue;
+                    const std::vector<Ray> rays = renderer.readRays(0);
+                    if (timed) {
+                        for (const std::string& m : methods) results[m].activeRays += countActive(rays);
+                    }
+                    if (!embree) continue;
+                    std::vector<Hit> hits(rays.size());
+                    const auto start = std::chrono::steady_clock::now();
+                    embree->trace(rays, hits, isAnyHit(type));
+                    runMs["embree"] +=
+                        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+                    if (timed && run == options.warmupRuns) {
+                        // Compare once (the first timed run) with closest-hit Embree so ids are known.
+                        std::vector<Hit> reference(rays.size());
+                        embree->trace(rays, reference, false);
+                        results["embree"].comparison.add(
+                            compareHits(session.scene, rays, renderer.readHits(0), reference, isAnyHit(type), tolerance));
+                    }
+                }
+                session.progress->update(++progressDone);
+            }
+            if (!timed) continue;
+            for (const std::string& m : methods) results[m].runMs.push_back(runMs[m] / double(frames.size()));
+        }
+        const double bvhMs = median(results["bvh"].runMs);
+        for (const std::string& m : methods) {
+            const MethodResult& r = results[m];
+            const double ms = median(r.runMs);
+            const double raysPerFrame = double(r.activeRays) / double(options.runs) / double(frames.size());
+            const double mrays = ms > 0 ? raysPerFrame / (ms * 1000.0) : 0.0;
+            const double speedup = ms > 0 ? bvhMs / ms : 0.0;
+            const uint64_t diff = m == "bvh" ? 0 : r.comparison.differing;
+            table.rows.push_back({session.scene.name, session.path.name, toString(type), m,
+                                  std::to_string(settings.width) + "x" + std::to_string(settings.height),
+                                  std::to_string(settings.samplesPerPixel), formatFixed(ms, 1), formatFixed(mrays, 2),
+                                  formatFixed(speedup, 2), std::to_string(diff), "-"});
+            rowsJson.push_back({{"scene", session.scene.name},
+                                {"path", session.path.name},
+                                {"ray_type", toString(type)},
+                                {"method", m},
+                                {"width", settings.width},
+                                {"height", settings.height},
+                                {"spp", settings.samplesPerPixel},
+                                {"frames", frames.size()},
+                                {"runs", options.runs},
+                                {"ms_median", ms},
+                                {"ms_runs", r.runMs},
+                                {"mrays_per_s", mrays},
+                                {"active_rays_per_frame", raysPerFrame},
+                                {"speedup_vs_bvh", speedup},
+                                {"diff_pixels", diff},
+                                {"edge_cases", m == "bvh" ? 0 : r.comparison.edgeCases},
+                                {"psnr_db", nullptr}});
+        }
+    }
+    session.progress->end();
+
+    const GlInfo info = queryGlInfo();
+    std::printf("bench: %s (%s triangles), %zu frame(s) of %s, median of %d run(s) after %d warm-up, %s\n",
+                session.scene.name.c_str(), formatCount(session.scene.triangleCount()).c_str(), frames.size(),
+                session.path.name.c_str(), options.runs, options.warmupRuns, info.renderer.c_str());
+    std::fputs(table.toText().c_str(), stdout);
+    if (!options.jsonFile.empty()) {
+        writeJsonFile(options.jsonFile, {{"scene", toJson(session.scene)},
+                                         {"bvh", toJson(session.bvh.stats)},
+                                         {"gl_renderer", info.renderer},
+                                         {"rows", rowsJson}});
+    }
+    if (!options.csvFile.empty()) writeTextFileAtomically(options.csvFile, table.toCsv());
+    if (!options.markdownFile.empty()) writeTextFileAtomically(options.markdownFile, table.toMarkdown());
+    return kExitOk;
+}
+
+} // namespace chcrt::app

@@ -1,0 +1,48 @@
+// `chcrt info`: the OpenGL implementation, its limits and the scene's statistics.
+#include "app/commands.h"
+#include "app/report.h"
+#include "app/session.h"
+#include "renderer/gl/context.h"
+
+#include <cstdio>
+
+namespace chcrt::app {
+
+int runInfo(const InfoOptions& options) {
+    const CommonOptions& o = options.common;
+    const auto context = createHeadlessContext(parseGlBackend(o.gl), o.glDebug);
+    const GlInfo info = queryGlInfo();
+    std::printf("OpenGL\n  context      %s\n  vendor       %s\n  renderer     %s\n  version      %s\n  GLSL         %s\n",
+                context->description().c_str(), info.vendor.c_str(), info.renderer.c_str(), info.version.c_str(),
+                info.glslVersion.c_str());
+    std::printf("  max texture buffer %d texels, max texture %d, draw buffers %d, KHR_debug %s\n",
+                info.maxTextureBufferSize, info.maxTextureSize, info.maxDrawBuffers, info.khrDebug ? "yes" : "no");
+    nlohmann::json j = {{"gl", {{"context", context->description()}, {"vendor", info.vendor},
+                                {"renderer", info.renderer}, {"version", info.version},
+                                {"max_texture_buffer_size", info.maxTextureBufferSize}}}};
+    if (!options.noScene) {
+        const SceneSession s = openSceneSession(o);
+        const Aabb b = s.scene.bounds();
+        std::printf("Scene %s\n  triangles    %llu (%llu unique; %u meshes, %u instances; %llu degenerate dropped)\n",
+                    s.scene.name.c_str(), (unsigned long long)s.scene.triangleCount(),
+                    (unsigned long long)s.scene.stats.uniqueTriangles, s.scene.stats.meshCount,
+                    s.scene.stats.instanceCount, (unsigned long long)s.scene.stats.degenerateTrianglesDropped);
+        std::printf("  vertices     %zu, materials %zu, textures %zu, cameras %zu\n", s.scene.positions.size(),
+                    s.scene.materials.size(), s.scene.textures.size(), s.scene.cameras.size());
+        std::printf("  bounds       (%.2f, %.2f, %.2f) - (%.2f, %.2f, %.2f), diagonal %.2f\n", b.lower.x, b.lower.y,
+                    b.lower.z, b.upper.x, b.upper.y, b.upper.z, b.diagonal());
+        std::printf("  loaded in    %.2f s\n", s.sceneSeconds);
+        std::printf("BVH\n  build        %.2f s (%.2f Mtris/s)\n  nodes        %u (%u leaves, %.2f triangles/leaf)\n"
+                    "  max depth    %u\n  SAH cost     %.2f\n  GPU bytes    %.1f MB\n",
+                    s.bvh.stats.buildSeconds, double(s.scene.triangleCount()) / 1e6 / std::max(s.bvh.stats.buildSeconds, 1e-9),
+                    s.bvh.stats.nodeCount, s.bvh.stats.leafCount, s.bvh.stats.averageLeafTriangles, s.bvh.stats.maxDepth,
+                    s.bvh.stats.sahCost, double(s.bvh.stats.bytes) / 1e6);
+        std::printf("Camera path %s: %d frames at %.0f fps\n", s.path.name.c_str(), s.path.frameCount(), s.path.fps);
+        j["scene"] = toJson(s.scene);
+        j["bvh"] = toJson(s.bvh.stats);
+    }
+    if (!o.statsJson.empty()) writeJsonFile(o.statsJson, j);
+    return kExitOk;
+}
+
+} // namespace chcrt::app

@@ -1,0 +1,48 @@
+#pragma once
+// The subcommands of build/bin/chcrt. Each returns the process exit code (docs/cli.md):
+//   0 success, 1 internal error, 2 bad input or usage, 3 OpenGL/shader failure, 4 check failed (verify found
+//   differing pixels or rays that hit the shader loop cap).
+#include "app/options.h"
+
+#include <string>
+#include <vector>
+
+namespace chcrt::app {
+
+enum ExitCode { kExitOk = 0, kExitInternal = 1, kExitBadInput = 2, kExitGl = 3, kExitCheckFailed = 4 };
+
+struct RenderOptions {
+    CommonOptions common;
+    std::string output;
+    bool demo = false;
+};
+int runRender(const RenderOptions& options);
+
+struct BenchOptions {
+    CommonOptions common;
+    std::string methods = "bvh,embree";
+    std::string rayTypes = "primary";
+    int runs = 5;
+    int warmupRuns = 1;
+    std::string jsonFile, csvFile, markdownFile;
+};
+int runBench(const BenchOptions& options);
+
+struct VerifyOptions {
+    CommonOptions common;
+    std::string method = "bvh";
+    std::string rayTypes = "primary";
+    uint64_t maxDiffering = 0;
+};
+int runVerify(const VerifyOptions& options);
+
+struct InfoOptions {
+    CommonOptions common;
+    bool noScene = false;
+};
+int runInfo(const InfoOptions& options);
+
+// Splits "a,b,c".
+std::vector<std::string> splitList(const std::string& text);
+
+} // namespace chcrt::app

@@ -1,0 +1,141 @@
+#include "app/report.h"
+
+#include "renderer/core/error.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace chcrt::app {
+
+void writeTextFileAtomically(const std::filesystem::path& file, const std::string& text) {
+    const std::filesystem::path temp = file.string() + ".tmp";
+    {
+        std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+        if (!out) throw InputError(file.string() + ": cannot write (does the directory exist?)");
+        out << text;
+        out.flush();
+        if (!out) {
+            out.close();
+            std::filesystem::remove(temp);
+            throw InputError(file.string() + ": write failed");
+        }
+    }
+    std::error_code error;
+    std::filesystem::rename(temp, file, error);
+    if (error) {
+        std::filesystem::remove(temp);
+        throw InputError(file.string() + ": " + error.message());
+    }
+}
+
+void writeJsonFile(const std::filesystem::path& file, const nlohmann::json& json) {
+    writeTextFileAtomically(file, json.dump(2) + "\n");
+}
+
+nlohmann::json toJson(const FrameStats& s, uint64_t pixels) {
+    nlohmann::json trace = nlohmann::json::object();
+    for (RayType type : {RayType::Primary, RayType::Shadow, RayType::Ao, RayType::Diffuse}) {
+        const TraceStats& t = s.trace[size_t(type)];
+        if (t.passes == 0) continue;
+        trace[toString(type)] = {{"passes", t.passes}, {"ms", t.milliseconds}};
+    }
+    return {{"ms_total", s.totalMs},       {"ms_gbuffer", s.gbufferMs}, {"ms_raygen", s.raygenMs},
+            {"ms_trace", s.traceMs()},     {"ms_shade", s.shadeMs},     {"trace", trace},
+            {"rays_generated", s.raysGenerated}, {"capped_rays", s.cappedRays},
+            {"mrays_per_s_generated", s.traceMs() > 0 ? double(s.raysGenerated) / (s.traceMs() * 1000.0) : 0.0},
+            {"pixels", pixels}};
+}
+
+nlohmann::json toJson(const Scene& scene) {
+    const Aabb b = scene.bounds();
+    return {{"name", scene.name},
+            {"triangles", scene.triangleCount()},
+            {"unique_triangles", scene.stats.uniqueTriangles},
+            {"instanced_triangles", scene.stats.instancedTriangles},
+            {"meshes", scene.stats.meshCount},
+            {"instances", scene.stats.instanceCount},
+            {"vertices", scene.positions.size()},
+            {"materials", scene.materials.size()},
+            {"textures", scene.textures.size()},
+            {"degenerate_triangles_dropped", scene.stats.degenerateTrianglesDropped},
+            {"bounds_min", {b.lower.x, b.lower.y, b.lower.z}},
+            {"bounds_max", {b.upper.x, b.upper.y, b.upper.z}}};
+}
+
+nlohmann::json toJson(const BvhStats& s) {
+    return {{"build_seconds", s.buildSeconds}, {"sah_cost", s.sahCost},     {"nodes", s.nodeCount},
+            {"leaves", s.leafCount},           {"max_depth", s.maxDepth},   {"avg_leaf_triangles", s.averageLeafTriangles},
+            {"bytes", s.bytes}};
+}
+
+std::string Table::toText() const {
+    std::vector<size_t> widths(header.size(), 0);
+    for (size_t c = 0; c < header.size(); ++c) widths[c] = header[c].size();
+    for (const auto& row : rows)
+        for (size_t c = 0; c < row.size() && c < widths.size(); ++c) widths[c] = std::max(widths[c], row[c].size());
+    std::ostringstream out;
+    auto printRow = [&](const std::vector<std::string>& row) {
+        for (size_t c = 0; c < row.size(); ++c) {
+            out << (c ? "  " : "") << std::setw(int(widths[c])) << (c < 4 ? std::left : std::right) << row[c];
+        }
+        out << "\n";
+    };
+    printRow(header);
+    size_t total = 0;
+    for (size_t w : widths) total += w + 2;
+    out << std::string(total > 2 ? total - 2 : 0, '-') << "\n";
+    for (const auto& row : rows) printRow(row);
+    return out.str();
+}
+
+std::string Table::toMarkdown() const {
+    std::ostringstream out;
+    auto printRow = [&](const std::vector<std::string>& row) {
+        out << "|";
+        for (const std::string& cell : row) out << " " << cell << " |";
+        out << "\n";
+    };
+    printRow(header);
+    out << "|";
+    for (size_t c = 0; c < header.size(); ++c) out << (c < 4 ? " --- |" : " ---: |");
+    out << "\n";
+    for (const auto& row : rows) printRow(row);
+    return out.str();
+}
+
+std::string Table::toCsv() const {
+    std::ostringstream out;
+    auto printRow = [&](const std::vector<std::string>& row) {
+        for (size_t c = 0; c < row.size(); ++c) {
+            const bool quote = row[c].find_first_of(",\"") != std::string::npos;
+            std::string cell = row[c];
+            if (quote) {
+                std::string escaped;
+                for (char ch : cell) escaped += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+                cell = "\"" + escaped + "\"";
+            }
+            out << (c ? "," : "") << cell;
+        }
+        out << "\n";
+    };
+    printRow(header);
+    for (const auto& row : rows) printRow(row);
+    return out.str();
+}
+
+std::string formatFixed(double value, int decimals) {
+    char buffer[64];
+    std::snprintf(buffer, sizeof(buffer), "%.*f", decimals, value);
+    return buffer;
+}
+
+std::string formatCount(uint64_t value) {
+    if (value >= 1'000'000) return formatFixed(double(value) / 1e6, 2) + "M";
+    if (value >= 10'000) return formatFixed(double(value) / 1e3, 1) + "k";
+    return std::to_string(value);
+}
+
+} // namespace chcrt::app

@@ -1,0 +1,35 @@
+#pragma once
+// Output helpers of the commands: JSON/CSV/markdown files written atomically (temp file + rename, so a failure
+// never leaves a partial file), statistics as JSON, and fixed-width tables for the terminal.
+#include "renderer/bvh/bvh.h"
+#include "renderer/render/renderer.h"
+#include "renderer/scene/scene.h"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace chcrt::app {
+
+void writeTextFileAtomically(const std::filesystem::path& file, const std::string& text);
+void writeJsonFile(const std::filesystem::path& file, const nlohmann::json& json);
+
+nlohmann::json toJson(const FrameStats& stats, uint64_t pixels);
+nlohmann::json toJson(const Scene& scene);
+nlohmann::json toJson(const BvhStats& stats);
+
+// A table: header row + rows of cells; printed with aligned columns, or as GitHub markdown / CSV.
+struct Table {
+    std::vector<std::string> header;
+    std::vector<std::vector<std::string>> rows;
+    std::string toText() const;
+    std::string toMarkdown() const;
+    std::string toCsv() const;
+};
+
+std::string formatFixed(double value, int decimals);
+std::string formatCount(uint64_t value); // 1234567 -> "1.23M"
+
+} // namespace chcrt::app

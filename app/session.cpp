@@ -1,0 +1,112 @@
+#include "app/session.h"
+
+#include "renderer/core/error.h"
+#include "renderer/core/frame_range.h"
+#include "renderer/scene/scene_loader.h"
+
+#include <algorithm>
+#include <chrono>
+
+namespace chcrt::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+CameraPath resolveGltfCamera(const Scene& scene, const std::string& selector) {
+    const std::string key = selector.substr(5);
+    if (scene.cameras.empty()) throw InputError("--camera " + selector + ": the scene has no cameras");
+    for (size_t i = 0; i < scene.cameras.size(); ++i) {
+        if (scene.cameras[i].name == key || std::to_string(i) == key) {
+            return singleCameraPath(scene.cameras[i].camera, "gltf-camera-" + key);
+        }
+    }
+    throw InputError("--camera " + selector + ": no camera with that index or name (the scene has " +
+                     std::to_string(scene.cameras.size()) + ")");
+}
+
+CameraPath resolveCameraPath(const CommonOptions& o, const SceneSession& s) {
+    if (!o.eye.empty() || !o.target.empty()) {
+        if (o.eye.empty() || o.target.empty()) throw InputError("--eye and --target must be given together");
+        Camera camera;
+        camera.eye = parseVec3(o.eye, "--eye");
+        camera.target = parseVec3(o.target, "--target");
+        camera.fovYDegrees = o.fovY;
+        if (!(o.fovY > 0.0f && o.fovY < 180.0f)) throw InputError("--fov must be between 0 and 180 degrees");
+        if (camera.eye == camera.target) throw InputError("--eye and --target must differ");
+        return singleCameraPath(camera, "explicit-camera");
+    }
+    if (!o.camera.empty()) {
+        if (o.camera.rfind("gltf:", 0) != 0) throw InputError("--camera expects gltf:<index or name>");
+        return resolveGltfCamera(s.scene, o.camera);
+    }
+    if (o.cameraPath == "near" || o.cameraPath == "far" || o.cameraPath.empty()) {
+        if (s.procedural) {
+            return o.cameraPath == "far" ? proceduralFarPath(*s.procedural) : proceduralNearPath(*s.procedural);
+        }
+        if (!o.cameraPath.empty()) {
+            throw InputError("--camera-path " + o.cameraPath + " exists only for generated scenes; give a JSON file");
+        }
+        return singleCameraPath(defaultCamera(s.scene, o.fovY), "default-camera");
+    }
+    return loadCameraPath(o.cameraPath);
+}
+
+} // namespace
+
+SceneSession openSceneSession(const CommonOptions& o) {
+    SceneSession s;
+    s.progress = makeTerminalProgress(!o.quiet);
+    const auto start = Clock::now();
+    ProceduralSpec spec;
+    if (parseProceduralSpec(o.scene, spec)) {
+        s.progress->begin("Generating " + toString(spec), 0);
+        s.scene = generateProceduralScene(spec);
+        s.progress->end();
+        s.procedural = spec;
+        s.light = proceduralAreaLight(spec);
+    } else {
+        s.scene = loadSceneFile(o.scene, *s.progress);
+        s.light = defaultAreaLight(s.scene);
+    }
+    validateScene(s.scene);
+    s.sceneSeconds = secondsSince(start);
+    s.path = resolveCameraPath(o, s);
+    s.bvh = buildBvh(s.scene, toBvhOptions(o), *s.progress);
+    return s;
+}
+
+std::vector<int> selectFrames(const CommonOptions& o, const CameraPath& path, const std::string& defaultFrames) {
+    const std::string text = o.frames.empty() ? defaultFrames : o.frames;
+    const int count = path.frameCount();
+    std::vector<int> frames;
+    if (text == "all") {
+        for (int f = 0; f < count; ++f) frames.push_back(f);
+    } else if (text.rfind("spread:", 0) == 0) {
+        const int n = std::clamp(std::stoi(text.substr(7)), 1, count);
+        for (int i = 0; i < n; ++i) frames.push_back(n == 1 ? 0 : int(int64_t(i) * (count - 1) / (n - 1)));
+        frames.erase(std::unique(frames.begin(), frames.end()), frames.end());
+    } else {
+        frames = parseFrameRange(text);
+    }
+    for (int f : frames) {
+        if (f >= count) {
+            throw InputError("--frames: frame " + std::to_string(f) + " is past the end of the camera path (" +
+                             std::to_string(count) + " frames, 0-" + std::to_string(count - 1) + ")");
+        }
+    }
+    return frames;
+}
+
+GpuSession openGpuSession(const CommonOptions& o, const SceneSession& s, const RenderSettings& settings) {
+    const auto start = Clock::now();
+    GpuSession g;
+    g.context = createHeadlessContext(parseGlBackend(o.gl), o.glDebug);
+    g.renderer = std::make_unique<Renderer>(s.scene, s.bvh, s.light, settings);
+    g.setupSeconds = secondsSince(start);
+    return g;
+}
+
+} // namespace chcrt::app

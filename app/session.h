@@ -1,0 +1,43 @@
+#pragma once
+// What every command starts from: the scene (generated or loaded), its walkthrough, its light and BVH, and
+// when needed a headless GL context with a Renderer. Timings of each step are kept for the summaries.
+#include "app/options.h"
+#include "renderer/bvh/bvh.h"
+#include "renderer/core/progress.h"
+#include "renderer/gl/context.h"
+#include "renderer/render/renderer.h"
+#include "renderer/scene/camera_path.h"
+#include "renderer/scene/procedural/procedural.h"
+#include "renderer/scene/scene.h"
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace chcrt::app {
+
+struct SceneSession {
+    Scene scene;
+    std::optional<ProceduralSpec> procedural; // set for generated scenes
+    CameraPath path;
+    AreaLight light;
+    Bvh bvh;
+    double sceneSeconds = 0; // load or generation
+    std::unique_ptr<Progress> progress;
+};
+
+// Loads/generates the scene, resolves the camera path and builds the BVH (with progress bars on a TTY).
+SceneSession openSceneSession(const CommonOptions& options);
+
+// Frames to render: --frames if given, else `defaultFrames` of the path ("all" = every frame; "spread:N" = N
+// frames evenly spread over the path). Frames past the path's end are an InputError.
+std::vector<int> selectFrames(const CommonOptions& options, const CameraPath& path, const std::string& defaultFrames);
+
+struct GpuSession {
+    std::unique_ptr<GlContext> context;
+    std::unique_ptr<Renderer> renderer;
+    double setupSeconds = 0; // context + upload + shader compilation
+};
+GpuSession openGpuSession(const CommonOptions& options, const SceneSession& session, const RenderSettings& settings);
+
+} // namespace chcrt::app

@@ -1,0 +1,42 @@
+#pragma once
+// The per-resolution render targets of a frame: the G-buffer, two ray-texture sets (the diffuse pass keeps its
+// rays while generating the bounce shadow rays), two hit buffers, the effects' accumulation targets and the
+// composed output. Recreated on resize.
+#include "renderer/gl/gl_objects.h"
+
+namespace chcrt {
+
+// One ray per pixel: origin + tmin, direction + tmax (RGBA32F each), CHC+RT §5.3.
+struct RayTextures {
+    GlTexture origin;
+    GlTexture direction;
+    GlFramebuffer framebuffer;
+};
+
+// Tracing results: hit = (bits of t, triangle id, bits of u, bits of v) RGBA32UI; cost = (inner nodes, leaves, triangles, capped)
+// RGBA32UI. `depth` (DEPTH32F) is unused by pure BVH tracing and reserved for CHC+RT's generalized occlusion
+// queries, which keep the nearest hit distance per ray there (CHC+RT §4.1).
+struct HitTargets {
+    GlTexture hit;
+    GlTexture cost;
+    GlTexture depth;
+    GlFramebuffer framebuffer;
+};
+
+struct FrameTargets {
+    int width = 0;
+    int height = 0;
+    // G-buffer (attachments in the order of CHCRT_GBUFFER_OUT_*), with a reversed-Z float depth buffer.
+    GlTexture gbufferPosition, gbufferNormal, gbufferAlbedo, gbufferTriangle, gbufferDepth;
+    GlFramebuffer gbuffer;
+    RayTextures rays[2];
+    HitTargets hits[2];
+    GlTexture accumDirect, accumAo, accumIndirect;
+    GlFramebuffer accumDirectFbo, accumAoFbo, accumIndirectFbo;
+    GlTexture outputHdr, outputDisplay;
+    GlFramebuffer output;
+
+    FrameTargets(int width, int height);
+};
+
+} // namespace chcrt

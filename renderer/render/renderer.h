@@ -1,0 +1,88 @@
+#pragma once
+// The hybrid frame: rasterise the G-buffer (primary visibility), then for each enabled effect and each of the
+// N samples per pixel generate one ray per pixel into the ray textures, trace them with the current Tracer
+// (pure BVH by default; CHC+RT and Line Space plug in through the same interface) and accumulate; finally
+// compose and tone-map. The same object serves `chcrt render`, `bench`, `verify` and the viewer.
+#include "renderer/bvh/bvh.h"
+#include "renderer/bvh/cpu_tracer.h"
+#include "renderer/core/image_io.h"
+#include "renderer/gl/shader.h"
+#include "renderer/render/frame_targets.h"
+#include "renderer/render/render_settings.h"
+#include "renderer/render/scene_gpu.h"
+#include "renderer/render/tracer.h"
+
+#include <array>
+#include <memory>
+#include <vector>
+
+namespace chcrt {
+
+struct FrameStats {
+    double gbufferMs = 0;
+    double raygenMs = 0;
+    double shadeMs = 0; // accumulation + compose
+    double totalMs = 0;
+    // Tracing time and passes per ray type (bounce shadow rays of the diffuse effect count as diffuse).
+    std::array<TraceStats, 4> trace{};
+    uint64_t raysGenerated = 0; // pixels × passes (inactive rays included)
+    uint64_t cappedRays = 0;    // rays that hit the loop cap (must be 0; see render_layout.h)
+    double traceMs() const;
+};
+
+class Renderer {
+public:
+    // Requires a current GL context. Keeps references to nothing: scene data is uploaded.
+    Renderer(const Scene& scene, const Bvh& bvh, const AreaLight& light, const RenderSettings& settings);
+    ~Renderer();
+
+    // Changes settings; recreates targets when the size changes. Throws InputError for invalid settings.
+    void setSettings(const RenderSettings& settings);
+    const RenderSettings& settings() const { return settings_; }
+    void setTracer(std::unique_ptr<Tracer> tracer);
+    Tracer& tracer() { return *tracer_; }
+
+    // The whole frame: G-buffer, effects, composition.
+    FrameStats renderFrame(const Camera& camera);
+
+    // Building blocks for bench/verify and the viewer.
+    void renderGBuffer(const Camera& camera, FrameStats& stats);
+    // Generates the rays of one pass (for `type` and sample `sampleIndex`) into ray set 0. Secondary rays need
+    // the G-buffer of the same camera.
+    void generateRayPass(const Camera& camera, RayType type, int sampleIndex, FrameStats& stats);
+    // Traces ray set 0 into hit set 0 with the current tracer (timed into stats.trace[type]); counts capped rays.
+    // Does not accumulate.
+    void traceRayPass(const Camera& camera, RayType type, int sampleIndex, FrameStats& stats);
+
+    // Read-backs (blocking) for checks and image output.
+    ImageRgba32f readDisplayImage() const;
+    ImageRgba32f readHdrImage() const;
+    std::vector<Ray> readRays(int set) const;
+    std::vector<Hit> readHits(int set) const;
+    const FrameTargets& targets() const { return *targets_; }
+
+    float sceneDiagonal() const { return sceneDiagonal_; }
+
+private:
+    void generateRays(const Camera& camera, int rayProgram, int sampleIndex, int raySet, FrameStats& stats);
+    void trace(const Camera& camera, RayType type, bool bounceShadow, int sampleIndex, int raySet, int hitSet,
+               FrameStats& stats);
+    void accumulate(RayType type, int sampleIndex, FrameStats& stats);
+    void compose(FrameStats& stats);
+    uint64_t readAndResetCappedRays();
+
+    RenderSettings settings_;
+    AreaLight light_;
+    Aabb sceneBounds_;
+    float sceneDiagonal_ = 1.0f;
+    std::unique_ptr<SceneGpu> sceneGpu_;
+    std::unique_ptr<FrameTargets> targets_;
+    std::unique_ptr<Tracer> tracer_;
+    ShaderProgram gbufferProgram_;
+    std::array<ShaderProgram, 5> raygenPrograms_; // indexed by CHCRT_RAY_*
+    ShaderProgram accumulateShadow_, accumulateAo_, accumulateDiffuse_;
+    ShaderProgram composeProgram_;
+    GlBuffer cappedRayCounter_;
+};
+
+} // namespace chcrt

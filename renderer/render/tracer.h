@@ -1,0 +1,37 @@
+#pragma once
+// What a tracing method does, whatever it is: trace the rays of a ray texture set into a hit target set
+// (hit buffer layout in shaders/shared/render_layout.h). Pure BVH tracing implements it here; CHC+RT and the
+// Line Space variants implement it in culling/ and linespace/ and plug into the same Renderer.
+#include "renderer/render/frame_targets.h"
+#include "renderer/render/render_settings.h"
+#include "renderer/scene/scene.h"
+
+#include <cstdint>
+#include <string>
+
+namespace chcrt {
+
+// What is being traced: methods that keep per-ray-set state (CHC+RT visibility fronts, §5.3) key it on this.
+struct TraceRequest {
+    RayType rayType = RayType::Primary;
+    bool anyHit = false;
+    bool bounceShadow = false; // shadow rays from diffuse hits (a ray set of its own)
+    int sampleIndex = 0;       // pass index within the frame
+    Camera camera;             // the frame's camera (methods may order work front to back)
+};
+
+struct TraceStats {
+    uint64_t passes = 0;      // tracing passes (full-screen or per batch)
+    double milliseconds = 0;  // wall time of tracing, measured with glFinish before and after
+};
+
+class Tracer {
+public:
+    virtual ~Tracer() = default;
+    virtual std::string name() const = 0;
+    // Traces rays into hits (both sized like the frame). The scene's tracing buffers are bound by the caller.
+    virtual void trace(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width,
+                       int height, TraceStats& stats) = 0;
+};
+
+} // namespace chcrt

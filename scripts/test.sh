@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Sets up, builds and runs the whole test suite (the README's test command; .ci/run runs exactly this):
+#   1. scripts/setup.sh (packages when missing, configure, build into build/) and ctest over all tests;
+#   2. unless --no-sanitize: a second build (build-asan/) with AddressSanitizer + UndefinedBehaviorSanitizer,
+#      running the unit-labelled tests (the GL tests run inside Mesa's llvmpipe, whose own allocations are not
+#      ours to sanitize).
+# Viewer tests (label viewer) start their own Xvfb.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+sanitize=1
+[[ ${1:-} == --no-sanitize ]] && sanitize=0
+if [[ ${CI:-} == true ]]; then export CHCRT_WERROR=ON; fi
+
+scripts/setup.sh
+ctest --test-dir build --output-on-failure -j2 --timeout 600
+
+if ((sanitize)); then
+  CHCRT_BUILD_DIR=build-asan CHCRT_SANITIZE=ON CHCRT_BUILD_TYPE=RelWithDebInfo \
+    CHCRT_CMAKE_ARGS="-DCHCRT_BUILD_VIEWER=OFF" scripts/setup.sh
+  ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1 \
+    ctest --test-dir build-asan --output-on-failure -j2 -L unit --timeout 600
+fi

@@ -1,0 +1,118 @@
+#version 450 core
+// Ray generation: one ray per pixel into the ray textures (origin + tmin, direction + tmax), CHC+RT §5.3.
+// Host defines: RAY_TYPE (one of CHCRT_RAY_* from shared/render_layout.h).
+#include "shared/render_layout.h"
+#include "shared/bvh_layout.h"
+#include "common/random.glsl"
+#include "common/sampling.glsl"
+#include "common/material.glsl"
+
+layout(binding = CHCRT_UNIT_GBUFFER_POSITION) uniform sampler2D gbufferPosition;
+layout(binding = CHCRT_UNIT_GBUFFER_NORMAL) uniform sampler2D gbufferNormal;
+layout(binding = CHCRT_UNIT_GBUFFER_TRIANGLE) uniform usampler2D gbufferTriangle;
+layout(binding = CHCRT_UNIT_RAY_ORIGIN) uniform sampler2D previousRayOrigin;       // bounce shadow rays only
+layout(binding = CHCRT_UNIT_RAY_DIRECTION) uniform sampler2D previousRayDirection; // bounce shadow rays only
+layout(binding = CHCRT_UNIT_BOUNCE_HIT) uniform usampler2D bounceHit;              // bounce shadow rays only
+
+uniform uint sampleIndex;    // pass index within the frame: selects the shared Halton sample
+uniform uint seed;           // per-render seed (the per-pixel perturbation depends on it and the pixel only)
+uniform float maxRotation;   // radians: per-pixel random rotation range (CHC+RT §5.3, Table 5)
+uniform float rayLength;     // AO: ambient occlusion radius; diffuse: scene diagonal
+uniform float offsetScale;   // origin offset along the geometric normal per unit of view distance
+uniform vec3 cameraPosition;
+uniform vec3 cameraForward;  // primary rays: camera basis scaled by the tangent of the half field of view
+uniform vec3 cameraRight;
+uniform vec3 cameraUp;
+uniform vec2 viewportSize;
+uniform vec3 lightCorner;
+uniform vec3 lightEdgeU;
+uniform vec3 lightEdgeV;
+
+layout(location = CHCRT_RAYGEN_OUT_ORIGIN) out vec4 outOrigin;
+layout(location = CHCRT_RAYGEN_OUT_DIRECTION) out vec4 outDirection;
+
+// Inactive ray: tmax <= tmin. Tracers skip it and report a miss; shading knows why from the G-buffer.
+void emitInactive() {
+    outOrigin = vec4(0.0f);
+    outDirection = vec4(0.0f, 0.0f, 1.0f, 0.0f);
+}
+
+// Offset a surface point along its (oriented) geometric normal so the ray does not hit its own triangle;
+// scaled with the distance to the camera because rasterised positions carry interpolation error of that order.
+vec3 offsetOrigin(vec3 position, vec3 geometricNormal, float viewDistance) {
+    float maxCoordinate = max(max(abs(position.x), abs(position.y)), abs(position.z));
+    return position + geometricNormal * (offsetScale * viewDistance + 1e-5f * maxCoordinate);
+}
+
+// Shadow ray towards the area light: the pass's Halton point on the light, shifted per pixel (Cranley-Patterson
+// rotation with a range that grows with maxRotation / 2π, so 0 = every pixel samples the same light point).
+void emitShadowRay(vec3 origin, vec3 geometricNormal, uvec2 pixel, uint haltonIndex) {
+    vec2 jitter = pixelRandom2(pixel, seed ^ 0x5bd1e995u) * (maxRotation / (2.0f * kPi));
+    vec2 uv = fract(halton2D(haltonIndex) + jitter);
+    vec3 target = lightCorner + uv.x * lightEdgeU + uv.y * lightEdgeV;
+    vec3 toLight = target - origin;
+    float distance = length(toLight);
+    vec3 direction = toLight / distance;
+    if (dot(direction, geometricNormal) <= 0.0f || dot(direction, cross(lightEdgeU, lightEdgeV)) >= 0.0f) {
+        emitInactive(); // light below the surface, or the point is behind the one-sided light: no contribution
+        return;
+    }
+    outOrigin = vec4(origin, 0.0f);
+    outDirection = vec4(direction, distance);
+}
+
+void main() {
+    uvec2 pixel = uvec2(gl_FragCoord.xy);
+    uint haltonIndex = sampleIndex + 1u; // index 0 of Halton is (0, 0): skip it
+
+#if RAY_TYPE == CHCRT_RAY_PRIMARY
+    vec2 ndc = (vec2(pixel) + 0.5f) / viewportSize * 2.0f - 1.0f;
+    vec3 direction = normalize(cameraForward + ndc.x * cameraRight + ndc.y * cameraUp);
+    outOrigin = vec4(cameraPosition, 0.0f);
+    outDirection = vec4(direction, CHCRT_NO_HIT_T);
+#elif RAY_TYPE == CHCRT_RAY_BOUNCE_SHADOW
+    uvec4 hit = texelFetch(bounceHit, ivec2(pixel), 0);
+    vec4 rayDirection = texelFetch(previousRayDirection, ivec2(pixel), 0);
+    uint hitId = hit.y;
+    float hitT = uintBitsToFloat(hit.x);
+    if (hitId == CHCRT_NO_HIT_ID || rayDirection.w <= texelFetch(previousRayOrigin, ivec2(pixel), 0).w) {
+        emitInactive();
+        return;
+    }
+    vec3 hitPosition = texelFetch(previousRayOrigin, ivec2(pixel), 0).xyz + hitT * rayDirection.xyz;
+    vec3 hitNormal = hitGeometricNormal(hitId);
+    if (dot(hitNormal, rayDirection.xyz) > 0.0f) {
+        hitNormal = -hitNormal;
+    }
+    float travelled = hitT + distance(texelFetch(previousRayOrigin, ivec2(pixel), 0).xyz, cameraPosition);
+    emitShadowRay(offsetOrigin(hitPosition, hitNormal, travelled), hitNormal, pixel, haltonIndex + 7919u);
+#else
+    if (texelFetch(gbufferTriangle, ivec2(pixel), 0).x == CHCRT_NO_HIT_ID) {
+        emitInactive();
+        return;
+    }
+    vec3 position = texelFetch(gbufferPosition, ivec2(pixel), 0).xyz;
+    vec3 shadingNormal = texelFetch(gbufferNormal, ivec2(pixel), 0).xyz;
+    vec3 geometricNormal = hitGeometricNormal(texelFetch(gbufferTriangle, ivec2(pixel), 0).x);
+    if (dot(geometricNormal, cameraPosition - position) < 0.0f) {
+        geometricNormal = -geometricNormal;
+    }
+    vec3 origin = offsetOrigin(position, geometricNormal, distance(position, cameraPosition));
+#if RAY_TYPE == CHCRT_RAY_SHADOW
+    emitShadowRay(origin, geometricNormal, pixel, haltonIndex);
+#else
+    // AO and diffuse: the pass's shared cosine-weighted direction in tangent space, rotated per pixel.
+    vec3 tangent, bitangent;
+    buildTangentFrame(shadingNormal, tangent, bitangent);
+    float rotation = pixelRandom2(pixel, seed).x * maxRotation;
+    vec3 local = cosineHemisphere(halton2D(haltonIndex), rotation);
+    vec3 direction = normalize(local.x * tangent + local.y * bitangent + local.z * shadingNormal);
+    if (dot(direction, geometricNormal) <= 0.0f) {
+        emitInactive(); // below the geometric surface: counts as occluded
+        return;
+    }
+    outOrigin = vec4(origin, 0.0f);
+    outDirection = vec4(direction, rayLength);
+#endif
+#endif
+}

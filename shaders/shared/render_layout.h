@@ -1,0 +1,59 @@
+#ifndef CHCRT_SHARED_RENDER_LAYOUT_H
+#define CHCRT_SHARED_RENDER_LAYOUT_H
+// Binding slots, render-target layouts and constants shared by the C++ render passes (renderer/render/) and
+// their shaders. Every texture unit and colour attachment a shader uses is named here, once.
+#include "shared_begin.h"
+
+// --- Texture units -------------------------------------------------------------------------------------
+#define CHCRT_UNIT_BVH_NODES 0       // samplerBuffer, RGBA32F, CHCRT_BVH_TEXELS_PER_NODE per node
+#define CHCRT_UNIT_BVH_TRIANGLES 1   // samplerBuffer, RGBA32F, CHCRT_TRI_TEXELS_PER_TRIANGLE per triangle
+#define CHCRT_UNIT_TRI_ATTRIBUTES 2  // samplerBuffer, RGBA32F, CHCRT_ATTR_TEXELS_PER_TRIANGLE per original id
+#define CHCRT_UNIT_MATERIALS 3       // samplerBuffer, RGBA32F, CHCRT_MATERIAL_TEXELS per material
+#define CHCRT_UNIT_BASE_COLOR 4      // sampler2DArray, SRGB8_ALPHA8: one layer per scene texture
+#define CHCRT_UNIT_RAY_ORIGIN 5      // sampler2D RGBA32F: origin.xyz, tmin
+#define CHCRT_UNIT_RAY_DIRECTION 6   // sampler2D RGBA32F: direction.xyz, tmax (tmax <= tmin: inactive ray)
+#define CHCRT_UNIT_HIT 7             // usampler2D RGBA32UI: bits of t, triangle id, bits of u, bits of v
+#define CHCRT_UNIT_GBUFFER_POSITION 8 // sampler2D RGBA32F: world position, 1 = covered / 0 = background
+#define CHCRT_UNIT_GBUFFER_NORMAL 9   // sampler2D RGBA32F: world normal facing the camera, linear depth
+#define CHCRT_UNIT_GBUFFER_ALBEDO 10  // sampler2D RGBA8: base colour (linear after SRGB decode), 1
+#define CHCRT_UNIT_GBUFFER_TRIANGLE 11 // usampler2D R32UI: original triangle id, CHCRT_NO_HIT_ID = background
+#define CHCRT_UNIT_ACCUM_DIRECT 12   // sampler2D RGBA32F: sum of direct-light samples (rgb), sample count
+#define CHCRT_UNIT_ACCUM_AO 13       // sampler2D RGBA32F: r = sum of unoccluded AO samples, a = count
+#define CHCRT_UNIT_ACCUM_INDIRECT 14 // sampler2D RGBA32F: sum of one-bounce diffuse radiance (rgb), count
+#define CHCRT_UNIT_BOUNCE_HIT 15     // usampler2D RGBA32UI: the diffuse pass's hit buffer (for its shadow rays)
+
+// --- Per-triangle attributes by original id (for shading hits): 3 texels = 48 bytes ----------------------
+//   texel 0: geometric normal.xyz (unit), material id   texel 1: uv0.xy, uv1.xy   texel 2: uv2.xy, 0, 0
+#define CHCRT_ATTR_TEXELS_PER_TRIANGLE 3
+// --- Materials: 2 texels = 32 bytes -------------------------------------------------------------------
+//   texel 0: base colour factor (linear rgba)   texel 1: texture layer (-1 = none), uv scale to the layer
+#define CHCRT_MATERIAL_TEXELS 2
+
+// --- Colour attachments ---------------------------------------------------------------------------------
+#define CHCRT_GBUFFER_OUT_POSITION 0
+#define CHCRT_GBUFFER_OUT_NORMAL 1
+#define CHCRT_GBUFFER_OUT_ALBEDO 2
+#define CHCRT_GBUFFER_OUT_TRIANGLE 3
+#define CHCRT_RAYGEN_OUT_ORIGIN 0
+#define CHCRT_RAYGEN_OUT_DIRECTION 1
+#define CHCRT_TRACE_OUT_HIT 0
+#define CHCRT_TRACE_OUT_COST 1 // RGBA32UI: inner nodes visited, leaves visited, triangles tested, loop cap hit
+
+// --- Ray types (one ray per pixel per pass; CHC+RT §5.3) ------------------------------------------------
+#define CHCRT_RAY_PRIMARY 0
+#define CHCRT_RAY_SHADOW 1
+#define CHCRT_RAY_AO 2
+#define CHCRT_RAY_DIFFUSE 3
+#define CHCRT_RAY_BOUNCE_SHADOW 4 // shadow rays from the diffuse pass's hit points to the light
+
+// llvmpipe silently ends every loop of a shader invocation after 65,535 iterations in total (PLATFORM.md).
+// The tracer counts all its loop iterations and stops at this cap, flagging the ray in its cost output, so the
+// limit is never reached silently; the renderer counts flagged rays and `verify` fails on any.
+#ifndef CHCRT_TRACE_ITERATION_CAP
+#define CHCRT_TRACE_ITERATION_CAP 65000u // tests lower it (BvhTracer's iterationCap) to check the detection
+#endif
+// Atomic counter binding: rays that reached CHCRT_TRACE_ITERATION_CAP (read back after each frame).
+#define CHCRT_ATOMIC_BINDING_CAPPED_RAYS 0
+
+#include "shared_end.h"
+#endif

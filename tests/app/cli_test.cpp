@@ -1,0 +1,163 @@
+// The CLI as users and scripts see it: exit codes, one-line errors, no partial output files, and the JSON
+// fields other tools rely on. Runs build/bin/chcrt (path injected by CMake) in a temporary directory.
+#include <nlohmann/json.hpp>
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+    int exitCode = -1;
+    std::string output; // stdout and stderr
+};
+
+class CliTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() /
+               ("chcrt_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+                std::to_string(::getpid()));
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+
+    Result run(const std::string& arguments) const {
+        const std::string command = "cd '" + dir_.string() + "' && '" CHCRT_BINARY "' " + arguments + " 2>&1";
+        Result result;
+        FILE* pipe = ::popen(command.c_str(), "r");
+        if (!pipe) return result;
+        std::array<char, 4096> buffer;
+        while (size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) result.output.append(buffer.data(), n);
+        const int status = ::pclose(pipe);
+        result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        return result;
+    }
+
+    void write(const std::string& name, const std::string& text) const { std::ofstream(dir_ / name) << text; }
+    bool exists(const std::string& name) const { return fs::exists(dir_ / name); }
+    // No stray temp files either (atomic writes clean up after themselves).
+    size_t fileCount() const { return size_t(std::distance(fs::directory_iterator(dir_), fs::directory_iterator())); }
+    nlohmann::json readJson(const std::string& name) const {
+        std::ifstream in(dir_ / name);
+        return nlohmann::json::parse(in);
+    }
+
+    fs::path dir_;
+};
+
+constexpr const char* kSmall = "--width 48 --height 32 --spp 1 -q";
+
+TEST_F(CliTest, HelpAndVersionSucceed) {
+    for (const char* args : {"--help", "render --help", "bench --help", "verify --help", "info --help", "demo --help"}) {
+        const Result r = run(args);
+        EXPECT_EQ(r.exitCode, 0) << args << "\n" << r.output;
+        EXPECT_NE(r.output.find("--scene"), std::string::npos) << args;
+    }
+    EXPECT_EQ(run("--version").exitCode, 0);
+}
+
+TEST_F(CliTest, BadFlagsAreUsageErrors) {
+    EXPECT_EQ(run("").exitCode, 2);
+    EXPECT_EQ(run("explode").exitCode, 2);
+    EXPECT_EQ(run("render --no-such-flag -o x.png").exitCode, 2);
+    EXPECT_EQ(run("render --width abc -o x.png").exitCode, 2);
+    const Result zero = run(std::string("render --scene one-triangle --width 0 -o x.png -q"));
+    EXPECT_EQ(zero.exitCode, 2);
+    EXPECT_NE(zero.output.find("image size"), std::string::npos) << zero.output;
+    EXPECT_EQ(run("render --scene one-triangle --effects shadow,sparkle -o x.png -q").exitCode, 2);
+    EXPECT_EQ(run("verify --scene one-triangle --ray-type gloss -q").exitCode, 2);
+    EXPECT_EQ(run("bench --scene one-triangle --method magic -q").exitCode, 2);
+    EXPECT_EQ(run("render --scene city:abc -o x.png -q").exitCode, 2);
+    EXPECT_EQ(run(std::string("render --scene one-triangle --frames 5 -o x.png ") + kSmall).exitCode, 2);
+    EXPECT_EQ(run(std::string("render --scene one-triangle --frames 3-1 -o x.png ") + kSmall).exitCode, 2);
+    EXPECT_EQ(fileCount(), 0u);
+}
+
+TEST_F(CliTest, BadInputFilesGiveOneLineErrorsAndNoOutput) {
+    write("broken.gltf", "{ \"asset\": { \"version\": \"2.0\" }, \"meshes\": [ ");
+    write("empty.obj", "# nothing here\n");
+    write("nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n");
+    write("path.json", "{\"version\": 1, \"keyframes\": [");
+    write("truncated.glb", std::string("glTF\x02\x00\x00\x00\xff\x00\x00\x00", 12));
+    const std::string cases[] = {"--scene missing.glb", "--scene broken.gltf", "--scene empty.obj",
+                                 "--scene nan.obj", "--scene truncated.glb", "--scene city:10k --camera-path path.json",
+                                 "--scene city:10k --camera-path nowhere.json"};
+    for (const std::string& c : cases) {
+        const Result r = run("render " + c + " -o out.png " + kSmall);
+        EXPECT_EQ(r.exitCode, 2) << c << "\n" << r.output;
+        EXPECT_NE(r.output.find("error"), std::string::npos) << c;
+        EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << c << ": " << r.output;
+        EXPECT_FALSE(exists("out.png")) << c;
+    }
+    EXPECT_EQ(fileCount(), 5u); // only the inputs
+}
+
+TEST_F(CliTest, UnwritableOutputIsAnErrorWithoutPartialFiles) {
+    const Result r = run(std::string("render --scene one-triangle -o no/such/dir/out.png ") + kSmall);
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    const Result bad = run(std::string("render --scene one-triangle -o out.unknownext ") + kSmall);
+    EXPECT_EQ(bad.exitCode, 2) << bad.output;
+    EXPECT_EQ(fileCount(), 0u);
+}
+
+TEST_F(CliTest, RenderWritesFramesAndStatsJson) {
+    const Result r = run(std::string("render --scene plane-and-box --frames 0 -o frame_####.png --stats-json s.json ") +
+                         kSmall);
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_TRUE(exists("frame_0000.png"));
+    const nlohmann::json j = readJson("s.json");
+    EXPECT_EQ(j["width"], 48);
+    ASSERT_EQ(j["frames"].size(), 1u);
+    EXPECT_GT(j["frames"][0]["ms_total"].get<double>(), 0.0);
+    EXPECT_EQ(j["frames"][0]["capped_rays"], 0);
+    EXPECT_EQ(j["scene"]["triangles"], 14);
+}
+
+TEST_F(CliTest, VerifyPassesOnACityForAllRayTypes) {
+    const Result r = run("verify --scene city:20k --ray-type primary,shadow,ao,diffuse --frames 0,40 --width 64 "
+                         "--height 48 -q --stats-json v.json");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("PASS"), std::string::npos) << r.output;
+    EXPECT_EQ(readJson("v.json")["differing"], 0);
+}
+
+TEST_F(CliTest, BenchWritesTheDocumentedJsonSchema) {
+    const Result r = run("bench --scene city:20k --ray-type primary,ao --method bvh,embree --frames 0 --runs 2 "
+                         "--warmup 1 --width 48 --height 32 -q --json b.json --csv b.csv");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const nlohmann::json j = readJson("b.json");
+    ASSERT_EQ(j["rows"].size(), 4u);
+    for (const auto& row : j["rows"]) {
+        for (const char* field : {"scene", "path", "ray_type", "method", "width", "height", "spp", "ms_median",
+                                  "mrays_per_s", "speedup_vs_bvh", "diff_pixels", "psnr_db"}) {
+            EXPECT_TRUE(row.contains(field)) << field;
+        }
+        EXPECT_GT(row["mrays_per_s"].get<double>(), 0.0);
+        EXPECT_EQ(row["diff_pixels"], 0);
+    }
+    EXPECT_DOUBLE_EQ(j["rows"][0]["speedup_vs_bvh"].get<double>(), 1.0);
+    EXPECT_TRUE(exists("b.csv"));
+}
+
+TEST_F(CliTest, InfoReportsGlAndScene) {
+    const Result r = run("info --scene interior:20k -q");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("4.5"), std::string::npos);
+    EXPECT_NE(r.output.find("triangles"), std::string::npos);
+    const Result osmesa = run("info --no-scene --gl osmesa -q");
+    EXPECT_EQ(osmesa.exitCode, 0) << osmesa.output;
+    EXPECT_EQ(run("info --no-scene --gl vulkan -q").exitCode, 2);
+}
+
+} // namespace
