@@ -42,7 +42,7 @@ constexpr uint32_t kRaysPerItem = 256; // traceCpu work item
 // hit, or equally close with a lower original id (deterministic tie-break). Rays need tmin >= 0:
 // intersectRayTriangle reports a miss as t = -1.
 bool acceptsHit(float t, uint32_t originalId, float tmin, float tmax, const Hit& best) {
-    return t >= tmin && t <= tmax && (t < best.t || (t == best.t && originalId > best.triangleId));
+    return t >= tmin && t <= tmax && (t < best.t || (t == best.t && originalId < best.triangleId));
 }
 
 template <bool kAnyHit>
@@ -54,7 +54,7 @@ Hit traverse(const Bvh& bvh, const Ray& ray) {
     }
     const glm::vec3 origin = ray.origin;
     const glm::vec3 direction = ray.direction;
-    const glm::vec3 invDir = 1.0f / direction; // zero components give +-inf, which the slab test handles
+    const glm::vec3 invDir = gpu::safeInverseDirection(direction); // as the GLSL tracer: no 0 * inf
     const float tmin = ray.tmin;
     float tLimit = ray.tmax;
 

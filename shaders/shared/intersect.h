@@ -22,10 +22,18 @@ CHCRT_INLINE float dotOrdered(vec3 a, vec3 b) {
     return (a.x * b.x + a.y * b.y) + a.z * b.z;
 }
 
+// 1 / direction with zero components replaced by ±1e-30: an infinite inverse would turn (bound - origin) * invDir
+// into 0 * inf = NaN for a ray starting exactly on a box face, and GLSL's min/max are undefined for NaN. 1e30 is
+// still "infinitely" steep for any box in a scene, so no hit is lost.
+CHCRT_INLINE float safeInverse(float d) {
+    return 1.0f / (abs(d) > 1e-30f ? d : (d >= 0.0f ? 1e-30f : -1e-30f));
+}
+CHCRT_INLINE vec3 safeInverseDirection(vec3 d) {
+    return vec3(safeInverse(d.x), safeInverse(d.y), safeInverse(d.z));
+}
+
 // Slab test. Returns (tEntry, tExit) of the ray's line with the box; the ray [tmin, tmax] hits the box when
-// tEntry <= tExit && tExit >= tmin && tEntry <= tmax. invDir = 1 / direction (IEEE infinities for zero
-// components are fine: the min/max ordering handles them, except 0 * inf, which the box tests avoid by
-// computing (bound - origin) * invDir).
+// tEntry <= tExit && tExit >= tmin && tEntry <= tmax. invDir = safeInverseDirection(direction).
 CHCRT_INLINE vec2 intersectRayAabb(vec3 origin, vec3 invDir, vec3 boundsMin, vec3 boundsMax) {
     vec3 t0 = (boundsMin - origin) * invDir;
     vec3 t1 = (boundsMax - origin) * invDir;

@@ -66,7 +66,7 @@ bool intersectLeaf(uint first, uint count, vec3 origin, vec3 direction, float tm
 // Traverses the subtree rooted at `root` (its box is tested first). `best` carries the closest hit so far
 // (initialise with makeMiss(tmax)), so several subtrees can be traced one after another into one result.
 void traverseBvh(uint root, vec3 origin, vec3 direction, float tmin, inout TraceHit best, inout TraceCost cost) {
-    vec3 invDir = 1.0f / direction;
+    vec3 invDir = safeInverseDirection(direction);
     vec4 root0 = texelFetch(bvhNodes, int(root) * CHCRT_BVH_TEXELS_PER_NODE);
     vec4 root1 = texelFetch(bvhNodes, int(root) * CHCRT_BVH_TEXELS_PER_NODE + 1);
     if (!rayHitsAabb(intersectRayAabb(origin, invDir, root0.xyz, root1.xyz), tmin, best.t)) {

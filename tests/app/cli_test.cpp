@@ -59,7 +59,12 @@ protected:
 constexpr const char* kSmall = "--width 48 --height 32 --spp 1 -q";
 
 TEST_F(CliTest, HelpAndVersionSucceed) {
-    for (const char* args : {"--help", "render --help", "bench --help", "verify --help", "info --help", "demo --help"}) {
+    const Result top = run("--help");
+    EXPECT_EQ(top.exitCode, 0);
+    for (const char* command : {"demo", "render", "bench", "verify", "info"}) {
+        EXPECT_NE(top.output.find(command), std::string::npos) << command;
+    }
+    for (const char* args : {"render --help", "bench --help", "verify --help", "info --help", "demo --help"}) {
         const Result r = run(args);
         EXPECT_EQ(r.exitCode, 0) << args << "\n" << r.output;
         EXPECT_NE(r.output.find("--scene"), std::string::npos) << args;

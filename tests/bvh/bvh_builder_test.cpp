@@ -106,7 +106,7 @@ TEST(BvhBuilder, CoincidentCentroidsFallBackToMedian) {
 // Exponentially spaced triangles: every SAH split peels off a few, so only the depth guard keeps the tree
 // shallower than the traversal stack.
 TEST(BvhBuilder, DepthStaysBelowStackSizeOnAdversarialInput) {
-    const Scene scene = test::makeExponentialRow(1000);
+    const Scene scene = test::makeExponentialRow(3000);
     for (uint32_t maxLeaf : {1u, 4u}) {
         BvhBuildOptions options;
         options.maxLeafTriangles = maxLeaf;

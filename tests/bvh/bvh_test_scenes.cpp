@@ -102,7 +102,9 @@ Scene makeHeightfield(uint32_t cells, uint32_t seed) {
 Scene makeExponentialRow(uint32_t count) {
     Scene scene = makeEmptyScene("exponential");
     for (uint32_t i = 0; i < count; ++i) {
-        const float x = std::pow(1.09f, float(i));
+        // From 2^-120 to 2^120: the widest span float allows, so the peeling continues for as many levels as
+        // possible (each binned split can only remove one factor binCount of the remaining range).
+        const float x = std::exp2(-120.0f + 240.0f * float(i) / float(std::max(count, 2u) - 1));
         const float s = 0.25f * x; // size proportional to position, so no triangle degenerates in float
         addTriangle(scene, glm::vec3(x, 0.0f, 0.0f), glm::vec3(x + s, s, 0.0f), glm::vec3(x, s, s));
     }

@@ -25,8 +25,8 @@ Scene makeClusteredSoup(uint32_t count, uint32_t clusters, uint32_t seed);
 // [0, cells]^2 in xz; y is a smooth function plus seeded noise. Structured input for builds and tracing.
 Scene makeHeightfield(uint32_t cells, uint32_t seed);
 
-// Adversarial for depth: triangles at exponentially spaced positions (x_i = 1.09^i), so every SAH split
-// peels off only the farthest few and a naive build would reach depth ~count.
+// Adversarial for depth: triangles at exponentially spaced positions (x from 2^-120 to 2^120), so every
+// binned SAH split peels off only the farthest few and an unguarded build gets deeper than the stack.
 Scene makeExponentialRow(uint32_t count);
 
 // Structural invariants of a built tree: all nodes reachable exactly once, sibling pairs in range, every

@@ -156,8 +156,8 @@ TEST(CpuTracer, InactiveRaysMissWithoutTraversal) {
     }
 }
 
-// Directions along ±x, ±y, ±z have zero components (invDir = ±inf). Origins are random floats, so they do
-// not lie on a box face (see the report on intersectRayAabb for that case).
+// Directions along ±x, ±y, ±z have zero components (safeInverseDirection makes them ±1e30). Origins are random
+// floats, so they do not lie on a box face (RayInBoxFacePlaneWithZeroDirectionComponent covers that case).
 TEST(CpuTracer, AxisParallelRaysMatchBruteForce) {
     const Scene scene = test::makeTriangleSoup(3000, 30, 10.0f, 2.0f);
     const Aabb box = scene.bounds();
@@ -200,9 +200,10 @@ TEST(CpuTracer, RaysStartingInsideBoxesMatchBruteForce) {
 
 // Two triangles sharing the edge from (1,0,0) to (0,1,0); the rays pass exactly through the edge (all values
 // are dyadic, so both triangles report exactly the same t). The lower original id must win, whichever leaf
-// the traversal reaches first, including when the triangles sit in different leaves.
+// the traversal reaches first, including when the triangles sit in different leaves whose boxes are entered
+// at the same t (so the second leaf must not be pruned by the first leaf's equal hit).
 TEST(CpuTracer, SharedEdgeTieGoesToLowerId) {
-    const glm::vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0), d(1, 1, 0);
+    const glm::vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0), d(2, 2, 0); // different boxes, so maxLeaf 1 splits them
     for (bool swapIds : {false, true}) {
         Scene scene = test::makeTriangleSoup(0, 0);
         if (swapIds) {
@@ -212,10 +213,17 @@ TEST(CpuTracer, SharedEdgeTieGoesToLowerId) {
             test::addTriangle(scene, a, b, c);
             test::addTriangle(scene, b, d, c);
         }
-        for (uint32_t maxLeaf : {1u, 4u}) {
-            BvhBuildOptions options;
-            options.maxLeafTriangles = maxLeaf;
+        // One leaf (default SAH), and two leaves via the median build or via expensive intersections.
+        BvhBuildOptions medianOptions;
+        medianOptions.maxLeafTriangles = 1;
+        medianOptions.medianSplit = true;
+        BvhBuildOptions expensiveOptions;
+        expensiveOptions.maxLeafTriangles = 1;
+        expensiveOptions.intersectionCost = 10.0f;
+        for (const BvhBuildOptions& options : {BvhBuildOptions{}, medianOptions, expensiveOptions}) {
             const Bvh bvh = buildBvh(scene, options);
+            ASSERT_EQ(bvh.nodes.size(), options.maxLeafTriangles == 1 ? 3u : 1u);
+            const uint32_t maxLeaf = options.maxLeafTriangles;
             for (const glm::vec3& direction : {glm::vec3(0, 0, -1), glm::vec3(0.5f, 0.5f, -1.0f), glm::vec3(-0.25f, 0.25f, -1.0f)}) {
                 Ray ray;
                 ray.origin = glm::vec3(0.5f, 0.5f, 0.0f) - direction; // reaches the edge point at t = 1
@@ -269,6 +277,26 @@ TEST(CpuTracer, BatchedTracingMatchesSingleRays) {
         }
         EXPECT_FALSE(hits[7].hit());
     }
+}
+
+} // namespace
+} // namespace chcrt
+
+namespace chcrt {
+namespace {
+
+// A zero direction component with the origin exactly on that axis's box face: an infinite inverse would make
+// (bound - origin) * invDir = 0 * inf = NaN and reject the box; safeInverseDirection (intersect.h) prevents it.
+TEST(CpuTracer, RayInBoxFacePlaneWithZeroDirectionComponent) {
+    Scene scene = test::makeTriangleSoup(0, 0);
+    test::addTriangle(scene, glm::vec3(0, 0, 0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0));
+    const Bvh bvh = buildBvh(scene);
+    Ray ray;
+    ray.origin = glm::vec3(0.0f, 0.5f, 1.0f); // x on the box's min-x face
+    ray.direction = glm::vec3(0, 0, -1);
+    ray.tmax = 10.0f;
+    ASSERT_TRUE(test::traceBruteForce(scene, ray).hit());
+    EXPECT_TRUE(traceClosestCpu(bvh, ray).hit());
 }
 
 } // namespace
