@@ -253,7 +253,7 @@ void EmbreeTracer::trace(std::span<const Ray> rays, std::span<Hit> hits, bool an
                                     std::to_string(hits.size()) + " hits");
     }
     RTCScene scene = impl_->scene;
-    static const bool usePackets = std::getenv("CHCRT_EMBREE_PACKETS") != nullptr;
+    const bool usePackets = std::getenv("CHCRT_EMBREE_PACKETS") != nullptr;
     // Chunks handed out dynamically: incoherent rays take very different times, static halves would idle.
     constexpr size_t kChunk = 1024;
     std::atomic<size_t> next{0};

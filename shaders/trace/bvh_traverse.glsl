@@ -74,8 +74,10 @@ void traverseBvh(uint root, vec3 origin, vec3 direction, float tmin, inout Trace
     }
     uint nodeFirst = floatBitsToUint(root0.w);
     uint nodeCount = floatBitsToUint(root1.w);
-    uint stackFirst[CHCRT_MAX_BVH_DEPTH];
-    uint stackCount[CHCRT_MAX_BVH_DEPTH];
+    // The stack holds node indices and entry distances only; a popped node's header is fetched again. Keeping
+    // the child's (first, count) on the stack instead costs a third local array, and local arrays are the
+    // expensive part on llvmpipe (measured: 2x slower for primary rays on the 1M city, docs/benchmarks.md).
+    uint stackNode[CHCRT_MAX_BVH_DEPTH];
     float stackEntry[CHCRT_MAX_BVH_DEPTH];
     int stackSize = 0;
     bool traversing = true;
@@ -97,8 +99,7 @@ void traverseBvh(uint root, vec3 origin, vec3 direction, float tmin, inout Trace
             if (hitA && hitB) {
                 // Nearer child first (exploits occlusion); the farther one waits with its entry distance.
                 bool aFirst = entryExitA.x <= entryExitB.x;
-                stackFirst[stackSize] = floatBitsToUint(aFirst ? b0.w : a0.w);
-                stackCount[stackSize] = floatBitsToUint(aFirst ? b1.w : a1.w);
+                stackNode[stackSize] = aFirst ? nodeFirst + 1u : nodeFirst;
                 stackEntry[stackSize] = aFirst ? entryExitB.x : entryExitA.x;
                 ++stackSize;
                 nodeFirst = floatBitsToUint(aFirst ? a0.w : b0.w);
@@ -123,8 +124,9 @@ void traverseBvh(uint root, vec3 origin, vec3 direction, float tmin, inout Trace
             ++cost.iterations;
             --stackSize;
             if (stackEntry[stackSize] <= best.t) {
-                nodeFirst = stackFirst[stackSize];
-                nodeCount = stackCount[stackSize];
+                int popped = int(stackNode[stackSize]) * CHCRT_BVH_TEXELS_PER_NODE;
+                nodeFirst = floatBitsToUint(texelFetch(bvhNodes, popped).w);
+                nodeCount = floatBitsToUint(texelFetch(bvhNodes, popped + 1).w);
                 traversing = true;
                 break;
             }
