@@ -32,7 +32,11 @@ int runRender(const RenderOptions& options) {
     nlohmann::json frameJson = nlohmann::json::array();
     std::vector<std::string> written;
     FrameStats sum;
-    session.progress->begin("Rendering", frames.size());
+    renderer.warmUp(session.path.cameraAtFrame(frames.front()));
+    // Progress per pass, so that a single slow frame (many samples, a big scene) shows progress too.
+    uint64_t passesDone = 0;
+    session.progress->begin("Rendering", uint64_t(frames.size()) * renderer.passesPerFrame());
+    renderer.setPassCallback([&] { session.progress->update(++passesDone); });
     for (size_t i = 0; i < frames.size(); ++i) {
         const FrameStats stats = renderer.renderFrame(session.path.cameraAtFrame(frames[i]));
         const std::string file = formatFramePath(options.output, frames[i], int(frames.size()));
@@ -52,8 +56,8 @@ int runRender(const RenderOptions& options) {
         }
         sum.raysGenerated += stats.raysGenerated;
         sum.cappedRays += stats.cappedRays;
-        session.progress->update(i + 1);
     }
+    renderer.setPassCallback(nullptr);
     session.progress->end();
 
     const double n = double(frames.size());

@@ -134,6 +134,29 @@ FrameStats Renderer::renderFrame(const Camera& camera) {
     return stats;
 }
 
+int Renderer::passesPerFrame() const {
+    const EffectSet& e = settings_.effects;
+    return 2 + settings_.samplesPerPixel * (int(e.shadows) + int(e.ao) + 2 * int(e.diffuse));
+}
+
+void Renderer::warmUp(const Camera& camera) {
+    const RenderSettings saved = settings_;
+    RenderSettings onePass = settings_;
+    onePass.samplesPerPixel = 1;
+    onePass.effects = EffectSet{};
+    settings_ = onePass;
+    std::function<void()> callback = std::move(passCallback_);
+    passCallback_ = nullptr;
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(0, 0, 1, 1);
+    renderFrame(camera);
+    FrameStats scratch;
+    traceRayPass(camera, RayType::Primary, 0, scratch); // the only variant a frame does not use
+    glDisable(GL_SCISSOR_TEST);
+    settings_ = saved;
+    passCallback_ = std::move(callback);
+}
+
 void Renderer::renderGBuffer(const Camera& camera, FrameStats& stats) {
     const auto start = Clock::now();
     const FrameTargets& t = *targets_;
@@ -168,6 +191,7 @@ void Renderer::renderGBuffer(const Camera& camera, FrameStats& stats) {
     glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
     glFinish();
     stats.gbufferMs += millisecondsSince(start);
+    if (passCallback_) passCallback_();
 }
 
 void Renderer::generateRayPass(const Camera& camera, RayType type, int sampleIndex, FrameStats& stats) {
@@ -234,6 +258,7 @@ void Renderer::trace(const Camera& camera, RayType type, bool bounceShadow, int 
                    traceStats);
     glFinish();
     traceStats.milliseconds += millisecondsSince(start);
+    if (passCallback_) passCallback_();
 }
 
 void Renderer::accumulate(RayType type, int /*sampleIndex*/, FrameStats& stats) {
@@ -294,6 +319,7 @@ void Renderer::compose(FrameStats& stats) {
     drawFullscreenTriangle();
     glFinish();
     stats.shadeMs += millisecondsSince(start);
+    if (passCallback_) passCallback_();
 }
 
 uint64_t Renderer::readAndResetCappedRays() {

@@ -13,6 +13,7 @@
 #include "renderer/render/tracer.h"
 
 #include <array>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -44,6 +45,13 @@ public:
 
     // The whole frame: G-buffer, effects, composition.
     FrameStats renderFrame(const Camera& camera);
+    // Passes of renderFrame with the current settings (G-buffer + one per traced ray set + composition); each
+    // completed pass calls the pass callback (progress bars).
+    int passesPerFrame() const;
+    void setPassCallback(std::function<void()> callback) { passCallback_ = std::move(callback); }
+    // Compiles every shader variant the frame uses by rendering one pixel of a frame (llvmpipe compiles shaders
+    // at their first draw, 90-280 ms each: keep that out of timings).
+    void warmUp(const Camera& camera);
 
     // Building blocks for bench/verify and the viewer.
     void renderGBuffer(const Camera& camera, FrameStats& stats);
@@ -83,6 +91,7 @@ private:
     ShaderProgram accumulateShadow_, accumulateAo_, accumulateDiffuse_;
     ShaderProgram composeProgram_;
     GlBuffer cappedRayCounter_;
+    std::function<void()> passCallback_;
 };
 
 } // namespace chcrt
