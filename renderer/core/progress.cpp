@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <cstdio>
 #include <mutex>
@@ -111,7 +112,7 @@ private:
             line += text;
             if (!finished && done > 0 && done < total_) {
                 const double eta = elapsed * double(total_ - done) / double(done);
-                line += " ETA " + formatDuration(eta);
+                line += " ETA " + formatDuration(std::ceil(eta)); // "0:00" only when done
             }
         } else {
             static constexpr char kSpinner[] = "|/-\\";

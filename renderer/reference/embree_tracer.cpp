@@ -157,7 +157,12 @@ EmbreeTracer::EmbreeTracer(const Scene& scene) : impl_(std::make_unique<Impl>())
             geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), scene.positions.size()));
         auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
             geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), scene.triangles.size()));
-        impl_->throwIfError("buffer allocation");
+        try {
+            impl_->throwIfError("buffer allocation");
+        } catch (...) {
+            rtcReleaseGeometry(geometry); // it holds a reference to the device
+            throw;
+        }
         for (size_t i = 0; i < scene.positions.size(); ++i) {
             for (int k = 0; k < 3; ++k) {
                 vertices[i * 3 + size_t(k)] = scene.positions[i][k];

@@ -195,8 +195,8 @@ glm::vec3 splineAt(const std::vector<CameraKeyframe>& keys, glm::vec3 CameraKeyf
     const size_t n = keys.size();
     const glm::dvec3 p1(keys[i].*field);
     const glm::dvec3 p2(keys[i + 1].*field);
-    const glm::dvec3 p0 = i > 0 ? glm::dvec3(keys[i - 1].*field) : p1;         // reflected above
-    const glm::dvec3 p3 = i + 2 < n ? glm::dvec3(keys[i + 2].*field) : p2;     // reflected above
+    const glm::dvec3 p0 = i > 0 ? glm::dvec3(keys[i - 1].*field) : p1; // reflected above
+    const glm::dvec3 p3 = i + 2 < n ? glm::dvec3(keys[i + 2].*field) : p2; // reflected above
     return glm::vec3(centripetalCatmullRom(p0, p1, p2, p3, s));
 }
 
