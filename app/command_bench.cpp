@@ -7,6 +7,7 @@
 // hit-buffer pixels that differ beyond the stated tolerance (renderer/render/hit_comparison.h) and psnr_db is
 // null (it produces hits, not an image).
 #include "app/commands.h"
+#include "app/methods.h"
 #include "app/report.h"
 #include "app/session.h"
 #include "renderer/core/error.h"
@@ -16,6 +17,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <cstdio>
 #include <map>
 
@@ -39,6 +41,15 @@ uint64_t countActive(const std::vector<Ray>& rays) {
     return uint64_t(std::count_if(rays.begin(), rays.end(), [](const Ray& r) { return r.tmax > r.tmin; }));
 }
 
+// Pixels whose hit (t bits and triangle id) differs from the reference: exact methods must give none.
+uint64_t countDifferentHits(const std::vector<Hit>& a, const std::vector<Hit>& b) {
+    uint64_t count = 0;
+    for (size_t i = 0; i < a.size(); ++i) {
+        count += a[i].triangleId != b[i].triangleId || std::memcmp(&a[i].t, &b[i].t, sizeof(float)) != 0;
+    }
+    return count;
+}
+
 } // namespace
 
 int runBench(const BenchOptions& options) {
@@ -46,10 +57,10 @@ int runBench(const BenchOptions& options) {
     const std::vector<std::string> methods = splitList(options.methods);
     std::vector<RayType> rayTypes;
     for (const std::string& name : splitList(options.rayTypes)) rayTypes.push_back(parseRayType(name));
+    bool wantEmbree = false;
     for (const std::string& m : methods) {
-        if (m != "bvh" && m != "embree") {
-            throw InputError("--method: unknown method '" + m + "' (available: bvh, embree)");
-        }
+        if (m == "embree") wantEmbree = true;
+        else findGpuMethod(m);
     }
     if (options.runs < 1) throw InputError("--runs must be at least 1");
     if (options.warmupRuns < 0) throw InputError("--warmup must not be negative");
@@ -59,10 +70,16 @@ int runBench(const BenchOptions& options) {
     const std::vector<int> frames = selectFrames(o, session.path, "spread:5");
     GpuSession gpu = openGpuSession(o, session, settings);
     Renderer& renderer = *gpu.renderer;
-    std::unique_ptr<EmbreeTracer> embree;
-    if (std::find(methods.begin(), methods.end(), "embree") != methods.end()) {
-        embree = std::make_unique<EmbreeTracer>(session.scene);
+    // Pure BVH tracing always runs: it is the reference for speedups and differing pixels.
+    std::vector<std::string> gpuMethodNames = {"bvh"};
+    std::map<std::string, std::unique_ptr<Tracer>> tracers;
+    for (const std::string& m : methods) {
+        if (m == "embree" || m == "bvh") continue;
+        gpuMethodNames.push_back(m);
+        tracers[m] = makeTracer(m, session, gpu);
     }
+    std::unique_ptr<EmbreeTracer> embree;
+    if (wantEmbree) embree = std::make_unique<EmbreeTracer>(session.scene);
     const float diagonal = renderer.sceneDiagonal();
     HitTolerance tolerance;
     tolerance.absoluteT *= diagonal;
@@ -78,6 +95,7 @@ int runBench(const BenchOptions& options) {
         std::map<std::string, MethodResult> results;
         for (int run = 0; run < totalRuns; ++run) {
             const bool timed = run >= options.warmupRuns;
+            const bool compare = run == options.warmupRuns; // compare hits once, in the first timed run
             std::map<std::string, double> runMs;
             for (int frame : frames) {
                 const Camera camera = session.path.cameraAtFrame(frame);
@@ -85,35 +103,46 @@ int runBench(const BenchOptions& options) {
                 if (type != RayType::Primary) renderer.renderGBuffer(camera, scratch);
                 for (int sample = 0; sample < settings.samplesPerPixel; ++sample) {
                     renderer.generateRayPass(camera, type, sample, scratch);
-                    FrameStats bvhStats;
-                    renderer.traceRayPass(camera, type, sample, bvhStats);
-                    if (bvhStats.cappedRays > 0) {
-                        throw std::runtime_error("rays reached the shader loop cap during the benchmark");
+                    std::vector<Hit> bvhHits;
+                    for (const std::string& m : gpuMethodNames) {
+                        renderer.useTracer(m == "bvh" ? nullptr : tracers[m].get());
+                        FrameStats methodStats;
+                        renderer.traceRayPass(camera, type, sample, methodStats);
+                        if (methodStats.cappedRays > 0) {
+                            throw std::runtime_error("rays reached the shader loop cap during the benchmark (" + m + ")");
+                        }
+                        runMs[m] += methodStats.traceMs();
+                        if (!compare || (m == "bvh" && !embree && gpuMethodNames.size() == 1)) continue;
+                        std::vector<Hit> hits = renderer.readHits(0);
+                        if (m == "bvh") bvhHits = std::move(hits);
+                        else results[m].comparison.differing += countDifferentHits(hits, bvhHits);
                     }
-                    runMs["bvh"] += bvhStats.traceMs();
-                    if (!embree && !timed) continue;
+                    renderer.useTracer(nullptr);
+                    if (!timed) continue;
                     const std::vector<Ray> rays = renderer.readRays(0);
-                    if (timed) {
-                        for (const std::string& m : methods) results[m].activeRays += countActive(rays);
-                    }
+                    const uint64_t active = countActive(rays);
+                    for (const std::string& m : methods) results[m].activeRays += active;
                     if (!embree) continue;
                     std::vector<Hit> hits(rays.size());
                     const auto start = std::chrono::steady_clock::now();
                     embree->trace(rays, hits, isAnyHit(type));
                     runMs["embree"] +=
                         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-                    if (timed && run == options.warmupRuns) {
-                        // Compare once (the first timed run) with closest-hit Embree so ids are known.
+                    if (compare) {
+                        // Closest-hit Embree for the comparison, so ids are known (any-hit results carry none).
                         std::vector<Hit> reference(rays.size());
                         embree->trace(rays, reference, false);
                         results["embree"].comparison.add(
-                            compareHits(session.scene, rays, renderer.readHits(0), reference, isAnyHit(type), tolerance));
+                            compareHits(session.scene, rays, bvhHits, reference, isAnyHit(type), tolerance));
                     }
                 }
                 session.progress->update(++progressDone);
             }
             if (!timed) continue;
             for (const std::string& m : methods) results[m].runMs.push_back(runMs[m] / double(frames.size()));
+            if (std::find(methods.begin(), methods.end(), "bvh") == methods.end()) {
+                results["bvh"].runMs.push_back(runMs["bvh"] / double(frames.size())); // reference for speedups
+            }
         }
         const double bvhMs = median(results["bvh"].runMs);
         for (const std::string& m : methods) {
@@ -122,7 +151,7 @@ int runBench(const BenchOptions& options) {
             const double raysPerFrame = double(r.activeRays) / double(options.runs) / double(frames.size());
             const double mrays = ms > 0 ? raysPerFrame / (ms * 1000.0) : 0.0;
             const double speedup = ms > 0 ? bvhMs / ms : 0.0;
-            const uint64_t diff = m == "bvh" ? 0 : r.comparison.differing;
+            const uint64_t diff = m == "bvh" ? 0 : r.comparison.differing; // bvh is the reference itself
             table.rows.push_back({session.scene.name, session.path.name, toString(type), m,
                                   std::to_string(settings.width) + "x" + std::to_string(settings.height),
                                   std::to_string(settings.samplesPerPixel), formatFixed(ms, 1), formatFixed(mrays, 2),

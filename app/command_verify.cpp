@@ -1,7 +1,11 @@
-// `chcrt verify`: traces each selected frame's rays with the GLSL tracer and with Embree (the oracle) and counts
-// pixels whose hits differ beyond the stated tolerance (renderer/render/hit_comparison.h). Exit 0 when no pixel
-// differs (or at most --max-diff) and no ray reached the shader loop cap; 4 otherwise.
+// `chcrt verify`: checks a tracing method against its oracle on each selected frame's rays.
+//   --method bvh (pure BVH GLSL tracing): against Embree, counting pixels whose hits differ beyond the stated
+//     tolerance (renderer/render/hit_comparison.h).
+//   any other GPU method: against pure BVH GLSL tracing, exactly (same triangle id and bit-identical t), as
+//     conservative methods must be.
+// Exit 0 when no pixel differs (or at most --max-diff) and no ray reached the shader loop cap; 4 otherwise.
 #include "app/commands.h"
+#include "app/methods.h"
 #include "app/report.h"
 #include "app/session.h"
 #include "renderer/core/error.h"
@@ -9,14 +13,31 @@
 #include "renderer/render/hit_comparison.h"
 
 #include <cstdio>
+#include <cstring>
 
 namespace chcrt::app {
+namespace {
+
+// Exact comparison for conservative methods: every pixel must carry the same id and the same bits of t.
+HitComparison compareExactly(std::span<const Ray> rays, std::span<const Hit> method, std::span<const Hit> reference) {
+    HitComparison result;
+    result.rays = rays.size();
+    for (size_t i = 0; i < rays.size(); ++i) {
+        result.activeRays += rays[i].tmax > rays[i].tmin;
+        result.hitsA += method[i].hit();
+        result.hitsB += reference[i].hit();
+        result.differing += method[i].triangleId != reference[i].triangleId ||
+                            std::memcmp(&method[i].t, &reference[i].t, sizeof(float)) != 0;
+    }
+    return result;
+}
+
+} // namespace
 
 int runVerify(const VerifyOptions& options) {
     const CommonOptions& o = options.common;
-    if (options.method != "bvh") {
-        throw InputError("--method: unknown method '" + options.method + "' (available: bvh)");
-    }
+    findGpuMethod(options.method);
+    const bool againstEmbree = options.method == "bvh";
     std::vector<RayType> rayTypes;
     for (const std::string& name : splitList(options.rayTypes)) rayTypes.push_back(parseRayType(name));
     const RenderSettings settings = toRenderSettings(o, 1);
@@ -24,18 +45,25 @@ int runVerify(const VerifyOptions& options) {
     const std::vector<int> frames = selectFrames(o, session.path, "spread:5");
     GpuSession gpu = openGpuSession(o, session, settings);
     Renderer& renderer = *gpu.renderer;
-    const EmbreeTracer embree(session.scene);
+    const std::unique_ptr<Tracer> method = makeTracer(options.method, session, gpu);
+    std::unique_ptr<EmbreeTracer> embree;
+    if (againstEmbree) embree = std::make_unique<EmbreeTracer>(session.scene);
     HitTolerance tolerance;
     tolerance.absoluteT *= renderer.sceneDiagonal();
 
-    std::printf("verify: method %s against Embree, %s (%s triangles), path %s, %zu frame(s), %dx%d, %d spp\n",
-                options.method.c_str(), session.scene.name.c_str(), formatCount(session.scene.triangleCount()).c_str(),
+    std::printf("verify: method %s against %s, %s (%s triangles), path %s, %zu frame(s), %dx%d, %d spp\n",
+                options.method.c_str(), againstEmbree ? "Embree" : "pure BVH tracing (exact)",
+                session.scene.name.c_str(), formatCount(session.scene.triangleCount()).c_str(),
                 session.path.name.c_str(), frames.size(), settings.width, settings.height, settings.samplesPerPixel);
-    std::printf("  tolerance: |dt| <= %.0e * t + %.1e; ties at equal t and border hits within %.0e (barycentric) "
-                "are not differences\n",
-                double(tolerance.relativeT), double(tolerance.absoluteT), double(tolerance.barycentricEpsilon));
+    if (againstEmbree) {
+        std::printf("  tolerance: |dt| <= %.0e * t + %.1e; ties at equal t and border hits within %.0e (barycentric) "
+                    "are not differences\n",
+                    double(tolerance.relativeT), double(tolerance.absoluteT), double(tolerance.barycentricEpsilon));
+    }
     uint64_t totalDiffering = 0, totalCapped = 0;
     nlohmann::json rows = nlohmann::json::array();
+    session.progress->begin("Verifying", uint64_t(rayTypes.size()) * frames.size());
+    uint64_t done = 0;
     for (RayType type : rayTypes) {
         HitComparison total;
         for (int frame : frames) {
@@ -45,17 +73,27 @@ int runVerify(const VerifyOptions& options) {
             HitComparison frameResult;
             for (int sample = 0; sample < settings.samplesPerPixel; ++sample) {
                 renderer.generateRayPass(camera, type, sample, stats);
+                renderer.useTracer(method.get());
                 renderer.traceRayPass(camera, type, sample, stats);
                 const std::vector<Ray> rays = renderer.readRays(0);
-                std::vector<Hit> reference(rays.size());
-                embree.trace(rays, reference, false); // closest hit: same hit/miss as any-hit, and ids for the report
-                frameResult.add(compareHits(session.scene, rays, renderer.readHits(0), reference, isAnyHit(type), tolerance));
+                const std::vector<Hit> hits = renderer.readHits(0);
+                if (againstEmbree) {
+                    std::vector<Hit> reference(rays.size());
+                    embree->trace(rays, reference, false); // closest hit: same hit/miss as any-hit, and ids
+                    frameResult.add(compareHits(session.scene, rays, hits, reference, isAnyHit(type), tolerance));
+                } else {
+                    renderer.useTracer(nullptr);
+                    renderer.traceRayPass(camera, type, sample, stats);
+                    frameResult.add(compareExactly(rays, hits, renderer.readHits(0)));
+                }
+                renderer.useTracer(nullptr);
             }
             totalCapped += stats.cappedRays;
             total.add(frameResult);
             rows.push_back({{"ray_type", toString(type)}, {"frame", frame}, {"active_rays", frameResult.activeRays},
                             {"differing", frameResult.differing}, {"edge_cases", frameResult.edgeCases},
                             {"ties", frameResult.ties}, {"capped_rays", stats.cappedRays}});
+            session.progress->update(++done);
         }
         std::printf("  %-8s %s active rays: %llu differing, %llu border cases, %llu equal-t ties, max rel. t error "
                     "%.1e\n",
@@ -63,6 +101,7 @@ int runVerify(const VerifyOptions& options) {
                     (unsigned long long)total.edgeCases, (unsigned long long)total.ties, total.maxRelativeTError);
         totalDiffering += total.differing;
     }
+    session.progress->end();
     if (totalCapped > 0) {
         std::printf("  FAIL: %llu rays reached the shader loop cap\n", (unsigned long long)totalCapped);
     }
@@ -71,7 +110,7 @@ int runVerify(const VerifyOptions& options) {
     if (!o.statsJson.empty()) {
         writeJsonFile(o.statsJson, {{"command", "verify"}, {"method", options.method}, {"scene", toJson(session.scene)},
                                     {"path", session.path.name}, {"pass", pass}, {"differing", totalDiffering},
-                                    {"frames", rows}});
+                                    {"capped_rays", totalCapped}, {"frames", rows}});
     }
     return pass ? kExitOk : kExitCheckFailed;
 }

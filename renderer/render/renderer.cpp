@@ -69,7 +69,8 @@ Renderer::Renderer(const Scene& scene, const Bvh& bvh, const AreaLight& light, c
     : light_(light), sceneBounds_(scene.bounds()) {
     sceneDiagonal_ = std::max(sceneBounds_.diagonal(), 1e-6f);
     sceneGpu_ = std::make_unique<SceneGpu>(scene, bvh);
-    tracer_ = std::make_unique<BvhTracer>();
+    bvhTracer_ = std::make_unique<BvhTracer>();
+    activeTracer_ = bvhTracer_.get();
     gbufferProgram_ = ShaderProgram(
         {{GL_VERTEX_SHADER, "raster/gbuffer.vert.glsl"}, {GL_FRAGMENT_SHADER, "raster/gbuffer.frag.glsl"}});
     for (int type = 0; type < int(raygenPrograms_.size()); ++type) {
@@ -94,8 +95,6 @@ void Renderer::setSettings(const RenderSettings& settings) {
     }
     settings_ = settings;
 }
-
-void Renderer::setTracer(std::unique_ptr<Tracer> tracer) { tracer_ = std::move(tracer); }
 
 FrameStats Renderer::renderFrame(const Camera& camera) {
     const auto start = Clock::now();
@@ -254,7 +253,7 @@ void Renderer::trace(const Camera& camera, RayType type, bool bounceShadow, int 
     glFinish();
     const auto start = Clock::now();
     TraceStats& traceStats = stats.trace[size_t(type)];
-    tracer_->trace(request, targets_->rays[raySet], targets_->hits[hitSet], targets_->width, targets_->height,
+    activeTracer_->trace(request, targets_->rays[raySet], targets_->hits[hitSet], targets_->width, targets_->height,
                    traceStats);
     glFinish();
     traceStats.milliseconds += millisecondsSince(start);

@@ -40,8 +40,11 @@ public:
     // Changes settings; recreates targets when the size changes. Throws InputError for invalid settings.
     void setSettings(const RenderSettings& settings);
     const RenderSettings& settings() const { return settings_; }
-    void setTracer(std::unique_ptr<Tracer> tracer);
-    Tracer& tracer() { return *tracer_; }
+    // The tracing method used from now on (not owned; must outlive its use); nullptr = pure BVH tracing.
+    void useTracer(Tracer* tracer) { activeTracer_ = tracer ? tracer : bvhTracer_.get(); }
+    Tracer& tracer() { return *activeTracer_; }
+    // Scene data on the GPU, for tracers that bind more than the BVH (CHC+RT subtrees, Line Space).
+    const SceneGpu& sceneGpu() const { return *sceneGpu_; }
 
     // The whole frame: G-buffer, effects, composition.
     FrameStats renderFrame(const Camera& camera);
@@ -85,7 +88,8 @@ private:
     float sceneDiagonal_ = 1.0f;
     std::unique_ptr<SceneGpu> sceneGpu_;
     std::unique_ptr<FrameTargets> targets_;
-    std::unique_ptr<Tracer> tracer_;
+    std::unique_ptr<Tracer> bvhTracer_;
+    Tracer* activeTracer_ = nullptr;
     ShaderProgram gbufferProgram_;
     std::array<ShaderProgram, 5> raygenPrograms_; // indexed by CHCRT_RAY_*
     ShaderProgram accumulateShadow_, accumulateAo_, accumulateDiffuse_;

@@ -85,7 +85,8 @@ TEST_F(RenderTest, LoopCapIsDetectedAndReported) {
     settings.width = 32;
     settings.height = 32;
     Renderer& renderer = makeProceduralRenderer("city:20k", settings);
-    renderer.setTracer(std::make_unique<BvhTracer>(8u));
+    BvhTracer cappedTracer(8u);
+    renderer.useTracer(&cappedTracer);
     const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
     FrameStats stats;
     renderer.generateRayPass(camera, RayType::Primary, 0, stats);

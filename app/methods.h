@@ -1,0 +1,26 @@
+#pragma once
+// Tracing methods by name, for bench, verify and render: "bvh" (pure BVH GLSL tracing, the baseline) and the
+// methods later issues add (CHC+RT, Line Space variants). "embree" is the CPU reference and is handled by the
+// commands themselves (it traces read-back rays, not ray textures).
+#include "app/session.h"
+#include "renderer/render/tracer.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace chcrt::app {
+
+struct MethodInfo {
+    std::string name;
+    bool exact = true; // must produce exactly the hits of pure BVH tracing
+    std::string description;
+};
+const std::vector<MethodInfo>& gpuMethods();
+const MethodInfo& findGpuMethod(const std::string& name); // throws InputError listing the available ones
+
+// Creates the tracer of a GPU method for a session (requires the session's GL context to be current).
+// Returns nullptr for "bvh": the renderer's own pure BVH tracer.
+std::unique_ptr<Tracer> makeTracer(const std::string& name, const SceneSession& session, const GpuSession& gpu);
+
+} // namespace chcrt::app
