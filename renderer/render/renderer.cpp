@@ -2,6 +2,7 @@
 
 #include "renderer/render/bvh_tracer.h"
 #include "renderer/render/camera_math.h"
+#include "renderer/render/halton.h"
 #include "shaders/shared/render_layout.h"
 
 #include <chrono>
@@ -208,7 +209,9 @@ void Renderer::generateRays(const Camera& camera, int rayProgram, int sampleInde
     const CameraFrame frame = makeCameraFrame(camera, t.width, t.height);
     const ShaderProgram& program = raygenPrograms_[rayProgram];
     program.use();
-    program.set("sampleIndex", unsigned(sampleIndex));
+    // Halton index 0 is (0, 0): start at 1. The bounce shadow rays use a later, independent part of the sequence.
+    program.set("haltonSample", halton2D(uint32_t(sampleIndex) + 1u));
+    program.set("bounceHaltonSample", halton2D(uint32_t(sampleIndex) + 7920u));
     program.set("seed", settings_.seed);
     program.set("maxRotation", glm::radians(settings_.rotationDegrees));
     const float lengthFraction =

@@ -14,7 +14,8 @@ layout(binding = CHCRT_UNIT_RAY_ORIGIN) uniform sampler2D previousRayOrigin;    
 layout(binding = CHCRT_UNIT_RAY_DIRECTION) uniform sampler2D previousRayDirection; // bounce shadow rays only
 layout(binding = CHCRT_UNIT_BOUNCE_HIT) uniform usampler2D bounceHit;              // bounce shadow rays only
 
-uniform uint sampleIndex;    // pass index within the frame: selects the shared Halton sample
+uniform vec2 haltonSample;       // this pass's shared Halton point (renderer/render/halton.h)
+uniform vec2 bounceHaltonSample; // the bounce shadow rays' point on the light
 uniform uint seed;           // per-render seed (the per-pixel perturbation depends on it and the pixel only)
 uniform float maxRotation;   // radians: per-pixel random rotation range (CHC+RT §5.3, Table 5)
 uniform float rayLength;     // AO: ambient occlusion radius; diffuse: scene diagonal
@@ -46,9 +47,9 @@ vec3 offsetOrigin(vec3 position, vec3 geometricNormal, float viewDistance) {
 
 // Shadow ray towards the area light: the pass's Halton point on the light, shifted per pixel (Cranley-Patterson
 // rotation with a range that grows with maxRotation / 2π, so 0 = every pixel samples the same light point).
-void emitShadowRay(vec3 origin, vec3 geometricNormal, uvec2 pixel, uint haltonIndex) {
+void emitShadowRay(vec3 origin, vec3 geometricNormal, uvec2 pixel, vec2 lightSample) {
     vec2 jitter = pixelRandom2(pixel, seed ^ 0x5bd1e995u) * (maxRotation / (2.0f * kPi));
-    vec2 uv = fract(halton2D(haltonIndex) + jitter);
+    vec2 uv = fract(lightSample + jitter);
     vec3 target = lightCorner + uv.x * lightEdgeU + uv.y * lightEdgeV;
     vec3 toLight = target - origin;
     float distance = length(toLight);
@@ -63,7 +64,6 @@ void emitShadowRay(vec3 origin, vec3 geometricNormal, uvec2 pixel, uint haltonIn
 
 void main() {
     uvec2 pixel = uvec2(gl_FragCoord.xy);
-    uint haltonIndex = sampleIndex + 1u; // index 0 of Halton is (0, 0): skip it
 
 #if RAY_TYPE == CHCRT_RAY_PRIMARY
     vec2 ndc = (vec2(pixel) + 0.5f) / viewportSize * 2.0f - 1.0f;
@@ -85,7 +85,7 @@ void main() {
         hitNormal = -hitNormal;
     }
     float travelled = hitT + distance(texelFetch(previousRayOrigin, ivec2(pixel), 0).xyz, cameraPosition);
-    emitShadowRay(offsetOrigin(hitPosition, hitNormal, travelled), hitNormal, pixel, haltonIndex + 7919u);
+    emitShadowRay(offsetOrigin(hitPosition, hitNormal, travelled), hitNormal, pixel, bounceHaltonSample);
 #else
     if (texelFetch(gbufferTriangle, ivec2(pixel), 0).x == CHCRT_NO_HIT_ID) {
         emitInactive();
@@ -99,13 +99,13 @@ void main() {
     }
     vec3 origin = offsetOrigin(position, geometricNormal, distance(position, cameraPosition));
 #if RAY_TYPE == CHCRT_RAY_SHADOW
-    emitShadowRay(origin, geometricNormal, pixel, haltonIndex);
+    emitShadowRay(origin, geometricNormal, pixel, haltonSample);
 #else
     // AO and diffuse: the pass's shared cosine-weighted direction in tangent space, rotated per pixel.
     vec3 tangent, bitangent;
     buildTangentFrame(shadingNormal, tangent, bitangent);
     float rotation = pixelRandom2(pixel, seed).x * maxRotation;
-    vec3 local = cosineHemisphere(halton2D(haltonIndex), rotation);
+    vec3 local = cosineHemisphere(haltonSample, rotation);
     vec3 direction = normalize(local.x * tangent + local.y * bitangent + local.z * shadingNormal);
     if (dot(direction, geometricNormal) <= 0.0f) {
         emitInactive(); // below the geometric surface: counts as occluded

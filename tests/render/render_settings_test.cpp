@@ -63,3 +63,23 @@ TEST(CameraMath, ProjectionMapsTheTargetToTheImageCentreAndReversesDepth) {
 
 } // namespace
 } // namespace chcrt
+
+#include "renderer/render/halton.h"
+
+namespace chcrt {
+namespace {
+
+TEST(Halton, FirstPointsAreTheRadicalInversesInBases2And3) {
+    EXPECT_EQ(halton2D(0), glm::vec2(0.0f, 0.0f));
+    EXPECT_EQ(halton2D(1), glm::vec2(0.5f, float(1.0 / 3.0)));
+    EXPECT_EQ(halton2D(2), glm::vec2(0.25f, float(2.0 / 3.0)));
+    EXPECT_EQ(halton2D(3), glm::vec2(0.75f, float(1.0 / 9.0)));
+    EXPECT_NEAR(halton2D(4).y, 4.0 / 9.0, 1e-7);
+    // Stratification: the first 16 points put 4 in each quarter of [0, 1) along x.
+    int quarters[4] = {0, 0, 0, 0};
+    for (uint32_t i = 0; i < 16; ++i) ++quarters[int(halton2D(i).x * 4.0f)];
+    for (int q : quarters) EXPECT_EQ(q, 4);
+}
+
+} // namespace
+} // namespace chcrt
