@@ -42,6 +42,21 @@ struct InfoOptions {
 };
 int runInfo(const InfoOptions& options);
 
+// `chcrt view`: the interactive walkthrough viewer (app/viewer/). Without CHCRT_BUILD_VIEWER it reports that
+// the viewer was not built and returns kExitBadInput.
+struct ViewOptions {
+    CommonOptions common;          // width/height: window size
+    std::string method = "bvh";    // "raster" or a GPU method
+    std::string viewMode = "shaded";
+    float renderScale = 0.5f;      // internal resolution / window resolution
+    std::string script;            // scripted session (app/viewer/viewer_script.h)
+    std::string recordFile = "walkthrough.json";
+    bool play = false;             // start playing the camera path
+    bool noAccumulate = false;
+    bool hidePanel = false;
+};
+int runView(const ViewOptions& options);
+
 // Splits "a,b,c".
 std::vector<std::string> splitList(const std::string& text);
 

@@ -68,6 +68,24 @@ int run(int argc, char** argv) {
     addCommonOptions(*infoCommand, info.common, false);
     infoCommand->add_flag("--no-scene", info.noScene, "Only the OpenGL information");
 
+    ViewOptions view;
+    view.common.width = 1280;
+    view.common.height = 720;
+    view.common.spp = 1;
+    view.common.effects = "shadow"; // interactive on a CPU rasteriser; the panel turns on AO and diffuse
+    CLI::App* viewCommand = cli.add_subcommand("view", "Interactive walkthrough viewer (GLFW window, ImGui panel)");
+    addCommonOptions(*viewCommand, view.common, true);
+    viewCommand->add_option("--method", view.method, "Tracing method: raster (no rays), bvh")->capture_default_str();
+    viewCommand->add_option("--view-mode", view.viewMode,
+                            "shaded, position, normal, albedo, triangle, depth, cost")->capture_default_str();
+    viewCommand->add_option("--render-scale", view.renderScale, "Internal resolution / window resolution")
+        ->capture_default_str();
+    viewCommand->add_option("--script", view.script, "Run a scripted session (JSON list of steps) and exit");
+    viewCommand->add_option("--record", view.recordFile, "Where recorded walkthroughs are saved")->capture_default_str();
+    viewCommand->add_flag("--play", view.play, "Start playing the camera path");
+    viewCommand->add_flag("--no-accumulate", view.noAccumulate, "No progressive refinement when the camera stops");
+    viewCommand->add_flag("--hide-panel", view.hidePanel, "Start with the ImGui panel hidden (Tab toggles it)");
+
     try {
         cli.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -86,6 +104,7 @@ int run(int argc, char** argv) {
     if (*benchCommand) return runBench(bench);
     if (*verifyCommand) return runVerify(verify);
     if (*infoCommand) return runInfo(info);
+    if (*viewCommand) return runView(view);
     return kExitBadInput;
 }
 

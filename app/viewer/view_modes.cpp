@@ -1,0 +1,53 @@
+#include "app/viewer/view_modes.h"
+
+#include "renderer/core/error.h"
+
+namespace chcrt::app {
+
+const std::vector<ViewMode>& allViewModes() {
+    static const std::vector<ViewMode> modes = {ViewMode::Shaded, ViewMode::Position, ViewMode::Normal,
+                                                ViewMode::Albedo, ViewMode::TriangleId, ViewMode::Depth,
+                                                ViewMode::Cost};
+    return modes;
+}
+
+const char* toString(ViewMode mode) {
+    switch (mode) {
+    case ViewMode::Shaded: return "shaded";
+    case ViewMode::Position: return "position";
+    case ViewMode::Normal: return "normal";
+    case ViewMode::Albedo: return "albedo";
+    case ViewMode::TriangleId: return "triangle";
+    case ViewMode::Depth: return "depth";
+    case ViewMode::Cost: return "cost";
+    }
+    return "?";
+}
+
+const char* describe(ViewMode mode) {
+    switch (mode) {
+    case ViewMode::Shaded: return "the composed, tone-mapped frame";
+    case ViewMode::Position: return "G-buffer world position, scaled to the scene bounds";
+    case ViewMode::Normal: return "G-buffer normal (facing the camera), 0.5 + 0.5 n";
+    case ViewMode::Albedo: return "G-buffer base colour";
+    case ViewMode::TriangleId: return "original triangle id, hashed to a colour";
+    case ViewMode::Depth: return "linear view depth, log scale over the scene diagonal";
+    case ViewMode::Cost: return "BVH traversal steps per ray (inner nodes + leaves + triangles), heat map";
+    }
+    return "";
+}
+
+ViewMode parseViewMode(const std::string& name) {
+    std::string names;
+    for (ViewMode mode : allViewModes()) {
+        if (name == toString(mode)) return mode;
+        names += (names.empty() ? "" : ", ") + std::string(toString(mode));
+    }
+    throw InputError("unknown view mode '" + name + "' (available: " + names + ")");
+}
+
+bool isGBufferMode(ViewMode mode) {
+    return mode != ViewMode::Shaded && mode != ViewMode::Cost;
+}
+
+} // namespace chcrt::app

@@ -1,0 +1,19 @@
+#pragma once
+// The viewer's view modes. Only modes that work are listed: the shaded image, the G-buffer channels and the
+// BVH traversal cost per pixel (heat map of the tracer's cost output, shaders/shared/render_layout.h). CHC+RT
+// query overdraw, scheduled subtrees and Line Space shafts join this list with their methods.
+#include <string>
+#include <vector>
+
+namespace chcrt::app {
+
+enum class ViewMode { Shaded, Position, Normal, Albedo, TriangleId, Depth, Cost };
+
+const std::vector<ViewMode>& allViewModes();
+const char* toString(ViewMode mode);            // "shaded", "position", ..., "cost"
+const char* describe(ViewMode mode);            // one line for the panel
+ViewMode parseViewMode(const std::string& name); // throws InputError listing the modes
+// Modes that need only the G-buffer (no rays, no shading).
+bool isGBufferMode(ViewMode mode);
+
+} // namespace chcrt::app

@@ -1,0 +1,677 @@
+#include "app/viewer/viewer_app.h"
+
+#include "app/methods.h"
+#include "app/viewer/view_display.h"
+#include "app/viewer/viewer_script.h"
+#include "app/viewer/viewer_session.h"
+#include "app/viewer/viewer_ui.h"
+#include "app/viewer/walk_controller.h"
+#include "renderer/core/error.h"
+#include "renderer/gl/context.h"
+#include "renderer/gl/gl.h"
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <deque>
+#include <filesystem>
+#include <fstream>
+
+namespace chcrt::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr double kScriptSecondsPerFrame = 1.0 / 30.0; // fixed time step of scripted sessions
+constexpr size_t kFrameHistory = 120;
+
+double millisecondsSince(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// The GLFW window as the GL context of a GpuSession (app/session.h), so tracing methods are created for the
+// viewer exactly as for the other commands (makeTracer).
+class GlfwWindowContext : public GlContext {
+public:
+    GlfwWindowContext(int width, int height, bool debugOutput) {
+        glfwSetErrorCallback([](int code, const char* text) { std::fprintf(stderr, "chcrt: GLFW error %d: %s\n", code, text); });
+        if (!glfwInit()) {
+            throw GlError("cannot open a window: GLFW failed to initialise (no display? set DISPLAY, or run under "
+                          "Xvfb: Xvfb :99 & DISPLAY=:99 chcrt view)");
+        }
+        glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
+        glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
+        glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+        glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+        glfwWindowHint(GLFW_OPENGL_DEBUG_CONTEXT, debugOutput ? GLFW_TRUE : GLFW_FALSE);
+        window_ = glfwCreateWindow(width, height, "chcrt view", nullptr, nullptr);
+        if (!window_) {
+            glfwTerminate();
+            throw GlError("cannot create a window with an OpenGL 4.5 core context");
+        }
+        glfwMakeContextCurrent(window_);
+        glfwSwapInterval(0); // frame times are measured: no vsync
+        loadGlFunctions([](const char* name) { return reinterpret_cast<void*>(glfwGetProcAddress(name)); });
+        checkRequiredGlFeatures();
+        if (debugOutput) enableGlDebugOutput(false);
+    }
+    ~GlfwWindowContext() override {
+        glfwDestroyWindow(window_);
+        glfwTerminate();
+    }
+    std::string description() const override { return "GLFW window"; }
+    GLFWwindow* window() const { return window_; }
+
+private:
+    GLFWwindow* window_ = nullptr;
+};
+
+bool sameCamera(const Camera& a, const Camera& b) {
+    return a.eye == b.eye && a.target == b.target && a.up == b.up && a.fovYDegrees == b.fovYDegrees;
+}
+
+nlohmann::json statsToJson(const FrameStats& s) {
+    nlohmann::json trace = nlohmann::json::object();
+    for (RayType type : {RayType::Primary, RayType::Shadow, RayType::Ao, RayType::Diffuse}) {
+        const TraceStats& t = s.trace[size_t(type)];
+        trace[toString(type)] = {{"passes", t.passes}, {"ms", t.milliseconds}};
+    }
+    return {{"gbuffer_ms", s.gbufferMs}, {"raygen_ms", s.raygenMs}, {"trace_ms", s.traceMs()},
+            {"shade_ms", s.shadeMs},     {"renderer_ms", s.totalMs}, {"trace", trace},
+            {"rays_generated", s.raysGenerated}, {"capped_rays", s.cappedRays}};
+}
+
+double median(std::vector<double> values) {
+    if (values.empty()) return 0.0;
+    std::sort(values.begin(), values.end());
+    return values[values.size() / 2];
+}
+
+class Viewer {
+public:
+    explicit Viewer(const ViewOptions& options);
+    ~Viewer();
+    int run();
+
+private:
+    // Window input: keys are queued by the GLFW callback (chained through ImGui's) and handled between frames.
+    static void onKey(GLFWwindow* window, int key, int scancode, int action, int mods);
+    static void onScroll(GLFWwindow* window, double x, double y);
+
+    void finishLoading();
+    void applyMethod();
+    void handleInteractiveInput(double seconds);
+    void handleKey(int key);
+    bool advanceScript();   // false when the script has ended
+    void runStepActions(const ScriptStep& step);
+    void runStepChecks(const ScriptStep& step);
+    void checkExpectations(const nlohmann::json& expect);
+    void updatePlayback();
+    void renderIfNeeded();
+    void drawWindow();
+    void applyPanelActions(const ViewerActions& actions);
+
+    void setCamera(const Camera& camera) {
+        camera_ = camera;
+        walk_.setCamera(camera);
+    }
+    void resetCamera() { setCamera(scene_->path.cameraAtFrame(0)); }
+    void takeScreenshot(const std::string& file);
+    void printCommandLine();
+    void startRecording();
+    void stopRecording(const std::string& file);
+    void recordKeyframe();
+    void notice(const std::string& text);
+    void writeStatsJson() const;
+
+    ViewOptions options_;
+    ViewerSettings settings_;
+    GpuSession gpu_;
+    GLFWwindow* window_ = nullptr;
+    std::unique_ptr<SceneSession> scene_;
+    std::unique_ptr<Tracer> tracer_;
+    std::string activeMethod_;
+    std::unique_ptr<ViewDisplay> display_;
+    std::unique_ptr<ViewerPanel> panel_;
+    SceneLoader loader_;
+    WalkController walk_;
+    Camera camera_, renderedCamera_;
+    bool dirty_ = true; // the view must be rendered again from scratch
+    bool showPanel_ = true;
+    bool playing_ = false;
+    int pathFrame_ = 0;
+    bool recording_ = false;
+    CameraPath recorded_;
+    Clock::time_point recordStart_;
+    int recordedFrameStart_ = 0;
+    int screenshotCount_ = 0;
+
+    // Input
+    std::vector<int> pressedKeys_;
+    float scrollSteps_ = 0;
+    bool looking_ = false;
+    double lastCursorX_ = 0, lastCursorY_ = 0;
+
+    // Script
+    bool scripted_ = false;
+    std::vector<ScriptStep> script_;
+    size_t nextStep_ = 0;
+    int framesLeft_ = 0;
+    const ScriptStep* currentStep_ = nullptr;
+    int failures_ = 0;
+    int scriptFrame_ = 0;
+
+    // Statistics
+    ViewerStatus status_;
+    std::deque<float> history_;
+    nlohmann::json frameLog_ = nlohmann::json::array();
+    int renderedFrames_ = 0;
+};
+
+Viewer::Viewer(const ViewOptions& options) : options_(options) {
+    settings_.common = options.common;
+    if (settings_.common.spp < 1) settings_.common.spp = 1;
+    settings_.renderScale = options.renderScale;
+    settings_.accumulate = !options.noAccumulate;
+    applySettings(settings_, {{"method", options.method}, {"viewMode", options.viewMode}}); // validates all
+    showPanel_ = !options.hidePanel;
+    playing_ = options.play;
+    if (!options.script.empty()) {
+        script_ = loadViewerScript(options.script);
+        scripted_ = true;
+    }
+
+    auto context = std::make_unique<GlfwWindowContext>(options.common.width, options.common.height,
+                                                       options.common.glDebug);
+    window_ = context->window();
+    gpu_.context = std::move(context);
+    glfwSetWindowUserPointer(window_, this);
+    // Installed before ImGui's backend, which chains to them.
+    glfwSetKeyCallback(window_, &Viewer::onKey);
+    glfwSetScrollCallback(window_, &Viewer::onScroll);
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr; // no imgui.ini in the working directory
+    ImGui::StyleColorsDark();
+    ImGui_ImplGlfw_InitForOpenGL(window_, true);
+    ImGui_ImplOpenGL3_Init("#version 450 core");
+    display_ = std::make_unique<ViewDisplay>();
+    panel_ = std::make_unique<ViewerPanel>(options.common.scene);
+    loader_.start(options.common);
+}
+
+Viewer::~Viewer() {
+    tracer_.reset();
+    display_.reset();
+    gpu_.renderer.reset();
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+    // gpu_.context (the window) goes last, with the members.
+}
+
+void Viewer::onKey(GLFWwindow* window, int key, int /*scancode*/, int action, int /*mods*/) {
+    auto* self = static_cast<Viewer*>(glfwGetWindowUserPointer(window));
+    if (action == GLFW_PRESS || action == GLFW_REPEAT) self->pressedKeys_.push_back(key);
+}
+
+void Viewer::onScroll(GLFWwindow* window, double /*x*/, double y) {
+    static_cast<Viewer*>(glfwGetWindowUserPointer(window))->scrollSteps_ += float(y);
+}
+
+int Viewer::run() {
+    auto last = Clock::now();
+    while (!glfwWindowShouldClose(window_)) {
+        const auto start = Clock::now();
+        const double seconds = std::chrono::duration<double>(start - last).count();
+        last = start;
+        glfwPollEvents();
+        if (loader_.busy() && loader_.finished()) finishLoading();
+        if (scripted_) {
+            if (!advanceScript()) break;
+        } else if (scene_) {
+            handleInteractiveInput(seconds);
+        }
+        if (scene_ && gpu_.renderer) {
+            updatePlayback();
+            renderIfNeeded();
+        }
+        drawWindow();
+        status_.frameMs = millisecondsSince(start);
+        history_.push_back(float(status_.frameMs));
+        if (history_.size() > kFrameHistory) history_.pop_front();
+    }
+    writeStatsJson();
+    if (scripted_) {
+        std::vector<double> frameMs, rendererMs;
+        for (const auto& f : frameLog_) {
+            frameMs.push_back(f["frame_ms"].get<double>());
+            rendererMs.push_back(f["renderer_ms"].get<double>());
+        }
+        std::printf("view: %d frames rendered, median frame %.2f ms (renderer %.2f ms)%s\n", renderedFrames_,
+                    median(frameMs), median(rendererMs), failures_ ? ", expectations FAILED" : "");
+    }
+    return failures_ ? kExitCheckFailed : kExitOk;
+}
+
+void Viewer::finishLoading() {
+    const bool first = !scene_;
+    std::unique_ptr<SceneSession> loaded;
+    try {
+        loaded = loader_.take();
+    } catch (const InputError& e) {
+        if (first) throw; // nothing to show: a bad --scene is a usage error
+        notice(std::string("cannot load the scene: ") + e.what());
+        return;
+    }
+    // GL upload and shader compilation on the main thread (the context lives here).
+    tracer_.reset();
+    gpu_.renderer.reset();
+    scene_ = std::move(loaded);
+    int w = 1, h = 1;
+    int fbWidth = 1, fbHeight = 1;
+    glfwGetFramebufferSize(window_, &fbWidth, &fbHeight);
+    internalSize(settings_, std::max(fbWidth, 1), std::max(fbHeight, 1), w, h);
+    gpu_.renderer = std::make_unique<Renderer>(scene_->scene, scene_->bvh, scene_->light,
+                                               toRenderSettings(settings_, w, h, 0));
+    activeMethod_.clear();
+    applyMethod();
+    pathFrame_ = 0;
+    resetCamera();
+    walk_ = WalkController(camera_, scene_->scene.bounds());
+    gpu_.renderer->warmUp(camera_);
+    status_.sceneName = settings_.common.scene = loader_.scene();
+    status_.triangles = scene_->scene.triangleCount();
+    dirty_ = true;
+    if (!first) notice("loaded " + loader_.scene());
+}
+
+void Viewer::applyMethod() {
+    if (settings_.method == activeMethod_ && !activeMethod_.empty()) return;
+    gpu_.renderer->useTracer(nullptr);
+    tracer_.reset();
+    if (settings_.method != kRasterOnlyMethod) {
+        tracer_ = makeTracer(settings_.method, *scene_, gpu_); // nullptr for "bvh": the renderer's own tracer
+        gpu_.renderer->useTracer(tracer_.get());
+    }
+    activeMethod_ = settings_.method;
+}
+
+void Viewer::handleInteractiveInput(double seconds) {
+    const ImGuiIO& io = ImGui::GetIO();
+    std::vector<int> keys = std::move(pressedKeys_);
+    pressedKeys_.clear();
+    WalkInput input;
+    if (!io.WantCaptureKeyboard) {
+        for (int key : keys) handleKey(key);
+        auto held = [&](int key) { return glfwGetKey(window_, key) == GLFW_PRESS; };
+        input.forward = held(GLFW_KEY_W);
+        input.back = held(GLFW_KEY_S);
+        input.left = held(GLFW_KEY_A);
+        input.right = held(GLFW_KEY_D);
+        input.up = held(GLFW_KEY_E);
+        input.down = held(GLFW_KEY_Q);
+        input.fast = held(GLFW_KEY_LEFT_SHIFT) || held(GLFW_KEY_RIGHT_SHIFT);
+    }
+    double x = 0, y = 0;
+    glfwGetCursorPos(window_, &x, &y);
+    const bool rightHeld = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
+    if (rightHeld && (looking_ || !io.WantCaptureMouse)) {
+        if (looking_) input.lookPixels = glm::vec2(float(x - lastCursorX_), float(y - lastCursorY_));
+        looking_ = true;
+    } else {
+        looking_ = false;
+    }
+    lastCursorX_ = x;
+    lastCursorY_ = y;
+    if (!io.WantCaptureMouse) input.scrollSteps = scrollSteps_;
+    scrollSteps_ = 0;
+    if (input.any()) {
+        playing_ = false; // the user takes over from the path
+        if (walk_.update(input, std::min(seconds, 0.25))) camera_ = walk_.camera();
+    }
+}
+
+void Viewer::handleKey(int key) {
+    switch (key) {
+    case GLFW_KEY_R: resetCamera(); pathFrame_ = 0; playing_ = false; break;
+    case GLFW_KEY_F: walk_.frameScene(); camera_ = walk_.camera(); playing_ = false; break;
+    case GLFW_KEY_P: playing_ = !playing_; break;
+    case GLFW_KEY_V: {
+        const auto& modes = allViewModes();
+        const size_t next = (size_t(settings_.viewMode) + 1) % modes.size();
+        settings_.viewMode = modes[next];
+        dirty_ = true;
+        break;
+    }
+    case GLFW_KEY_C: printCommandLine(); break;
+    case GLFW_KEY_F9:
+        if (recording_) stopRecording(options_.recordFile);
+        else startRecording();
+        break;
+    case GLFW_KEY_F12: {
+        char name[64];
+        std::snprintf(name, sizeof(name), "chcrt_view_%04d.png", screenshotCount_++);
+        takeScreenshot(name);
+        break;
+    }
+    case GLFW_KEY_EQUAL:
+    case GLFW_KEY_KP_ADD: walk_.setSpeed(walk_.speed() * WalkController::kSpeedStep); break;
+    case GLFW_KEY_MINUS:
+    case GLFW_KEY_KP_SUBTRACT: walk_.setSpeed(walk_.speed() / WalkController::kSpeedStep); break;
+    case GLFW_KEY_TAB: showPanel_ = !showPanel_; break;
+    case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(window_, GLFW_TRUE); break;
+    default: break;
+    }
+}
+
+bool Viewer::advanceScript() {
+    pressedKeys_.clear(); // scripted sessions ignore real input
+    scrollSteps_ = 0;
+    while (framesLeft_ == 0) {
+        if (currentStep_) { // the step's frames are done: its checks see their result
+            runStepChecks(*currentStep_);
+            currentStep_ = nullptr;
+        }
+        if (loader_.busy() || !scene_) return true; // wait for the scene
+        if (nextStep_ >= script_.size() || failures_ > 0) return false;
+        currentStep_ = &script_[nextStep_++];
+        runStepActions(*currentStep_);
+        framesLeft_ = currentStep_->frames;
+        if (loader_.busy()) return true;
+    }
+    --framesLeft_;
+    ++scriptFrame_;
+    if (currentStep_->held.any() && walk_.update(currentStep_->held, kScriptSecondsPerFrame)) {
+        playing_ = false;
+        camera_ = walk_.camera();
+    }
+    return true;
+}
+
+void Viewer::runStepActions(const ScriptStep& step) {
+    if (!step.loadScene.empty()) {
+        CommonOptions o = settings_.common;
+        o.scene = step.loadScene;
+        o.cameraPath.clear();
+        o.eye.clear();
+        o.target.clear();
+        loader_.start(o);
+    }
+    if (step.resize) glfwSetWindowSize(window_, step.resize->first, step.resize->second);
+    if (step.set) {
+        applySettings(settings_, *step.set);
+        dirty_ = true;
+    }
+    if (step.camera) {
+        setCamera(*step.camera);
+        playing_ = false;
+    }
+    if (step.pathFrame) {
+        if (*step.pathFrame >= scene_->path.frameCount()) {
+            throw InputError("script: pathFrame " + std::to_string(*step.pathFrame) + " is past the path's end (" +
+                             std::to_string(scene_->path.frameCount()) + " frames)");
+        }
+        pathFrame_ = *step.pathFrame;
+        setCamera(scene_->path.cameraAtFrame(pathFrame_));
+    }
+    if (step.play) playing_ = *step.play;
+    if (step.scrollSteps != 0) walk_.update(WalkInput{.scrollSteps = step.scrollSteps}, 0.0);
+    if (step.action == "reset") resetCamera();
+    else if (step.action == "frameScene") {
+        walk_.frameScene();
+        camera_ = walk_.camera();
+    } else if (step.action == "copyCommandLine") printCommandLine();
+    else if (step.action == "recordStart") startRecording();
+    if (!step.recordStop.empty()) stopRecording(step.recordStop);
+    // A step with no frames has its checks now (they see the last rendered frame).
+}
+
+void Viewer::runStepChecks(const ScriptStep& step) {
+    if (!step.screenshot.empty()) takeScreenshot(step.screenshot);
+    if (step.expect) checkExpectations(*step.expect);
+}
+
+void Viewer::checkExpectations(const nlohmann::json& expect) {
+    const FrameStats& s = status_.stats;
+    auto fail = [&](const std::string& what) {
+        std::fprintf(stderr, "chcrt: view script: expectation failed (step %zu): %s\n", nextStep_ - 1, what.c_str());
+        ++failures_;
+    };
+    for (const auto& [key, value] : expect.items()) {
+        if (key == "cappedRays") {
+            if (s.cappedRays != value.get<uint64_t>()) fail("cappedRays = " + std::to_string(s.cappedRays));
+        } else if (key == "minRaysGenerated") {
+            if (s.raysGenerated < value.get<uint64_t>()) fail("raysGenerated = " + std::to_string(s.raysGenerated));
+        } else if (key == "tracePasses") {
+            for (const auto& [type, passes] : value.items()) {
+                const uint64_t actual = s.trace[size_t(parseRayType(type))].passes;
+                if (actual != passes.get<uint64_t>()) fail(type + " passes = " + std::to_string(actual));
+            }
+        } else if (key == "accumulatedFrames") {
+            if (display_->accumulatedFrames() != value.get<int>()) {
+                fail("accumulatedFrames = " + std::to_string(display_->accumulatedFrames()));
+            }
+        } else if (key == "imageSize") {
+            const auto size = value.get<std::vector<int>>();
+            if (size.size() != 2 || size[0] != display_->width() || size[1] != display_->height()) {
+                fail("imageSize = " + std::to_string(display_->width()) + "x" + std::to_string(display_->height()));
+            }
+        } else if (key == "method") {
+            if (activeMethod_ != value.get<std::string>()) fail("method = " + activeMethod_);
+        } else if (key == "viewMode") {
+            if (toString(settings_.viewMode) != value.get<std::string>()) {
+                fail(std::string("viewMode = ") + toString(settings_.viewMode));
+            }
+        } else if (key == "playing") {
+            if (playing_ != value.get<bool>()) fail(std::string("playing = ") + (playing_ ? "true" : "false"));
+        } else if (key == "pathFrame") {
+            if (pathFrame_ != value.get<int>()) fail("pathFrame = " + std::to_string(pathFrame_));
+        } else {
+            throw InputError("script: unknown expectation '" + key + "'");
+        }
+    }
+}
+
+void Viewer::updatePlayback() {
+    if (!playing_) return;
+    const int count = scene_->path.frameCount();
+    if (pathFrame_ >= count) {
+        playing_ = false;
+        return;
+    }
+    setCamera(scene_->path.cameraAtFrame(pathFrame_));
+    if (++pathFrame_ >= count) playing_ = false; // stops on the last frame
+}
+
+void Viewer::renderIfNeeded() {
+    Renderer& renderer = *gpu_.renderer;
+    int fbWidth = 0, fbHeight = 0;
+    glfwGetFramebufferSize(window_, &fbWidth, &fbHeight);
+    if (fbWidth < 1 || fbHeight < 1) return; // minimised
+    int w = 1, h = 1;
+    internalSize(settings_, fbWidth, fbHeight, w, h);
+    if (w != display_->width() || h != display_->height()) {
+        display_->resize(w, h);
+        dirty_ = true;
+    }
+    if (!sameCamera(camera_, renderedCamera_)) dirty_ = true;
+    if (settings_.method != activeMethod_) {
+        applyMethod();
+        dirty_ = true;
+    }
+    const bool shaded = settings_.viewMode == ViewMode::Shaded;
+    const bool refine = shaded && settings_.accumulate && settings_.method != kRasterOnlyMethod &&
+                        display_->accumulatedFrames() < settings_.maxAccumulatedFrames;
+    if (!dirty_ && !refine) return; // the view is complete: only the window is redrawn
+    if (dirty_ || !settings_.accumulate) display_->resetAccumulation();
+
+    const auto start = Clock::now();
+    renderer.setSettings(toRenderSettings(settings_, w, h, display_->accumulatedFrames()));
+    FrameStats stats;
+    if (shaded) {
+        stats = renderer.renderFrame(camera_);
+        display_->accumulate(renderer.targets());
+    } else {
+        renderer.renderGBuffer(camera_, stats);
+        if (settings_.viewMode == ViewMode::Cost) {
+            renderer.generateRayPass(camera_, settings_.costRayType, 0, stats);
+            renderer.traceRayPass(camera_, settings_.costRayType, 0, stats);
+        }
+        stats.totalMs = millisecondsSince(start);
+    }
+    display_->visualize(renderer.targets(), settings_, scene_->scene.bounds(), renderer.targets().hits[0]);
+    checkGlErrors("viewer frame");
+    dirty_ = false;
+    renderedCamera_ = camera_;
+    status_.stats = stats;
+    ++renderedFrames_;
+    if (recording_) recordKeyframe();
+    nlohmann::json entry = statsToJson(stats);
+    entry["frame"] = renderedFrames_ - 1;
+    entry["method"] = activeMethod_;
+    entry["view_mode"] = toString(settings_.viewMode);
+    entry["width"] = w;
+    entry["height"] = h;
+    entry["accumulated_frames"] = display_->accumulatedFrames();
+    entry["frame_ms"] = millisecondsSince(start);
+    frameLog_.push_back(std::move(entry));
+}
+
+void Viewer::drawWindow() {
+    int fbWidth = 0, fbHeight = 0;
+    glfwGetFramebufferSize(window_, &fbWidth, &fbHeight);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, fbWidth, fbHeight);
+    glClearColor(0.1f, 0.1f, 0.12f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    if (scene_ && display_->width() > 0) display_->blitToWindow(fbWidth, fbHeight);
+
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    status_.loading = loader_.busy();
+    status_.loadingScene = loader_.scene();
+    status_.loadingSeconds = loader_.elapsedSeconds();
+    if (showPanel_ || !scene_) {
+        status_.frameHistoryMs.assign(history_.begin(), history_.end());
+        status_.accumulatedFrames = display_->accumulatedFrames();
+        status_.internalWidth = display_->width();
+        status_.internalHeight = display_->height();
+        status_.camera = camera_;
+        status_.speed = walk_.speed();
+        status_.pathFrame = pathFrame_;
+        status_.pathFrames = scene_ ? scene_->path.frameCount() : 1;
+        status_.playing = playing_;
+        status_.recording = recording_;
+        status_.recordedKeyframes = recorded_.keyframes.size();
+        const ViewerActions actions = panel_->draw(settings_, status_);
+        if (!scripted_ && scene_) applyPanelActions(actions);
+    }
+    ImGui::Render();
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    glfwSwapBuffers(window_);
+}
+
+void Viewer::applyPanelActions(const ViewerActions& a) {
+    if (a.settingsChanged) dirty_ = true;
+    if (a.reset) handleKey(GLFW_KEY_R);
+    if (a.frameScene) handleKey(GLFW_KEY_F);
+    if (a.togglePlay) playing_ = !playing_;
+    if (a.pathFrame) {
+        pathFrame_ = *a.pathFrame;
+        playing_ = false;
+        setCamera(scene_->path.cameraAtFrame(pathFrame_));
+    }
+    if (a.toggleRecord) handleKey(GLFW_KEY_F9);
+    if (a.screenshot) handleKey(GLFW_KEY_F12);
+    if (a.copyCommandLine) printCommandLine();
+    if (!a.loadScene.empty() && !loader_.busy()) {
+        CommonOptions o = settings_.common;
+        o.scene = a.loadScene;
+        o.cameraPath.clear();
+        o.eye.clear();
+        o.target.clear();
+        loader_.start(o);
+    }
+}
+
+void Viewer::takeScreenshot(const std::string& file) {
+    writeImage(file, display_->readImage());
+    notice("wrote " + file);
+}
+
+void Viewer::printCommandLine() {
+    const std::string render = renderCommandLine(settings_, camera_, display_->width(), display_->height());
+    const std::string bench = benchCommandLine(settings_, camera_, display_->width(), display_->height());
+    std::printf("%s\n%s\n", render.c_str(), bench.c_str());
+    std::fflush(stdout);
+    glfwSetClipboardString(window_, render.c_str());
+    notice("copied: " + render);
+}
+
+void Viewer::startRecording() {
+    recording_ = true;
+    recorded_ = CameraPath{};
+    recorded_.name = "recorded";
+    recorded_.fps = 30.0;
+    recorded_.fovYDegrees = camera_.fovYDegrees;
+    recordStart_ = Clock::now();
+    recordedFrameStart_ = scriptFrame_;
+    recordKeyframe();
+    notice("recording");
+}
+
+void Viewer::recordKeyframe() {
+    // Scripted sessions advance 1/30 s per frame; interactive ones record wall time.
+    const double t = scripted_ ? (scriptFrame_ - recordedFrameStart_) * kScriptSecondsPerFrame
+                               : std::chrono::duration<double>(Clock::now() - recordStart_).count();
+    if (!recorded_.keyframes.empty()) {
+        const CameraKeyframe& last = recorded_.keyframes.back();
+        if (t <= last.t || (last.eye == camera_.eye && last.target == camera_.target)) return;
+    }
+    recorded_.keyframes.push_back(CameraKeyframe{t, camera_.eye, camera_.target, camera_.up});
+}
+
+void Viewer::stopRecording(const std::string& file) {
+    if (!recording_) throw InputError("recordStop without a recording (start one with recordStart or F9)");
+    recording_ = false;
+    saveCameraPath(recorded_, file);
+    notice("saved " + std::to_string(recorded_.keyframes.size()) + " keyframes to " + file);
+}
+
+void Viewer::notice(const std::string& text) {
+    status_.message = text;
+    if (scripted_) std::printf("view: %s\n", text.c_str());
+}
+
+void Viewer::writeStatsJson() const {
+    if (options_.common.statsJson.empty()) return;
+    const std::filesystem::path file = options_.common.statsJson;
+    const std::filesystem::path temporary = file.string() + ".tmp";
+    {
+        std::ofstream out(temporary);
+        if (!out) throw InputError("cannot write " + file.string());
+        out << nlohmann::json{{"frames", frameLog_}}.dump(1) << "\n";
+    }
+    std::filesystem::rename(temporary, file);
+}
+
+} // namespace
+
+int runViewer(const ViewOptions& options) {
+    Viewer viewer(options);
+    return viewer.run();
+}
+
+int runView(const ViewOptions& options) {
+    return runViewer(options);
+}
+
+} // namespace chcrt::app

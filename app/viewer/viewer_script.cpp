@@ -1,0 +1,133 @@
+#include "app/viewer/viewer_script.h"
+
+#include "renderer/core/error.h"
+
+#include <fstream>
+#include <sstream>
+
+namespace chcrt::app {
+namespace {
+
+struct StepParser {
+    const std::string& file;
+    size_t index;
+
+    [[noreturn]] void fail(const std::string& what) const {
+        throw InputError(file + ": step " + std::to_string(index) + ": " + what);
+    }
+    template <typename T>
+    T get(const nlohmann::json& value, const char* key) const {
+        try {
+            return value.get<T>();
+        } catch (const nlohmann::json::exception&) {
+            fail(std::string("'") + key + "' has the wrong type: " + value.dump());
+        }
+    }
+    glm::vec3 vec3(const nlohmann::json& value, const char* key) const {
+        const auto v = get<std::vector<float>>(value, key);
+        if (v.size() != 3) fail(std::string("'") + key + "' must be [x, y, z]");
+        return {v[0], v[1], v[2]};
+    }
+    void holdKey(WalkInput& input, const std::string& key) const {
+        if (key == "W") input.forward = true;
+        else if (key == "S") input.back = true;
+        else if (key == "A") input.left = true;
+        else if (key == "D") input.right = true;
+        else if (key == "E") input.up = true;
+        else if (key == "Q") input.down = true;
+        else if (key == "SHIFT") input.fast = true;
+        else fail("unknown key '" + key + "' (W, A, S, D, Q, E, SHIFT)");
+    }
+
+    ScriptStep parse(const nlohmann::json& j) const {
+        if (!j.is_object()) fail("a step must be a JSON object");
+        ScriptStep step;
+        bool holdsInput = false;
+        for (const auto& [key, value] : j.items()) {
+            if (key == "frames") {
+                step.frames = get<int>(value, "frames");
+                if (step.frames < 0 || step.frames > 100000) fail("'frames' must be in [0, 100000]");
+            } else if (key == "key") {
+                holdKey(step.held, get<std::string>(value, "key"));
+                holdsInput = true;
+            } else if (key == "keys") {
+                for (const std::string& k : get<std::vector<std::string>>(value, "keys")) holdKey(step.held, k);
+                holdsInput = true;
+            } else if (key == "mouse") {
+                const auto v = get<std::vector<float>>(value, "mouse");
+                if (v.size() != 2) fail("'mouse' must be [dx, dy]");
+                step.held.lookPixels = {v[0], v[1]};
+                holdsInput = true;
+            } else if (key == "scroll") {
+                step.scrollSteps = get<float>(value, "scroll");
+            } else if (key == "set") {
+                if (!value.is_object()) fail("'set' must be an object of settings");
+                step.set = value;
+            } else if (key == "camera") {
+                if (!value.is_object() || !value.contains("eye") || !value.contains("target")) {
+                    fail("'camera' needs \"eye\" and \"target\"");
+                }
+                Camera c;
+                c.eye = vec3(value["eye"], "eye");
+                c.target = vec3(value["target"], "target");
+                if (value.contains("fov")) c.fovYDegrees = get<float>(value["fov"], "fov");
+                if (c.eye == c.target) fail("camera eye and target must differ");
+                step.camera = c;
+            } else if (key == "pathFrame") {
+                step.pathFrame = get<int>(value, "pathFrame");
+                if (*step.pathFrame < 0) fail("'pathFrame' must be >= 0");
+            } else if (key == "play") {
+                step.play = get<bool>(value, "play");
+            } else if (key == "action") {
+                step.action = get<std::string>(value, "action");
+                if (step.action != "reset" && step.action != "frameScene" && step.action != "copyCommandLine" &&
+                    step.action != "recordStart") {
+                    fail("unknown action '" + step.action + "' (reset, frameScene, copyCommandLine, recordStart)");
+                }
+            } else if (key == "recordStop") {
+                step.recordStop = get<std::string>(value, "recordStop");
+            } else if (key == "resize") {
+                const auto v = get<std::vector<int>>(value, "resize");
+                if (v.size() != 2 || v[0] < 1 || v[1] < 1) fail("'resize' must be [width, height], both >= 1");
+                step.resize = std::make_pair(v[0], v[1]);
+            } else if (key == "loadScene") {
+                step.loadScene = get<std::string>(value, "loadScene");
+            } else if (key == "screenshot") {
+                step.screenshot = get<std::string>(value, "screenshot");
+            } else if (key == "expect") {
+                if (!value.is_object()) fail("'expect' must be an object");
+                step.expect = value;
+            } else {
+                fail("unknown key '" + key + "'");
+            }
+        }
+        // Input without a frame count is held for one frame: it would otherwise do nothing.
+        if (holdsInput && !j.contains("frames")) step.frames = 1;
+        return step;
+    }
+};
+
+} // namespace
+
+std::vector<ScriptStep> parseViewerScript(const std::string& jsonText, const std::string& nameForErrors) {
+    nlohmann::json root;
+    try {
+        root = nlohmann::json::parse(jsonText);
+    } catch (const nlohmann::json::parse_error& e) {
+        throw InputError(nameForErrors + ": malformed JSON: " + e.what());
+    }
+    if (!root.is_array()) throw InputError(nameForErrors + ": a viewer script is a JSON list of steps");
+    std::vector<ScriptStep> steps;
+    for (size_t i = 0; i < root.size(); ++i) steps.push_back(StepParser{nameForErrors, i}.parse(root[i]));
+    return steps;
+}
+
+std::vector<ScriptStep> loadViewerScript(const std::filesystem::path& file) {
+    std::ifstream in(file);
+    if (!in) throw InputError("cannot read viewer script " + file.string());
+    std::stringstream text;
+    text << in.rdbuf();
+    return parseViewerScript(text.str(), file.string());
+}
+
+} // namespace chcrt::app

@@ -1,0 +1,42 @@
+#include "app/viewer/viewer_session.h"
+
+#include <cassert>
+
+namespace chcrt::app {
+
+SceneLoader::~SceneLoader() {
+    if (worker_.joinable()) worker_.join();
+}
+
+void SceneLoader::start(const CommonOptions& options) {
+    assert(!busy());
+    finished_ = false;
+    result_.reset();
+    error_ = nullptr;
+    scene_ = options.scene;
+    start_ = std::chrono::steady_clock::now();
+    CommonOptions quiet = options;
+    quiet.quiet = true; // the panel shows progress, not a terminal bar
+    worker_ = std::thread([this, quiet] {
+        try {
+            result_ = std::make_unique<SceneSession>(openSceneSession(quiet));
+        } catch (...) {
+            error_ = std::current_exception();
+        }
+        finished_ = true;
+    });
+}
+
+std::unique_ptr<SceneSession> SceneLoader::take() {
+    assert(finished());
+    worker_.join();
+    finished_ = false;
+    if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
+    return std::move(result_);
+}
+
+double SceneLoader::elapsedSeconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+} // namespace chcrt::app

@@ -1,0 +1,160 @@
+#include "app/viewer/viewer_settings.h"
+
+#include "app/methods.h"
+#include "renderer/core/error.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string_view>
+
+namespace chcrt::app {
+namespace {
+
+std::string formatFloat(float value) {
+    // The shortest text that reads back as the same float (9 significant digits always do).
+    char text[32];
+    for (int digits = 6; digits <= 9; ++digits) {
+        std::snprintf(text, sizeof(text), "%.*g", digits, double(value));
+        if (std::strtof(text, nullptr) == value) break;
+    }
+    return text;
+}
+
+std::string formatVec3(const glm::vec3& v) {
+    return formatFloat(v.x) + "," + formatFloat(v.y) + "," + formatFloat(v.z);
+}
+
+// Quotes a shell word when it holds anything but safe characters.
+std::string shellWord(const std::string& word) {
+    const bool safe = !word.empty() && std::all_of(word.begin(), word.end(), [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || std::string_view("-_./:,=+").find(c) != std::string_view::npos;
+    });
+    if (safe) return word;
+    std::string quoted = "'";
+    for (char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return quoted + "'";
+}
+
+template <typename T>
+T jsonValue(const nlohmann::json& value, const std::string& key) {
+    try {
+        return value.get<T>();
+    } catch (const nlohmann::json::exception&) {
+        throw InputError("viewer setting '" + key + "' has the wrong type: " + value.dump());
+    }
+}
+
+// Options shared by the render and bench lines: scene, camera, size, sampling.
+std::string commonArguments(const ViewerSettings& s, const Camera& camera, int width, int height) {
+    const CommonOptions& c = s.common;
+    std::string line = "--scene " + shellWord(c.scene);
+    line += " --eye " + formatVec3(camera.eye) + " --target " + formatVec3(camera.target);
+    line += " --fov " + formatFloat(camera.fovYDegrees);
+    line += " --width " + std::to_string(width) + " --height " + std::to_string(height);
+    line += " --spp " + std::to_string(std::max(c.spp, 1)) + " --seed " + std::to_string(c.seed);
+    line += " --rotation " + formatFloat(c.rotation) + " --ao-length " + formatFloat(c.aoLength);
+    if (c.bvhLeafSize != CommonOptions{}.bvhLeafSize) line += " --bvh-leaf-size " + std::to_string(c.bvhLeafSize);
+    if (c.bvhBins != CommonOptions{}.bvhBins) line += " --bvh-bins " + std::to_string(c.bvhBins);
+    return line;
+}
+
+} // namespace
+
+std::vector<std::string> viewerMethods() {
+    std::vector<std::string> names = {kRasterOnlyMethod};
+    for (const MethodInfo& m : gpuMethods()) names.push_back(m.name);
+    return names;
+}
+
+void internalSize(const ViewerSettings& s, int windowWidth, int windowHeight, int& width, int& height) {
+    width = std::max(1, int(std::lround(windowWidth * s.renderScale)));
+    height = std::max(1, int(std::lround(windowHeight * s.renderScale)));
+}
+
+RenderSettings toRenderSettings(const ViewerSettings& s, int width, int height, int accumulatedFrame) {
+    CommonOptions c = s.common;
+    c.width = width;
+    c.height = height;
+    RenderSettings r = chcrt::app::toRenderSettings(c, 1);
+    if (s.method == kRasterOnlyMethod) r.effects = EffectSet{false, false, false};
+    if (accumulatedFrame > 0) {
+        r.seed = s.common.seed + uint32_t(accumulatedFrame);
+        if (s.refineWithFullRotation) r.rotationDegrees = 360.0f;
+    }
+    return r;
+}
+
+void applySettings(ViewerSettings& settings, const nlohmann::json& changes) {
+    if (!changes.is_object()) throw InputError("viewer settings must be a JSON object, got " + changes.dump());
+    ViewerSettings s = settings; // validate everything on a copy first
+    for (const auto& [key, value] : changes.items()) {
+        if (key == "method") {
+            const std::string name = jsonValue<std::string>(value, key);
+            if (name != kRasterOnlyMethod) findGpuMethod(name); // throws, listing the methods
+            s.method = name;
+        } else if (key == "viewMode") {
+            s.viewMode = parseViewMode(jsonValue<std::string>(value, key));
+        } else if (key == "effects") {
+            s.common.effects = jsonValue<std::string>(value, key);
+        } else if (key == "spp") {
+            s.common.spp = jsonValue<int>(value, key);
+        } else if (key == "seed") {
+            s.common.seed = jsonValue<uint32_t>(value, key);
+        } else if (key == "rotation") {
+            s.common.rotation = jsonValue<float>(value, key);
+        } else if (key == "aoLength") {
+            s.common.aoLength = jsonValue<float>(value, key);
+        } else if (key == "exposure") {
+            s.common.exposure = jsonValue<float>(value, key);
+        } else if (key == "renderScale") {
+            s.renderScale = jsonValue<float>(value, key);
+        } else if (key == "accumulate") {
+            s.accumulate = jsonValue<bool>(value, key);
+        } else if (key == "maxAccumulatedFrames") {
+            s.maxAccumulatedFrames = jsonValue<int>(value, key);
+        } else if (key == "refineWithFullRotation") {
+            s.refineWithFullRotation = jsonValue<bool>(value, key);
+        } else if (key == "costRayType") {
+            s.costRayType = parseRayType(jsonValue<std::string>(value, key));
+        } else if (key == "costScale") {
+            s.costScale = jsonValue<float>(value, key);
+        } else {
+            throw InputError("unknown viewer setting '" + key +
+                             "' (method, viewMode, effects, spp, seed, rotation, aoLength, exposure, renderScale, "
+                             "accumulate, maxAccumulatedFrames, refineWithFullRotation, costRayType, costScale)");
+        }
+    }
+    if (!(s.renderScale >= 0.05f && s.renderScale <= 2.0f)) throw InputError("renderScale must be in [0.05, 2]");
+    if (s.maxAccumulatedFrames < 1) throw InputError("maxAccumulatedFrames must be at least 1");
+    if (!(s.costScale > 0.0f)) throw InputError("costScale must be positive");
+    if (s.common.spp < 1) throw InputError("spp must be at least 1");
+    toRenderSettings(s, 1, 1, 0); // validates effects, rotation, lengths, exposure
+    settings = s;
+}
+
+std::string renderCommandLine(const ViewerSettings& s, const Camera& camera, int width, int height) {
+    const bool raster = s.method == kRasterOnlyMethod;
+    std::string line = "chcrt render " + commonArguments(s, camera, width, height);
+    line += " --effects " + (raster ? std::string("none") : toString(parseEffects(s.common.effects)));
+    line += " --exposure " + formatFloat(s.common.exposure) + " -o view.png";
+    return line;
+}
+
+std::string benchCommandLine(const ViewerSettings& s, const Camera& camera, int width, int height) {
+    std::string rayTypes;
+    const EffectSet effects = parseEffects(s.common.effects);
+    if (effects.shadows) rayTypes += "shadow,";
+    if (effects.ao) rayTypes += "ao,";
+    if (effects.diffuse) rayTypes += "diffuse,";
+    rayTypes = rayTypes.empty() ? "primary" : rayTypes.substr(0, rayTypes.size() - 1);
+    const std::string method = s.method == kRasterOnlyMethod ? "bvh" : s.method;
+    return "chcrt bench " + commonArguments(s, camera, width, height) + " --method " + method + " --ray-type " +
+           rayTypes;
+}
+
+} // namespace chcrt::app

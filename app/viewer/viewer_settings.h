@@ -1,0 +1,52 @@
+#pragma once
+// Everything the viewer's panel, keys and scripts can change, in one struct built on the CLI's CommonOptions:
+// one place turns it into the renderer's RenderSettings and into the `chcrt render` / `chcrt bench` command
+// lines that reproduce the current view (STYLE.md practice 7).
+#include "app/options.h"
+#include "app/viewer/view_modes.h"
+#include "renderer/render/render_settings.h"
+#include "renderer/scene/scene.h"
+
+#include <nlohmann/json_fwd.hpp>
+
+#include <string>
+#include <vector>
+
+namespace chcrt::app {
+
+// "raster": G-buffer and unshadowed direct light only (no rays). Every other name is a GPU tracing method of
+// app/methods.h (pure BVH now; CHC+RT and Line Space appear here as they register there).
+inline constexpr const char* kRasterOnlyMethod = "raster";
+std::vector<std::string> viewerMethods();
+
+struct ViewerSettings {
+    CommonOptions common;          // effects, spp, seed, rotation, AO length, exposure; width/height = window
+    std::string method = "bvh";    // kRasterOnlyMethod or a gpuMethods() name
+    ViewMode viewMode = ViewMode::Shaded;
+    RayType costRayType = RayType::Primary; // rays whose traversal cost the cost view shows
+    float costScale = 1000.0f;     // traversal steps at the top of the (logarithmic) heat map
+    float renderScale = 0.5f;      // internal resolution / window resolution
+    bool accumulate = true;        // progressive refinement while the camera and settings stay unchanged
+    int maxAccumulatedFrames = 64;
+    // Refinement frames after the first use seeds seed+1, seed+2, ...; with full rotation (360°, CHC+RT §5.3)
+    // the per-pixel perturbation covers the whole sample domain, so the average converges to the integral and
+    // not only to the neighbourhood of each pass's shared sample.
+    bool refineWithFullRotation = true;
+};
+
+// Internal render resolution for a window (framebuffer) size: at least 1×1.
+void internalSize(const ViewerSettings& settings, int windowWidth, int windowHeight, int& width, int& height);
+// The renderer settings of refinement frame `accumulatedFrame` (0 = the plain frame, as `chcrt render` draws it).
+RenderSettings toRenderSettings(const ViewerSettings& settings, int width, int height, int accumulatedFrame);
+
+// Applies {"name": value, ...} (names as in docs: method, viewMode, effects, spp, seed, rotation, aoLength,
+// exposure, renderScale, accumulate, maxAccumulatedFrames, costRayType, costScale, refineWithFullRotation).
+// Validates everything before changing anything; throws InputError naming the key.
+void applySettings(ViewerSettings& settings, const nlohmann::json& changes);
+
+// `chcrt render ...` reproducing the current camera and settings at the internal resolution (the first,
+// unaccumulated frame), and the `chcrt bench ...` line timing the same rays per method.
+std::string renderCommandLine(const ViewerSettings& settings, const Camera& camera, int width, int height);
+std::string benchCommandLine(const ViewerSettings& settings, const Camera& camera, int width, int height);
+
+} // namespace chcrt::app

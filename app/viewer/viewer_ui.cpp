@@ -1,0 +1,163 @@
+#include "app/viewer/viewer_ui.h"
+
+#include "renderer/core/error.h"
+
+#include <imgui.h>
+#include <imgui_stdlib.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace chcrt::app {
+namespace {
+
+void row(const char* label, double milliseconds) {
+    ImGui::Text("  %-18s %8.2f ms", label, milliseconds);
+}
+
+// Rays per second over tracing time; counts every generated ray (inactive ones included, like FrameStats).
+double megaRaysPerSecond(const FrameStats& s) {
+    const double ms = s.traceMs();
+    return ms > 0 ? double(s.raysGenerated) / (ms * 1e3) : 0.0;
+}
+
+} // namespace
+
+ViewerActions ViewerPanel::draw(ViewerSettings& settings, const ViewerStatus& status) {
+    ViewerActions actions;
+    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(360, 0), ImGuiCond_FirstUseEver);
+    ImGui::Begin("chcrt view");
+    drawStatistics(status);
+    if (ImGui::CollapsingHeader("Rendering", ImGuiTreeNodeFlags_DefaultOpen)) drawSettings(settings, actions);
+    if (ImGui::CollapsingHeader("Camera and paths", ImGuiTreeNodeFlags_DefaultOpen)) drawCamera(status, actions);
+    if (ImGui::CollapsingHeader("Scene")) {
+        ImGui::Text("%s: %llu triangles", status.sceneName.c_str(), static_cast<unsigned long long>(status.triangles));
+        ImGui::InputText("##scene", &sceneField_);
+        ImGui::SameLine();
+        ImGui::BeginDisabled(status.loading);
+        if (ImGui::Button("Load")) actions.loadScene = sceneField_;
+        ImGui::EndDisabled();
+    }
+    if (status.loading) {
+        // Loading and the BVH build run on a worker thread; the elapsed time and a spinner show it is alive.
+        const char spinner[] = "|/-\\";
+        ImGui::Text("Loading %s %c %.1f s", status.loadingScene.c_str(),
+                    spinner[int(status.loadingSeconds * 8) & 3], status.loadingSeconds);
+    }
+    if (!status.message.empty()) ImGui::TextWrapped("%s", status.message.c_str());
+    ImGui::End();
+    return actions;
+}
+
+void ViewerPanel::drawStatistics(const ViewerStatus& status) {
+    const FrameStats& s = status.stats;
+    ImGui::Text("%.1f fps  frame %.2f ms  internal %d x %d", status.frameMs > 0 ? 1000.0 / status.frameMs : 0.0,
+                status.frameMs, status.internalWidth, status.internalHeight);
+    if (!status.frameHistoryMs.empty()) {
+        const float top = *std::max_element(status.frameHistoryMs.begin(), status.frameHistoryMs.end());
+        ImGui::PlotLines("##frames", status.frameHistoryMs.data(), int(status.frameHistoryMs.size()), 0,
+                         "frame time (ms)", 0.0f, std::max(top * 1.1f, 1.0f), ImVec2(-1, 50));
+    }
+    ImGui::Text("renderer %.2f ms, accumulated frames %d", s.totalMs, status.accumulatedFrames);
+    row("G-buffer", s.gbufferMs);
+    row("ray generation", s.raygenMs);
+    for (RayType type : {RayType::Primary, RayType::Shadow, RayType::Ao, RayType::Diffuse}) {
+        const TraceStats& t = s.trace[size_t(type)];
+        if (t.passes == 0) continue;
+        const std::string label = std::string("trace ") + toString(type) + " (" + std::to_string(t.passes) + ")";
+        row(label.c_str(), t.milliseconds);
+    }
+    row("shading", s.shadeMs);
+    ImGui::Text("%.2f Mrays/s (%llu rays)", megaRaysPerSecond(s), static_cast<unsigned long long>(s.raysGenerated));
+    if (s.cappedRays > 0) {
+        ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "%llu rays reached the loop cap",
+                           static_cast<unsigned long long>(s.cappedRays));
+    }
+}
+
+void ViewerPanel::drawSettings(ViewerSettings& settings, ViewerActions& actions) {
+    // Edits go through applySettings, the same validation the scripts use; invalid values are refused.
+    nlohmann::json changes = nlohmann::json::object();
+    const std::vector<std::string> methods = viewerMethods();
+    if (ImGui::BeginCombo("method", settings.method.c_str())) {
+        for (const std::string& m : methods) {
+            if (ImGui::Selectable(m.c_str(), m == settings.method)) changes["method"] = m;
+        }
+        ImGui::EndCombo();
+    }
+    if (ImGui::BeginCombo("view", toString(settings.viewMode))) {
+        for (ViewMode mode : allViewModes()) {
+            if (ImGui::Selectable(toString(mode), mode == settings.viewMode)) changes["viewMode"] = toString(mode);
+            if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", describe(mode));
+        }
+        ImGui::EndCombo();
+    }
+    EffectSet effects = parseEffects(settings.common.effects);
+    bool effectsChanged = ImGui::Checkbox("shadows", &effects.shadows);
+    ImGui::SameLine();
+    effectsChanged |= ImGui::Checkbox("AO", &effects.ao);
+    ImGui::SameLine();
+    effectsChanged |= ImGui::Checkbox("diffuse", &effects.diffuse);
+    if (effectsChanged) changes["effects"] = toString(effects);
+    int spp = settings.common.spp;
+    if (ImGui::SliderInt("spp", &spp, 1, 16)) changes["spp"] = spp;
+    float rotation = settings.common.rotation;
+    if (ImGui::SliderFloat("rotation", &rotation, 0.0f, 360.0f, "%.0f deg")) changes["rotation"] = rotation;
+    float aoLength = settings.common.aoLength;
+    if (ImGui::SliderFloat("AO length", &aoLength, 0.001f, 0.2f, "%.3f", ImGuiSliderFlags_Logarithmic)) {
+        changes["aoLength"] = aoLength;
+    }
+    float exposure = settings.common.exposure;
+    if (ImGui::SliderFloat("exposure", &exposure, 0.05f, 8.0f, "%.2f", ImGuiSliderFlags_Logarithmic)) {
+        changes["exposure"] = exposure;
+    }
+    int seed = int(settings.common.seed);
+    if (ImGui::InputInt("seed", &seed) && seed >= 0) changes["seed"] = seed;
+    float scale = settings.renderScale;
+    if (ImGui::SliderFloat("render scale", &scale, 0.1f, 1.0f, "%.2f")) changes["renderScale"] = scale;
+    bool accumulate = settings.accumulate;
+    if (ImGui::Checkbox("refine when still", &accumulate)) changes["accumulate"] = accumulate;
+    if (settings.viewMode == ViewMode::Cost) {
+        int type = int(settings.costRayType);
+        const char* types[] = {"primary", "shadow", "ao", "diffuse"};
+        if (ImGui::Combo("cost rays", &type, types, 4)) changes["costRayType"] = types[type];
+        float costScale = settings.costScale;
+        if (ImGui::SliderFloat("cost scale", &costScale, 10.0f, 100000.0f, "%.0f steps", ImGuiSliderFlags_Logarithmic)) {
+            changes["costScale"] = costScale;
+        }
+    }
+    if (!changes.empty()) {
+        try {
+            applySettings(settings, changes);
+            actions.settingsChanged = true;
+        } catch (const InputError&) {
+            // Out-of-range slider input: keep the previous settings.
+        }
+    }
+}
+
+void ViewerPanel::drawCamera(const ViewerStatus& status, ViewerActions& actions) {
+    const Camera& c = status.camera;
+    ImGui::Text("eye    %.2f %.2f %.2f", c.eye.x, c.eye.y, c.eye.z);
+    ImGui::Text("target %.2f %.2f %.2f", c.target.x, c.target.y, c.target.z);
+    ImGui::Text("speed %.3g units/s (scroll, +/-; shift x5)", status.speed);
+    actions.reset = ImGui::Button("Reset (R)");
+    ImGui::SameLine();
+    actions.frameScene = ImGui::Button("Frame scene (F)");
+    actions.togglePlay = ImGui::Button(status.playing ? "Pause path (P)" : "Play path (P)");
+    ImGui::SameLine();
+    int frame = status.pathFrame;
+    if (ImGui::SliderInt("##pathframe", &frame, 0, std::max(status.pathFrames - 1, 0))) actions.pathFrame = frame;
+    actions.toggleRecord = ImGui::Button(status.recording ? "Stop recording (F9)" : "Record walkthrough (F9)");
+    if (status.recording) {
+        ImGui::SameLine();
+        ImGui::Text("%zu keyframes", status.recordedKeyframes);
+    }
+    actions.screenshot = ImGui::Button("Screenshot (F12)");
+    ImGui::SameLine();
+    actions.copyCommandLine = ImGui::Button("Copy command line (C)");
+}
+
+} // namespace chcrt::app

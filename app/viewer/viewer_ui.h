@@ -1,0 +1,55 @@
+#pragma once
+// The viewer's ImGui panel: statistics (frame time, its split per pass, rays/s, a frame-time graph), the live
+// settings (method, view mode, effects, sampling, exposure, render scale) and camera-path controls. It edits
+// ViewerSettings in place and reports button presses as actions; the app applies them between frames.
+#include "app/viewer/viewer_settings.h"
+#include "renderer/render/renderer.h"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace chcrt::app {
+
+struct ViewerStatus {
+    FrameStats stats;          // of the last rendered frame
+    double frameMs = 0;        // wall time of the last loop iteration (render + panel + swap)
+    std::vector<float> frameHistoryMs;
+    int accumulatedFrames = 0;
+    int internalWidth = 0, internalHeight = 0;
+    std::string sceneName;
+    uint64_t triangles = 0;
+    bool loading = false;
+    std::string loadingScene;
+    double loadingSeconds = 0;
+    Camera camera;
+    float speed = 0;
+    int pathFrame = 0, pathFrames = 1;
+    bool playing = false;
+    bool recording = false;
+    size_t recordedKeyframes = 0;
+    std::string message; // last notice: screenshot written, command line copied, errors
+};
+
+struct ViewerActions {
+    bool settingsChanged = false;
+    bool reset = false, frameScene = false, togglePlay = false, toggleRecord = false;
+    bool screenshot = false, copyCommandLine = false;
+    std::optional<int> pathFrame;
+    std::string loadScene; // non-empty: load this scene
+};
+
+class ViewerPanel {
+public:
+    explicit ViewerPanel(std::string sceneField) : sceneField_(std::move(sceneField)) {}
+    // Draws the panel (between ImGui::NewFrame and ImGui::Render).
+    ViewerActions draw(ViewerSettings& settings, const ViewerStatus& status);
+
+private:
+    void drawStatistics(const ViewerStatus& status);
+    void drawSettings(ViewerSettings& settings, ViewerActions& actions);
+    void drawCamera(const ViewerStatus& status, ViewerActions& actions);
+    std::string sceneField_;
+};
+
+} // namespace chcrt::app

@@ -1,0 +1,68 @@
+#version 450 core
+// CHC+RT §5.2 subtree intersection with by-tile batching: the viewport is one screen tile; the uniforms list up
+// to CHCRT_CULLING_MAX_BATCH termination-subtree roots (approximately front to back). Each ray continues from
+// the nearest hit stored so far (image load/store on the hit buffer) and traverses every subtree whose box it
+// meets with the project's exact hit rule (trace/bvh_traverse.glsl), so the final hits are those of pure BVH
+// tracing. Changed rays store their hit and write depthFromDistance(t) for later occlusion queries.
+// Host defines: TRACE_ANY_HIT (0 | 1), CHCRT_SUBTREE_STACK (traversal stack entries: the partition's maximum
+// subtree height + 1, §5.2; smaller local arrays are faster, measured in culling/README.md).
+#include "shared/render_layout.h"
+#include "shared/bvh_layout.h"
+#include "culling/culling_layout.h"
+// bvh_traverse.glsl sizes its stack with CHCRT_MAX_BVH_DEPTH; subtrees are bounded by the termination height.
+#ifdef CHCRT_SUBTREE_STACK
+#undef CHCRT_MAX_BVH_DEPTH
+#define CHCRT_MAX_BVH_DEPTH CHCRT_SUBTREE_STACK
+#endif
+#include "trace/bvh_traverse.glsl"
+
+layout(binding = CHCRT_UNIT_RAY_ORIGIN) uniform sampler2D rayOrigins;
+layout(binding = CHCRT_UNIT_RAY_DIRECTION) uniform sampler2D rayDirections;
+layout(binding = CHCRT_CULLING_IMAGE_HIT, rgba32ui) uniform uimage2D hitImage;
+layout(binding = CHCRT_ATOMIC_BINDING_CAPPED_RAYS, offset = 0) uniform atomic_uint cappedRays;
+
+uniform uvec4 subtreeRoots[CHCRT_CULLING_MAX_BATCH / 4];
+uniform int subtreeCount;
+
+void main() {
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    vec4 originTmin = texelFetch(rayOrigins, pixel, 0);
+    vec4 directionTmax = texelFetch(rayDirections, pixel, 0);
+    if (!(directionTmax.w > originTmin.w)) {
+        discard;
+    }
+    uvec4 stored = imageLoad(hitImage, pixel);
+#if TRACE_ANY_HIT
+    if (stored.y != CHCRT_NO_HIT_ID) {
+        discard; // finished
+    }
+#endif
+    TraceHit best = makeMiss(directionTmax.w);
+    if (stored.y != CHCRT_NO_HIT_ID) {
+        best.t = uintBitsToFloat(stored.x);
+        best.triangleId = stored.y;
+        best.barycentrics = uintBitsToFloat(stored.zw);
+    }
+    uint previousId = best.triangleId;
+    float previousT = best.t;
+    TraceCost cost = TraceCost(0u, 0u, 0u, 0u);
+    // subtreeCount <= CHCRT_CULLING_MAX_BATCH; the iterations still count towards the cap (PLATFORM.md).
+    for (int i = 0; i < subtreeCount && i < CHCRT_CULLING_MAX_BATCH && cost.iterations < CHCRT_TRACE_ITERATION_CAP;
+         ++i) {
+        ++cost.iterations;
+        traverseBvh(subtreeRoots[i >> 2][i & 3], originTmin.xyz, directionTmax.xyz, originTmin.w, best, cost);
+#if TRACE_ANY_HIT
+        if (best.triangleId != CHCRT_NO_HIT_ID) {
+            break;
+        }
+#endif
+    }
+    if (cost.iterations >= CHCRT_TRACE_ITERATION_CAP) {
+        atomicCounterIncrement(cappedRays);
+    }
+    if (best.triangleId == previousId && best.t == previousT) {
+        discard; // nothing nearer in these subtrees: hit and depth stay
+    }
+    imageStore(hitImage, pixel, uvec4(floatBitsToUint(best.t), best.triangleId, floatBitsToUint(best.barycentrics)));
+    gl_FragDepth = depthFromDistance(best.t);
+}

@@ -1,0 +1,35 @@
+#ifndef CHCRT_SHARED_CULLING_LAYOUT_H
+#define CHCRT_SHARED_CULLING_LAYOUT_H
+// Constants shared by the CHC+RT passes (culling/chcrt_tracer.cpp) and their shaders (shaders/culling/*).
+#include "../shared/shared_begin.h"
+
+// Image unit of the hit buffer (RGBA32UI, layout of CHCRT_TRACE_OUT_HIT). Subtree passes over the same pixels
+// read and update it with image load/store, separated by glMemoryBarrier (see culling/README.md).
+#define CHCRT_CULLING_IMAGE_HIT 0
+
+// CHC+RT §5.2 by-tile batching: at most this many subtree roots per shader call.
+#define CHCRT_CULLING_MAX_BATCH 24
+
+// Ray distance -> depth for the generalized occlusion queries (§4.1): depth = clamp(t * 2^-64, 0, 1).
+// Multiplying by a power of two is exact for every normal float, so the mapping is strictly monotone on
+// [2^-62, 2^64) and non-decreasing everywhere (underflow and clamping only merge values). Hence
+// entry <= best t implies depth(entry) <= depth(best t): with GL_LEQUAL a box that could hold a hit at the
+// current nearest t is never culled, including an entry equal to the hit distance and rays starting inside
+// the box (entry < 0 maps to 0). DEPTH32F stores gl_FragDepth in [0, 1] exactly.
+#define CHCRT_CULLING_DEPTH_SCALE 5.42101086242752217e-20
+
+#ifdef __cplusplus
+#define CHCRT_INLINE inline
+using glm::max;
+using glm::min;
+#else
+#define CHCRT_INLINE
+#endif
+
+CHCRT_INLINE float depthFromDistance(float t) {
+    return min(max(t * float(CHCRT_CULLING_DEPTH_SCALE), 0.0f), 1.0f);
+}
+
+#undef CHCRT_INLINE
+#include "../shared/shared_end.h"
+#endif

@@ -1,0 +1,190 @@
+// CHC+RT conservative culling against pure BVH tracing, its oracle (CHC+RT §4.5: the culling never changes the
+// result): over consecutive frames of a near walkthrough with temporal coherence on, every pixel's hit must
+// equal pure BVH tracing's (bits of t and triangle id for closest-hit rays, hit/miss for any-hit rays).
+#include "tests/render/render_fixture.h"
+
+#include "culling/chcrt_tracer.h"
+
+#include <cstring>
+
+namespace chcrt::test {
+namespace {
+
+struct ExactnessCase {
+    const char* scene;
+    uint32_t maxSubtreeHeight;
+    int minTileSize;
+};
+
+class ChcrtExactnessTest : public RenderTest, public ::testing::WithParamInterface<ExactnessCase> {};
+
+bool sameHit(const Hit& a, const Hit& b, bool anyHit) {
+    const bool hitA = a.triangleId != CHCRT_NO_HIT_ID, hitB = b.triangleId != CHCRT_NO_HIT_ID;
+    if (anyHit) return hitA == hitB;
+    return a.triangleId == b.triangleId && std::memcmp(&a.t, &b.t, sizeof(float)) == 0;
+}
+
+TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
+    const ExactnessCase c = GetParam();
+    RenderSettings settings;
+    settings.width = 96;
+    settings.height = 72;
+    Renderer& renderer = makeProceduralRenderer(c.scene, settings);
+    ChcrtOptions options;
+    options.partition.maxSubtreeHeight = c.maxSubtreeHeight;
+    options.pairs.minTileSize = c.minTileSize;
+    ChcrtTracer chcrt(bvh_, options);
+    const CameraPath path = proceduralNearPath(spec_);
+
+    uint64_t compared = 0, hits = 0;
+    for (int frame = 0; frame < 6; ++frame) {
+        const Camera camera = path.cameraAtFrame(frame * 2);
+        FrameStats stats;
+        renderer.renderGBuffer(camera, stats);
+        for (RayType type : {RayType::Primary, RayType::Shadow, RayType::Ao, RayType::Diffuse}) {
+            for (int sample = 0; sample < 2; ++sample) {
+                renderer.generateRayPass(camera, type, sample, stats);
+                renderer.useTracer(nullptr);
+                renderer.traceRayPass(camera, type, sample, stats);
+                const std::vector<Hit> reference = renderer.readHits(0);
+                renderer.useTracer(&chcrt);
+                renderer.traceRayPass(camera, type, sample, stats);
+                const std::vector<Hit> culled = renderer.readHits(0);
+                ASSERT_EQ(reference.size(), culled.size());
+                size_t differing = 0;
+                for (size_t i = 0; i < reference.size(); ++i) {
+                    if (!sameHit(reference[i], culled[i], isAnyHit(type))) ++differing;
+                    hits += reference[i].triangleId != CHCRT_NO_HIT_ID;
+                }
+                compared += reference.size();
+                EXPECT_EQ(differing, 0u) << c.scene << " frame " << frame * 2 << " " << toString(type) << " sample "
+                                         << sample;
+            }
+        }
+        EXPECT_EQ(stats.cappedRays, 0u);
+    }
+    EXPECT_GT(hits, compared / 4);
+    // The comparison is only meaningful if culling happened: pairs were found invisible, and temporal
+    // coherence reused the visible front (Phase 1 work after the first frame).
+    const ChcrtStats& total = chcrt.totalStats();
+    EXPECT_GT(total.queries, 0u);
+    EXPECT_GT(total.pairsInvisible, 0u);
+    EXPECT_GT(total.subtreesScheduled, total.pairsNewlyVisible);
+    // per sample index for AO and diffuse, one state each for primary and shadow (§5.3)
+    EXPECT_EQ(chcrt.rayStateCount(), 2u + 2u + 2u);
+    std::printf("[ stats    ] %s: %llu traces, %llu queries (%llu invisible, %llu lazy, %llu traversal), "
+                "%llu subtrees in %llu calls, fronts %llu visible / %llu invisible, phases %.1f/%.1f/%.1f ms\n",
+                c.scene, (unsigned long long)total.traces, (unsigned long long)total.queries,
+                (unsigned long long)total.queriesInvisible, (unsigned long long)total.queriesLazy,
+                (unsigned long long)total.queriesTraversal, (unsigned long long)total.subtreesScheduled,
+                (unsigned long long)total.shaderCalls, (unsigned long long)total.pairsVisible,
+                (unsigned long long)total.pairsInvisible, total.phase1Ms, total.phase2Ms, total.phase3Ms);
+}
+
+TEST_P(ChcrtExactnessTest, ShadedFrameEqualsPureBvhFrame) {
+    // The whole frame (incl. the bounce shadow rays of the diffuse effect, their own ray set) must be the same
+    // image bit for bit: every traced answer is the same.
+    const ExactnessCase c = GetParam();
+    RenderSettings settings;
+    settings.width = 64;
+    settings.height = 48;
+    settings.samplesPerPixel = 2;
+    Renderer& renderer = makeProceduralRenderer(c.scene, settings);
+    ChcrtOptions options;
+    options.partition.maxSubtreeHeight = c.maxSubtreeHeight;
+    options.pairs.minTileSize = c.minTileSize;
+    ChcrtTracer chcrt(bvh_, options);
+    const CameraPath path = proceduralNearPath(spec_);
+    for (int frame : {0, 1}) {
+        const Camera camera = path.cameraAtFrame(frame);
+        renderer.useTracer(nullptr);
+        renderer.renderFrame(camera);
+        const ImageRgba32f reference = renderer.readHdrImage();
+        renderer.useTracer(&chcrt);
+        renderer.renderFrame(camera);
+        const ImageRgba32f culled = renderer.readHdrImage();
+        ASSERT_EQ(reference.pixels.size(), culled.pixels.size());
+        EXPECT_EQ(std::memcmp(reference.pixels.data(), culled.pixels.data(),
+                              reference.pixels.size() * sizeof(reference.pixels[0])),
+                  0)
+            << "frame " << frame;
+    }
+}
+
+TEST_F(RenderTest, AggressiveCullingLosesHitsThatTheComparisonDetects) {
+    // §7 aggressive variant: pairs with few passing rays are culled, so some hits are lost. This also shows that
+    // the exactness comparison above can fail.
+    RenderSettings settings;
+    settings.width = 96;
+    settings.height = 72;
+    Renderer& renderer = makeProceduralRenderer("city:60k", settings);
+    ChcrtOptions options;
+    options.partition.maxSubtreeHeight = 8;
+    options.pairs.minTileSize = 16;
+    options.visibleThreshold = 40;
+    ChcrtTracer aggressive(bvh_, options, "chcrt-aggressive");
+    const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
+    FrameStats stats;
+    renderer.renderGBuffer(camera, stats);
+    renderer.generateRayPass(camera, RayType::Primary, 0, stats);
+    renderer.useTracer(nullptr);
+    renderer.traceRayPass(camera, RayType::Primary, 0, stats);
+    const std::vector<Hit> reference = renderer.readHits(0);
+    renderer.useTracer(&aggressive);
+    renderer.traceRayPass(camera, RayType::Primary, 0, stats);
+    const std::vector<Hit> culled = renderer.readHits(0);
+    size_t differing = 0, lost = 0;
+    for (size_t i = 0; i < reference.size(); ++i) {
+        differing += !sameHit(reference[i], culled[i], false);
+        // Culling only removes candidates: a differing pixel is a miss or a farther hit, never a nearer one.
+        if (reference[i].triangleId != CHCRT_NO_HIT_ID && culled[i].triangleId != CHCRT_NO_HIT_ID) {
+            EXPECT_GE(culled[i].t, reference[i].t);
+        }
+        lost += reference[i].triangleId != CHCRT_NO_HIT_ID && culled[i].triangleId == CHCRT_NO_HIT_ID;
+    }
+    EXPECT_GT(differing, 0u);
+    EXPECT_LT(differing, reference.size() / 2);
+    EXPECT_EQ(aggressive.name(), "chcrt-aggressive");
+    (void)lost;
+}
+
+TEST_F(RenderTest, WithoutTemporalCoherenceEveryTraceStartsFromTheRootPair) {
+    RenderSettings settings;
+    settings.width = 64;
+    settings.height = 64;
+    Renderer& renderer = makeProceduralRenderer("interior:30k", settings);
+    ChcrtOptions options;
+    options.partition.maxSubtreeHeight = 8;
+    options.pairs.minTileSize = 16;
+    options.temporalCoherence = false;
+    ChcrtTracer chcrt(bvh_, options);
+    renderer.useTracer(&chcrt);
+    const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
+    FrameStats stats;
+    for (int i = 0; i < 2; ++i) {
+        renderer.generateRayPass(camera, RayType::Primary, 0, stats);
+        renderer.traceRayPass(camera, RayType::Primary, 0, stats);
+        // No previous fronts: no Phase 1 work, and the traversal starts with the single root query.
+        EXPECT_EQ(chcrt.lastStats().queriesInvisible, 1u);
+        EXPECT_EQ(chcrt.lastStats().queriesLazy, 0u);
+        EXPECT_GT(chcrt.lastStats().queriesTraversal, 0u);
+        EXPECT_EQ(chcrt.lastStats().subtreesScheduled, chcrt.lastStats().pairsNewlyVisible);
+    }
+}
+
+std::string caseName(const ::testing::TestParamInfo<ExactnessCase>& info) {
+    std::string scene = info.param.scene;
+    for (char& ch : scene)
+        if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+    return scene + "_h" + std::to_string(info.param.maxSubtreeHeight) + "_tile" + std::to_string(info.param.minTileSize);
+}
+
+// Subtree heights below the BVH depth (~17 here) so that object-space splits happen; tiles small enough for
+// several screen-space levels at 96×72.
+INSTANTIATE_TEST_SUITE_P(ProceduralScenes, ChcrtExactnessTest,
+                         ::testing::Values(ExactnessCase{"city:60k", 8, 16}, ExactnessCase{"interior:60k", 8, 16},
+                                           ExactnessCase{"plant:60k", 8, 16}, ExactnessCase{"city:60k", 24, 32}),
+                         caseName);
+
+} // namespace
+} // namespace chcrt::test

@@ -1,0 +1,285 @@
+// Scripted sessions of `chcrt view` in a real GLFW window under Xvfb. The test starts its own X server on a
+// free display (Xvfb -displayfd picks one) and stops it afterwards; without Xvfb it fails with a message
+// saying how to install it. Assertions are on the screenshots (image differences between views, moves,
+// effects; identity where exactness holds) and on the statistics the viewer writes and checks.
+#include "renderer/core/image_io.h"
+
+#include <nlohmann/json.hpp>
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <algorithm>
+#include <cerrno>
+#include <fcntl.h>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <poll.h>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace chcrt {
+namespace {
+
+namespace fs = std::filesystem;
+
+// An Xvfb server for the whole suite.
+class XvfbServer {
+public:
+    // Returns an empty string on success, else what went wrong.
+    std::string start() {
+        int fds[2];
+        if (::pipe(fds) != 0) return "pipe failed";
+        pid_ = ::fork();
+        if (pid_ < 0) return "fork failed";
+        if (pid_ == 0) {
+            ::close(fds[0]);
+            const std::string fd = std::to_string(fds[1]);
+            const int devnull = ::open("/dev/null", O_WRONLY);
+            ::dup2(devnull, 2);
+            ::execlp("Xvfb", "Xvfb", "-displayfd", fd.c_str(), "-screen", "0", "1280x800x24", "-nolisten", "tcp",
+                     static_cast<char*>(nullptr));
+            ::_exit(127);
+        }
+        ::close(fds[1]);
+        std::string number;
+        pollfd p{fds[0], POLLIN, 0};
+        while (::poll(&p, 1, 15000) > 0) {
+            char c = 0;
+            if (::read(fds[0], &c, 1) != 1 || c == '\n') break;
+            number += c;
+        }
+        ::close(fds[0]);
+        if (number.empty()) {
+            int status = 0;
+            const bool exited = ::waitpid(pid_, &status, WNOHANG) == pid_;
+            pid_ = -1;
+            if (exited && WIFEXITED(status) && WEXITSTATUS(status) == 127) {
+                return "Xvfb is not installed: the viewer tests need it (apt-get install xvfb; scripts/setup.sh "
+                       "installs it)";
+            }
+            return "Xvfb did not report a display within 15 s";
+        }
+        display_ = ":" + number;
+        return "";
+    }
+    void stop() {
+        if (pid_ > 0) {
+            ::kill(pid_, SIGTERM);
+            ::waitpid(pid_, nullptr, 0);
+            pid_ = -1;
+        }
+    }
+    const std::string& display() const { return display_; }
+
+private:
+    pid_t pid_ = -1;
+    std::string display_;
+};
+
+XvfbServer& server() {
+    static XvfbServer s;
+    return s;
+}
+std::string& serverError() {
+    static std::string e;
+    return e;
+}
+
+struct Result {
+    int exitCode = -1;
+    std::string output;
+};
+
+class ViewerTest : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() { serverError() = server().start(); }
+    static void TearDownTestSuite() { server().stop(); }
+
+    void SetUp() override {
+        ASSERT_TRUE(serverError().empty()) << serverError();
+        dir_ = fs::temp_directory_path() /
+               ("chcrt_view_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+                std::to_string(::getpid()));
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override {
+        if (!HasFailure()) fs::remove_all(dir_); // keep images of a failed test for inspection
+    }
+
+    Result run(const std::string& arguments, bool withDisplay = true) const {
+        const std::string display = withDisplay ? "DISPLAY=" + server().display() : "DISPLAY=";
+        const std::string command = "cd '" + dir_.string() + "' && " + display + " '" CHCRT_BINARY "' " + arguments +
+                                    " 2>&1";
+        Result result;
+        FILE* pipe = ::popen(command.c_str(), "r");
+        if (!pipe) return result;
+        std::array<char, 4096> buffer;
+        while (size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) result.output.append(buffer.data(), n);
+        const int status = ::pclose(pipe);
+        result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        return result;
+    }
+    // Runs a script on the small city at 128×72 (render scale 1).
+    Result view(const std::string& script, const std::string& extra = "", const char* renderScale = "1") const {
+        std::ofstream(dir_ / "script.json") << script;
+        return run("view --scene city:20k --width 128 --height 72 -q --script script.json --render-scale " +
+                   std::string(renderScale) + " " + extra);
+    }
+    ImageRgba32f image(const std::string& name) const { return readImage(dir_ / name); }
+    nlohmann::json json(const std::string& name) const {
+        std::ifstream in(dir_ / name);
+        return nlohmann::json::parse(in);
+    }
+    // Fraction of pixels that differ by more than 2/255 in some channel.
+    double differingFraction(const std::string& a, const std::string& b) const {
+        const ImageRgba32f x = image(a), y = image(b);
+        return double(compareImages(x, y, 2.0f / 255.0f).differingPixels) / (double(x.width) * x.height);
+    }
+
+    fs::path dir_;
+};
+
+TEST_F(ViewerTest, ViewsMovesEffectsAndMethodSwitches) {
+    const Result r = view(R"([
+        {"frames": 1, "screenshot": "shaded.png",
+         "expect": {"cappedRays": 0, "tracePasses": {"shadow": 1, "ao": 0}, "accumulatedFrames": 1,
+                    "imageSize": [128, 72], "method": "bvh", "minRaysGenerated": 9216}},
+        {"set": {"method": "raster"}, "frames": 1, "screenshot": "raster.png",
+         "expect": {"method": "raster", "tracePasses": {"shadow": 0}}},
+        {"set": {"method": "bvh"}, "frames": 1, "screenshot": "shaded_again.png", "expect": {"method": "bvh"}},
+        {"set": {"viewMode": "cost"}, "frames": 1, "screenshot": "cost.png",
+         "expect": {"viewMode": "cost", "tracePasses": {"primary": 1}, "cappedRays": 0}},
+        {"set": {"viewMode": "normal"}, "frames": 1, "screenshot": "normal.png"},
+        {"set": {"viewMode": "triangle"}, "frames": 1, "screenshot": "triangle.png"},
+        {"set": {"viewMode": "shaded", "effects": "shadow,ao"}, "frames": 1, "screenshot": "ao.png",
+         "expect": {"tracePasses": {"shadow": 1, "ao": 1}}},
+        {"set": {"effects": "shadow"}},
+        {"key": "W", "frames": 5, "screenshot": "moved.png"},
+        {"mouse": [30, 0], "frames": 2, "screenshot": "turned.png"}])",
+                          "--stats-json stats.json");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    // A method switch bvh → raster → bvh gives back exactly the same image (pure BVH is deterministic).
+    const ImageDifference same = compareImages(image("shaded.png"), image("shaded_again.png"));
+    EXPECT_EQ(same.differingPixels, 0u);
+    EXPECT_EQ(same.maxAbsoluteError, 0.0);
+    // Each view shows something else.
+    EXPECT_GT(differingFraction("shaded.png", "raster.png"), 0.05); // shadows appear
+    EXPECT_GT(differingFraction("shaded.png", "cost.png"), 0.5);
+    EXPECT_GT(differingFraction("cost.png", "normal.png"), 0.5);
+    EXPECT_GT(differingFraction("normal.png", "triangle.png"), 0.5);
+    EXPECT_GT(differingFraction("shaded.png", "ao.png"), 0.05);
+    EXPECT_GT(differingFraction("shaded.png", "moved.png"), 0.05);
+    EXPECT_GT(differingFraction("moved.png", "turned.png"), 0.05);
+    // The cost heat map is not flat: pixels traverse different amounts of the BVH.
+    const ImageRgba32f cost = image("cost.png");
+    float lo = 1, hi = 0;
+    for (size_t i = 0; i < cost.pixels.size(); i += 4) {
+        const float v = cost.pixels[i] + cost.pixels[i + 1] + cost.pixels[i + 2];
+        lo = std::min(lo, v);
+        hi = std::max(hi, v);
+    }
+    EXPECT_GT(hi - lo, 0.5f);
+
+    const nlohmann::json stats = json("stats.json");
+    ASSERT_GE(stats["frames"].size(), 14u);
+    const auto& first = stats["frames"][0];
+    EXPECT_EQ(first["method"], "bvh");
+    EXPECT_EQ(first["width"], 128);
+    EXPECT_EQ(first["rays_generated"], 128 * 72);
+    EXPECT_EQ(first["trace"]["shadow"]["passes"], 1);
+    EXPECT_GT(first["trace_ms"].get<double>(), 0.0);
+    EXPECT_GE(first["renderer_ms"].get<double>(), first["gbuffer_ms"].get<double>());
+    EXPECT_EQ(stats["frames"][1]["method"], "raster");
+    EXPECT_EQ(stats["frames"][1]["rays_generated"], 0);
+}
+
+TEST_F(ViewerTest, RefinesWhileTheCameraStaysStill) {
+    const Result r = view(R"([
+        {"frames": 1, "screenshot": "one.png", "expect": {"accumulatedFrames": 1}},
+        {"frames": 7, "screenshot": "eight.png", "expect": {"accumulatedFrames": 8}},
+        {"set": {"maxAccumulatedFrames": 8}, "frames": 10, "expect": {"accumulatedFrames": 8}},
+        {"set": {"accumulate": false}, "frames": 3, "screenshot": "plain.png", "expect": {"accumulatedFrames": 1}}])",
+                          "--stats-json stats.json");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_GT(differingFraction("one.png", "eight.png"), 0.01); // soft shadows refined
+    EXPECT_EQ(compareImages(image("one.png"), image("plain.png")).differingPixels, 0u);
+    // Once converged to maxAccumulatedFrames the viewer stops rendering (1 + 7 + 8 frames, then 1 without refinement).
+    EXPECT_EQ(json("stats.json")["frames"].size(), 17u);
+}
+
+TEST_F(ViewerTest, PlaysAndRecordsPathsAndPrintsAReproducingCommandLine) {
+    const Result r = view(R"([
+        {"play": true, "frames": 4, "expect": {"pathFrame": 4, "playing": true}},
+        {"screenshot": "path3.png"},
+        {"action": "recordStart"},
+        {"key": "D", "frames": 3},
+        {"mouse": [-20, 5], "frames": 2, "expect": {"playing": false}},
+        {"recordStop": "walk.json"},
+        {"action": "copyCommandLine", "screenshot": "current.png"}])",
+                          "--camera-path near --no-accumulate");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    // Playback shows the path's frames as `chcrt render` draws them (frame 3 is the last one played).
+    const Result render = run("render --scene city:20k --camera-path near --frames 3 --width 128 --height 72 "
+                              "--spp 1 --effects shadow -q -o render3.png");
+    ASSERT_EQ(render.exitCode, 0) << render.output;
+    EXPECT_LT(differingFraction("path3.png", "render3.png"), 0.002);
+
+    // The recorded walkthrough is a valid path with increasing times.
+    const nlohmann::json walk = json("walk.json");
+    ASSERT_GE(walk["keyframes"].size(), 5u); // start + 5 moved frames
+    for (size_t i = 1; i < walk["keyframes"].size(); ++i) {
+        EXPECT_GT(walk["keyframes"][i]["t"].get<double>(), walk["keyframes"][i - 1]["t"].get<double>());
+    }
+    const Result replay = run("render --scene city:20k --camera-path walk.json --frames 0 --width 16 --height 16 "
+                              "--spp 1 -q -o replay.png");
+    EXPECT_EQ(replay.exitCode, 0) << replay.output;
+
+    // The printed render command reproduces the current view.
+    const size_t at = r.output.find("chcrt render ");
+    ASSERT_NE(at, std::string::npos) << r.output;
+    std::string line = r.output.substr(at + 6, r.output.find('\n', at) - at - 6);
+    ASSERT_NE(line.find("-o view.png"), std::string::npos) << line;
+    EXPECT_NE(r.output.find("chcrt bench "), std::string::npos);
+    const Result reproduced = run(line + " -q");
+    ASSERT_EQ(reproduced.exitCode, 0) << line << "\n" << reproduced.output;
+    EXPECT_LT(differingFraction("current.png", "view.png"), 0.002) << line;
+}
+
+TEST_F(ViewerTest, ResizingTheWindowResizesTheRenderTargets) {
+    const Result r = view(R"([
+        {"frames": 1, "expect": {"imageSize": [64, 36]}},
+        {"resize": [200, 100], "frames": 3, "screenshot": "big.png", "expect": {"imageSize": [100, 50]}},
+        {"set": {"renderScale": 0.25}, "frames": 1, "expect": {"imageSize": [50, 25]}}])",
+                          "", "0.5");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_EQ(image("big.png").width, 100);
+}
+
+TEST_F(ViewerTest, ReportsFailuresWithExitCodes) {
+    // An unmet expectation: exit 4 with a message naming it.
+    Result r = view(R"([{"frames": 1, "expect": {"accumulatedFrames": 5}}])");
+    EXPECT_EQ(r.exitCode, 4) << r.output;
+    EXPECT_NE(r.output.find("accumulatedFrames"), std::string::npos) << r.output;
+    // Bad scripts and settings are input errors.
+    r = view(R"([{"set": {"method": "warp-drive"}, "frames": 1}])");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("unknown method"), std::string::npos) << r.output;
+    r = view(R"([{"fly": 1}])");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_EQ(run("view --view-mode overdraw -q --script none.json").exitCode, 2);
+    // No X display: a clear OpenGL-context error, not a crash.
+    std::ofstream(dir_ / "one.json") << R"([{"frames": 1}])";
+    r = run("view --scene city:20k -q --script one.json", false);
+    EXPECT_EQ(r.exitCode, 3) << r.output;
+    EXPECT_NE(r.output.find("window"), std::string::npos) << r.output;
+}
+
+} // namespace
+} // namespace chcrt
