@@ -19,7 +19,7 @@ void addCommonOptions(CLI::App& c, CommonOptions& o, bool withEffects) {
     c.add_option("--eye", o.eye, "Explicit camera position x,y,z (with --target; overrides paths)");
     c.add_option("--target", o.target, "Explicit camera target x,y,z");
     c.add_option("--fov", o.fovY, "Vertical field of view in degrees for --eye/--target")->capture_default_str();
-    c.add_option("--frames", o.frames, "Frames of the path: all, 7, 1-100, 1-100:10, 3,5-9 (0-based)");
+    c.add_option("--frames", o.frames, "Frames of the path: all, all:10 (every 10th), 7, 1-100, 1-100:10, 3,5-9, spread:5 (0-based)");
     c.add_option("--width", o.width, "Image width in pixels")->capture_default_str();
     c.add_option("--height", o.height, "Image height in pixels")->capture_default_str();
     c.add_option("--seed", o.seed, "Seed of the per-pixel sample perturbation")->capture_default_str();

@@ -5,6 +5,7 @@
 #include "renderer/scene/scene_loader.h"
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 
 namespace chcrt::app {
@@ -54,6 +55,17 @@ CameraPath resolveCameraPath(const CommonOptions& o, const SceneSession& s) {
     return loadCameraPath(o.cameraPath);
 }
 
+// The N of "all:N" / "spread:N": a positive integer, else InputError.
+int parseFrameCountSuffix(const std::string& text, size_t prefixLength) {
+    const std::string digits = text.substr(prefixLength);
+    int value = 0;
+    const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+    if (digits.empty() || error != std::errc() || end != digits.data() + digits.size() || value < 1) {
+        throw InputError("--frames " + text + ": expected a positive whole number after ':'");
+    }
+    return value;
+}
+
 } // namespace
 
 SceneSession openSceneSession(const CommonOptions& o) {
@@ -82,10 +94,11 @@ std::vector<int> selectFrames(const CommonOptions& o, const CameraPath& path, co
     const std::string text = o.frames.empty() ? defaultFrames : o.frames;
     const int count = path.frameCount();
     std::vector<int> frames;
-    if (text == "all") {
-        for (int f = 0; f < count; ++f) frames.push_back(f);
+    if (text == "all" || text.rfind("all:", 0) == 0) {
+        const int step = text == "all" ? 1 : parseFrameCountSuffix(text, 4);
+        for (int f = 0; f < count; f += step) frames.push_back(f);
     } else if (text.rfind("spread:", 0) == 0) {
-        const int n = std::clamp(std::stoi(text.substr(7)), 1, count);
+        const int n = std::min(parseFrameCountSuffix(text, 7), count);
         for (int i = 0; i < n; ++i) frames.push_back(n == 1 ? 0 : int(int64_t(i) * (count - 1) / (n - 1)));
         frames.erase(std::unique(frames.begin(), frames.end()), frames.end());
     } else {

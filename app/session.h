@@ -29,8 +29,8 @@ struct SceneSession {
 // Loads/generates the scene, resolves the camera path and builds the BVH (with progress bars on a TTY).
 SceneSession openSceneSession(const CommonOptions& options);
 
-// Frames to render: --frames if given, else `defaultFrames` of the path ("all" = every frame; "spread:N" = N
-// frames evenly spread over the path). Frames past the path's end are an InputError.
+// Frames to render: --frames if given, else `defaultFrames` of the path ("all" = every frame, "all:N" = every
+// N-th frame, "spread:N" = N frames evenly spread over the path). Frames past the path's end are an InputError.
 std::vector<int> selectFrames(const CommonOptions& options, const CameraPath& path, const std::string& defaultFrames);
 
 struct GpuSession {

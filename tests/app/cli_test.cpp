@@ -86,6 +86,8 @@ TEST_F(CliTest, BadFlagsAreUsageErrors) {
     EXPECT_EQ(run("render --scene city:abc -o x.png -q").exitCode, 2);
     EXPECT_EQ(run(std::string("render --scene one-triangle --frames 5 -o x.png ") + kSmall).exitCode, 2);
     EXPECT_EQ(run(std::string("render --scene one-triangle --frames 3-1 -o x.png ") + kSmall).exitCode, 2);
+    EXPECT_EQ(run(std::string("render --scene one-triangle --frames all:x -o x.png ") + kSmall).exitCode, 2);
+    EXPECT_EQ(run(std::string("render --scene one-triangle --frames spread:0 -o x.png ") + kSmall).exitCode, 2);
     EXPECT_EQ(fileCount(), 0u);
 }
 
