@@ -4,7 +4,8 @@
 #      sudo when available — otherwise it prints the apt-get command to run and stops);
 #   2. configures (CMake + Ninja, Release) into build/ and builds everything.
 # Options (environment): CHCRT_BUILD_DIR (default build), CHCRT_WERROR=ON (warnings are errors; CI sets it),
-# CHCRT_SANITIZE=ON (AddressSanitizer + UndefinedBehaviorSanitizer), CHCRT_CMAKE_ARGS (extra CMake arguments).
+# CHCRT_SANITIZE=ON (AddressSanitizer + UndefinedBehaviorSanitizer), CHCRT_CMAKE_ARGS (extra CMake arguments),
+# CHCRT_BUILD_TARGET (build only this target instead of everything).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -43,4 +44,4 @@ sanitize=${CHCRT_SANITIZE:-OFF}
 # shellcheck disable=SC2086
 cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=${CHCRT_BUILD_TYPE:-Release} \
   -DCHCRT_WERROR="$werror" -DCHCRT_SANITIZE="$sanitize" ${CHCRT_CMAKE_ARGS:-} >/dev/null
-cmake --build "$build_dir" -j"$(nproc)"
+cmake --build "$build_dir" -j"$(nproc)" ${CHCRT_BUILD_TARGET:+--target "$CHCRT_BUILD_TARGET"}

@@ -18,7 +18,7 @@ if ((sanitize)); then
   # Warnings are checked by the regular build: GCC 12's -Wmaybe-uninitialized reports false positives inside
   # libstdc++ (<regex>, <functional>) once sanitizer instrumentation is on, so -Werror stays off here.
   CHCRT_BUILD_DIR=build-asan CHCRT_SANITIZE=ON CHCRT_WERROR=OFF CHCRT_BUILD_TYPE=RelWithDebInfo \
-    CHCRT_CMAKE_ARGS="-DCHCRT_BUILD_VIEWER=OFF" scripts/setup.sh
+    CHCRT_BUILD_TARGET=unit_tests CHCRT_CMAKE_ARGS="-DCHCRT_BUILD_VIEWER=OFF" scripts/setup.sh
   ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1 \
     ctest --test-dir build-asan --output-on-failure -j2 -L unit --timeout 600
 fi
