@@ -75,7 +75,9 @@ int run(int argc, char** argv) {
     view.common.effects = "shadow"; // interactive on a CPU rasteriser; the panel turns on AO and diffuse
     CLI::App* viewCommand = cli.add_subcommand("view", "Interactive walkthrough viewer (GLFW window, ImGui panel)");
     addCommonOptions(*viewCommand, view.common, true);
-    viewCommand->add_option("--method", view.method, "Tracing method: raster (no rays), bvh")->capture_default_str();
+    viewCommand->remove_option(viewCommand->get_option("--gl")); // the viewer's context is its GLFW window
+    viewCommand->add_option("--method", view.method, "Tracing method: raster (no rays) or a GPU method (bvh, ...)")
+        ->capture_default_str();
     viewCommand->add_option("--view-mode", view.viewMode,
                             "shaded, position, normal, albedo, triangle, depth, cost")->capture_default_str();
     viewCommand->add_option("--render-scale", view.renderScale, "Internal resolution / window resolution")

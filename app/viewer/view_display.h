@@ -20,6 +20,8 @@ public:
     void resetAccumulation();
     // Adds the renderer's HDR output to the sum.
     void accumulate(const FrameTargets& frame);
+    // Shows the renderer's frame as it is, without the sum (refinement off: saves a full-screen pass).
+    void showSingleFrame() { accumulatedFrames_ = 1; }
     int accumulatedFrames() const { return accumulatedFrames_; }
 
     // Renders the display image of `settings.viewMode` from the frame's targets; `costHits` is the hit set

@@ -5,9 +5,9 @@
 #include "app/viewer/viewer_script.h"
 #include "app/viewer/viewer_session.h"
 #include "app/viewer/viewer_ui.h"
+#include "app/viewer/viewer_window.h"
 #include "app/viewer/walk_controller.h"
 #include "renderer/core/error.h"
-#include "renderer/gl/context.h"
 #include "renderer/gl/gl.h"
 
 #define GLFW_INCLUDE_NONE
@@ -35,42 +35,19 @@ double millisecondsSince(Clock::time_point start) {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-// The GLFW window as the GL context of a GpuSession (app/session.h), so tracing methods are created for the
-// viewer exactly as for the other commands (makeTracer).
-class GlfwWindowContext : public GlContext {
-public:
-    GlfwWindowContext(int width, int height, bool debugOutput) {
-        glfwSetErrorCallback([](int code, const char* text) { std::fprintf(stderr, "chcrt: GLFW error %d: %s\n", code, text); });
-        if (!glfwInit()) {
-            throw GlError("cannot open a window: GLFW failed to initialise (no display? set DISPLAY, or run under "
-                          "Xvfb: Xvfb :99 & DISPLAY=:99 chcrt view)");
-        }
-        glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
-        glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
-        glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
-        glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-        glfwWindowHint(GLFW_OPENGL_DEBUG_CONTEXT, debugOutput ? GLFW_TRUE : GLFW_FALSE);
-        window_ = glfwCreateWindow(width, height, "chcrt view", nullptr, nullptr);
-        if (!window_) {
-            glfwTerminate();
-            throw GlError("cannot create a window with an OpenGL 4.5 core context");
-        }
-        glfwMakeContextCurrent(window_);
-        glfwSwapInterval(0); // frame times are measured: no vsync
-        loadGlFunctions([](const char* name) { return reinterpret_cast<void*>(glfwGetProcAddress(name)); });
-        checkRequiredGlFeatures();
-        if (debugOutput) enableGlDebugOutput(false);
-    }
-    ~GlfwWindowContext() override {
-        glfwDestroyWindow(window_);
-        glfwTerminate();
-    }
-    std::string description() const override { return "GLFW window"; }
-    GLFWwindow* window() const { return window_; }
-
-private:
-    GLFWwindow* window_ = nullptr;
-};
+int glfwKeyFor(const std::string& name) {
+    if (name == "R") return GLFW_KEY_R;
+    if (name == "F") return GLFW_KEY_F;
+    if (name == "P") return GLFW_KEY_P;
+    if (name == "V") return GLFW_KEY_V;
+    if (name == "C") return GLFW_KEY_C;
+    if (name == "F9") return GLFW_KEY_F9;
+    if (name == "F12") return GLFW_KEY_F12;
+    if (name == "+") return GLFW_KEY_EQUAL;
+    if (name == "-") return GLFW_KEY_MINUS;
+    if (name == "TAB") return GLFW_KEY_TAB;
+    throw InputError("script: cannot press '" + name + "'");
+}
 
 bool sameCamera(const Camera& a, const Camera& b) {
     return a.eye == b.eye && a.target == b.target && a.up == b.up && a.fovYDegrees == b.fovYDegrees;
@@ -108,6 +85,7 @@ private:
     void applyMethod();
     void handleInteractiveInput(double seconds);
     void handleKey(int key);
+    void handleKeyOrThrow(int key);
     bool advanceScript();   // false when the script has ended
     void runStepActions(const ScriptStep& step);
     void runStepChecks(const ScriptStep& step);
@@ -227,31 +205,43 @@ void Viewer::onScroll(GLFWwindow* window, double /*x*/, double y) {
 
 int Viewer::run() {
     auto last = Clock::now();
+    bool idle = false;
     while (!glfwWindowShouldClose(window_)) {
+        // An interactive viewer with nothing to render sleeps until input arrives (or 50 ms pass, for the panel).
+        if (idle) glfwWaitEventsTimeout(0.05);
+        else glfwPollEvents();
         const auto start = Clock::now();
         const double seconds = std::chrono::duration<double>(start - last).count();
         last = start;
-        glfwPollEvents();
-        if (loader_.busy() && loader_.finished()) finishLoading();
+        const bool loaded = loader_.busy() && loader_.finished();
+        if (loaded) finishLoading();
         if (scripted_) {
             if (!advanceScript()) break;
         } else if (scene_) {
             handleInteractiveInput(seconds);
         }
-        if (scene_ && gpu_.renderer) {
+        const int renderedBefore = renderedFrames_;
+        if (scene_ && gpu_.renderer && !(scripted_ && loader_.busy())) { // scripts wait for a loading scene
             updatePlayback();
             renderIfNeeded();
         }
         drawWindow();
         status_.frameMs = millisecondsSince(start);
-        history_.push_back(float(status_.frameMs));
-        if (history_.size() > kFrameHistory) history_.pop_front();
+        // The whole iteration of a rendered frame: input, render, display, panel and buffer swap.
+        const bool rendered = renderedFrames_ != renderedBefore;
+        if (rendered) frameLog_.back()["loop_ms"] = status_.frameMs;
+        // The graph shows rendered frames; the iteration that uploaded a scene would flatten it.
+        if (rendered && !loaded) {
+            history_.push_back(float(status_.frameMs));
+            if (history_.size() > kFrameHistory) history_.pop_front();
+        }
+        idle = !scripted_ && !rendered && !loader_.busy() && !playing_ && !looking_;
     }
     writeStatsJson();
     if (scripted_) {
         std::vector<double> frameMs, rendererMs;
         for (const auto& f : frameLog_) {
-            frameMs.push_back(f["frame_ms"].get<double>());
+            frameMs.push_back(f.value("loop_ms", f["frame_ms"].get<double>()));
             rendererMs.push_back(f["renderer_ms"].get<double>());
         }
         std::printf("view: %d frames rendered, median frame %.2f ms (renderer %.2f ms)%s\n", renderedFrames_,
@@ -270,6 +260,8 @@ void Viewer::finishLoading() {
         notice(std::string("cannot load the scene: ") + e.what());
         return;
     }
+    const double loadSeconds = loader_.elapsedSeconds();
+    const auto uploadStart = Clock::now();
     // GL upload and shader compilation on the main thread (the context lives here).
     tracer_.reset();
     gpu_.renderer.reset();
@@ -284,12 +276,20 @@ void Viewer::finishLoading() {
     applyMethod();
     pathFrame_ = 0;
     resetCamera();
+    if (first && !options_.common.frames.empty()) { // --frames: where the path starts
+        pathFrame_ = selectFrames(options_.common, scene_->path, "0").front();
+        setCamera(scene_->path.cameraAtFrame(pathFrame_));
+    }
     walk_ = WalkController(camera_, scene_->scene.bounds());
     gpu_.renderer->warmUp(camera_);
     status_.sceneName = settings_.common.scene = loader_.scene();
     status_.triangles = scene_->scene.triangleCount();
     dirty_ = true;
-    if (!first) notice("loaded " + loader_.scene());
+    char text[160];
+    std::snprintf(text, sizeof(text), "loaded %s: %llu triangles, %.2f s loading + BVH (worker thread), %.2f s GL "
+                  "upload + shaders", loader_.scene().c_str(), static_cast<unsigned long long>(status_.triangles),
+                  loadSeconds, millisecondsSince(uploadStart) / 1000.0);
+    notice(text);
 }
 
 void Viewer::applyMethod() {
@@ -339,6 +339,15 @@ void Viewer::handleInteractiveInput(double seconds) {
 }
 
 void Viewer::handleKey(int key) {
+    try {
+        handleKeyOrThrow(key);
+    } catch (const InputError& e) {
+        if (scripted_) throw; // a script's error ends it (exit 2)
+        notice(e.what());     // an unwritable screenshot or path must not end an interactive session
+    }
+}
+
+void Viewer::handleKeyOrThrow(int key) {
     switch (key) {
     case GLFW_KEY_R: resetCamera(); pathFrame_ = 0; playing_ = false; break;
     case GLFW_KEY_F: walk_.frameScene(); camera_ = walk_.camera(); playing_ = false; break;
@@ -374,12 +383,12 @@ void Viewer::handleKey(int key) {
 bool Viewer::advanceScript() {
     pressedKeys_.clear(); // scripted sessions ignore real input
     scrollSteps_ = 0;
+    if (loader_.busy() || !scene_) return true; // wait for the scene
     while (framesLeft_ == 0) {
         if (currentStep_) { // the step's frames are done: its checks see their result
             runStepChecks(*currentStep_);
             currentStep_ = nullptr;
         }
-        if (loader_.busy() || !scene_) return true; // wait for the scene
         if (nextStep_ >= script_.size() || failures_ > 0) return false;
         currentStep_ = &script_[nextStep_++];
         runStepActions(*currentStep_);
@@ -423,13 +432,12 @@ void Viewer::runStepActions(const ScriptStep& step) {
     }
     if (step.play) playing_ = *step.play;
     if (step.scrollSteps != 0) walk_.update(WalkInput{.scrollSteps = step.scrollSteps}, 0.0);
-    if (step.action == "reset") resetCamera();
-    else if (step.action == "frameScene") {
-        walk_.frameScene();
-        camera_ = walk_.camera();
-    } else if (step.action == "copyCommandLine") printCommandLine();
+    if (step.action == "reset") handleKey(GLFW_KEY_R);
+    else if (step.action == "frameScene") handleKey(GLFW_KEY_F);
+    else if (step.action == "copyCommandLine") printCommandLine();
     else if (step.action == "recordStart") startRecording();
     if (!step.recordStop.empty()) stopRecording(step.recordStop);
+    for (const std::string& key : step.presses) handleKey(glfwKeyFor(key));
     // A step with no frames has its checks now (they see the last rendered frame).
 }
 
@@ -471,6 +479,8 @@ void Viewer::checkExpectations(const nlohmann::json& expect) {
             }
         } else if (key == "playing") {
             if (playing_ != value.get<bool>()) fail(std::string("playing = ") + (playing_ ? "true" : "false"));
+        } else if (key == "scene") {
+            if (status_.sceneName != value.get<std::string>()) fail("scene = " + status_.sceneName);
         } else if (key == "pathFrame") {
             if (pathFrame_ != value.get<int>()) fail("pathFrame = " + std::to_string(pathFrame_));
         } else {
@@ -517,7 +527,8 @@ void Viewer::renderIfNeeded() {
     FrameStats stats;
     if (shaded) {
         stats = renderer.renderFrame(camera_);
-        display_->accumulate(renderer.targets());
+        if (settings_.accumulate) display_->accumulate(renderer.targets());
+        else display_->showSingleFrame();
     } else {
         renderer.renderGBuffer(camera_, stats);
         if (settings_.viewMode == ViewMode::Cost) {
@@ -540,7 +551,7 @@ void Viewer::renderIfNeeded() {
     entry["width"] = w;
     entry["height"] = h;
     entry["accumulated_frames"] = display_->accumulatedFrames();
-    entry["frame_ms"] = millisecondsSince(start);
+    entry["frame_ms"] = millisecondsSince(start); // render + visualisation (loop_ms adds panel and swap)
     frameLog_.push_back(std::move(entry));
 }
 

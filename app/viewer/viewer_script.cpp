@@ -84,6 +84,12 @@ struct StepParser {
                     step.action != "recordStart") {
                     fail("unknown action '" + step.action + "' (reset, frameScene, copyCommandLine, recordStart)");
                 }
+            } else if (key == "press") {
+                const auto name = get<std::string>(value, "press");
+                bool known = false;
+                for (const char* k : kPressableKeys) known |= name == k;
+                if (!known) fail("cannot press '" + name + "' (R, F, P, V, C, F9, F12, +, -, TAB)");
+                step.presses.push_back(name);
             } else if (key == "recordStop") {
                 step.recordStop = get<std::string>(value, "recordStop");
             } else if (key == "resize") {

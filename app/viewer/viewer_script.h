@@ -11,6 +11,7 @@
 //    {"camera": {"eye": [0,2,0], "target": [0,2,-5], "fov": 60}},
 //    {"pathFrame": 10}, {"play": true},               jump to / play the camera path (one path frame per frame)
 //    {"action": "reset" | "frameScene" | "copyCommandLine" | "recordStart"},
+//    {"press": "F"},                                  a key press as the window gets it (R F P V C F9 F12 + - TAB)
 //    {"recordStop": "walk.json"},                     save the recorded walkthrough
 //    {"resize": [320, 200]},                          window size in screen coordinates
 //    {"loadScene": "city:5k"},                        background load; the script waits until it is ready
@@ -39,12 +40,16 @@ struct ScriptStep {
     std::optional<int> pathFrame;
     std::optional<bool> play;
     std::string action;               // reset, frameScene, copyCommandLine, recordStart
+    std::vector<std::string> presses; // key presses handled like the window's (kPressableKeys)
     std::string recordStop;           // file to save the recorded path to
     std::optional<std::pair<int, int>> resize;
     std::string loadScene;
     std::string screenshot;
     std::optional<nlohmann::json> expect;
 };
+
+// Keys a script may press (the viewer's key bindings, viewer_app.h).
+inline constexpr const char* kPressableKeys[] = {"R", "F", "P", "V", "C", "F9", "F12", "+", "-", "TAB"};
 
 // Throws InputError naming the step (0-based) and key for malformed scripts.
 std::vector<ScriptStep> parseViewerScript(const std::string& jsonText, const std::string& nameForErrors);

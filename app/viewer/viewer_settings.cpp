@@ -32,7 +32,8 @@ std::string formatVec3(const glm::vec3& v) {
 // Quotes a shell word when it holds anything but safe characters.
 std::string shellWord(const std::string& word) {
     const bool safe = !word.empty() && std::all_of(word.begin(), word.end(), [](char c) {
-        return std::isalnum(static_cast<unsigned char>(c)) || std::string_view("-_./:,=+").find(c) != std::string_view::npos;
+        return std::isalnum(static_cast<unsigned char>(c)) ||
+               std::string_view("-_./:,=+").find(c) != std::string_view::npos;
     });
     if (safe) return word;
     std::string quoted = "'";

@@ -124,7 +124,8 @@ void ViewerPanel::drawSettings(ViewerSettings& settings, ViewerActions& actions)
         const char* types[] = {"primary", "shadow", "ao", "diffuse"};
         if (ImGui::Combo("cost rays", &type, types, 4)) changes["costRayType"] = types[type];
         float costScale = settings.costScale;
-        if (ImGui::SliderFloat("cost scale", &costScale, 10.0f, 100000.0f, "%.0f steps", ImGuiSliderFlags_Logarithmic)) {
+        if (ImGui::SliderFloat("cost scale", &costScale, 10.0f, 100000.0f, "%.0f steps",
+                               ImGuiSliderFlags_Logarithmic)) {
             changes["costScale"] = costScale;
         }
     }

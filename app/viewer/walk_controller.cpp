@@ -75,6 +75,9 @@ void WalkController::frameScene() {
     const float radius = std::max(0.5f * bounds_.diagonal(), 1e-3f);
     const float halfFov = 0.5f * glm::radians(std::clamp(fovYDegrees_, 1.0f, 179.0f));
     const float distance = 1.05f * radius / std::sin(halfFov);
+    // Look down on the scene at least as steeply as defaultCamera (25°): from the horizon a flat scene (a city)
+    // would be a thin line.
+    pitch_ = std::min(pitch_, -glm::radians(kFramePitchDegrees));
     eye_ = bounds_.center() - distance * forward();
     focusDistance_ = distance;
 }

@@ -25,6 +25,7 @@ public:
     static constexpr float kSpeedStep = 1.25f;
     static constexpr float kRadiansPerPixel = 0.0035f;
     static constexpr float kMaxPitchDegrees = 89.0f; // keeps forward away from the up axis
+    static constexpr float kFramePitchDegrees = 25.0f; // F looks down at least this much
 
     WalkController() = default;
     // `sceneBounds` sets the default speed (a scene diagonal in ~40 s) and what F frames.
@@ -33,7 +34,8 @@ public:
     // Applies one frame of input over `seconds`; returns true when the camera moved.
     bool update(const WalkInput& input, double seconds);
     void setCamera(const Camera& camera);
-    // Looks at the scene's bounding sphere from the current direction, at the distance that fits it in view.
+    // Looks at the scene's bounding sphere from the current heading, from above (kFramePitchDegrees or steeper),
+    // at the distance that fits the sphere in view.
     void frameScene();
 
     Camera camera() const;

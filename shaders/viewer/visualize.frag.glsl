@@ -59,7 +59,8 @@ void main() {
     } else if (viewMode == CHCRT_VIEW_COST) {
         uvec4 cost = texelFetch(traversalCost, pixel, 0);
         float steps = float(cost.x + cost.y + cost.z);
-        colour = cost.w != 0u ? vec3(1.0f, 0.0f, 1.0f) : heat(log2(1.0f + steps) / log2(1.0f + costScale)); // magenta: loop cap reached
+        // Magenta: the ray reached the loop cap (its cost is cut short).
+        colour = cost.w != 0u ? vec3(1.0f, 0.0f, 1.0f) : heat(log2(1.0f + steps) / log2(1.0f + costScale));
     } else if (covered) {
         if (viewMode == CHCRT_VIEW_POSITION) {
             colour = (texelFetch(gbufferPosition, pixel, 0).xyz - sceneLower) / max(sceneExtent, vec3(1e-6f));

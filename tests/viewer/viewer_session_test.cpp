@@ -212,6 +212,13 @@ TEST_F(ViewerTest, RefinesWhileTheCameraStaysStill) {
     EXPECT_EQ(compareImages(image("one.png"), image("plain.png")).differingPixels, 0u);
     // Once converged to maxAccumulatedFrames the viewer stops rendering (1 + 7 + 8 frames, then 1 without refinement).
     EXPECT_EQ(json("stats.json")["frames"].size(), 17u);
+    // The refined image is closer to a converged one (32 spp, full rotation) than the single frame.
+    const Result reference = run("render --scene city:20k --frames 0 --width 128 --height 72 --spp 32 "
+                                 "--rotation 360 --effects shadow -q -o reference.png");
+    ASSERT_EQ(reference.exitCode, 0) << reference.output;
+    const double single = compareImages(image("one.png"), image("reference.png")).psnrDb;
+    const double refined = compareImages(image("eight.png"), image("reference.png")).psnrDb;
+    EXPECT_GT(refined, single + 1.0) << "single " << single << " dB, refined " << refined << " dB";
 }
 
 TEST_F(ViewerTest, PlaysAndRecordsPathsAndPrintsAReproducingCommandLine) {
@@ -250,6 +257,24 @@ TEST_F(ViewerTest, PlaysAndRecordsPathsAndPrintsAReproducingCommandLine) {
     const Result reproduced = run(line + " -q");
     ASSERT_EQ(reproduced.exitCode, 0) << line << "\n" << reproduced.output;
     EXPECT_LT(differingFraction("current.png", "view.png"), 0.002) << line;
+}
+
+TEST_F(ViewerTest, KeysResetAndFrameTheCameraAndScenesLoadInTheBackground) {
+    const Result r = view(R"([
+        {"frames": 1, "screenshot": "start.png", "expect": {"scene": "city:20k"}},
+        {"keys": ["W", "SHIFT"], "frames": 3, "screenshot": "walked.png"},
+        {"press": "F", "frames": 1, "screenshot": "framed.png"},
+        {"press": "R", "frames": 1, "screenshot": "reset.png"},
+        {"press": "V", "frames": 1, "expect": {"viewMode": "position"}},
+        {"loadScene": "plane-and-box", "frames": 1, "screenshot": "other.png",
+         "expect": {"scene": "plane-and-box", "viewMode": "position"}}])");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_GT(differingFraction("start.png", "walked.png"), 0.05);
+    EXPECT_GT(differingFraction("start.png", "framed.png"), 0.05);
+    EXPECT_GT(differingFraction("walked.png", "framed.png"), 0.05);
+    // R returns to the path's first camera: the same image as at the start.
+    EXPECT_EQ(compareImages(image("start.png"), image("reset.png")).differingPixels, 0u);
+    EXPECT_GT(differingFraction("start.png", "other.png"), 0.05);
 }
 
 TEST_F(ViewerTest, ResizingTheWindowResizesTheRenderTargets) {

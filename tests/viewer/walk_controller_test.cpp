@@ -93,7 +93,9 @@ TEST(WalkController, FrameSceneFitsTheBoundingSphereInView) {
     walk.frameScene();
     const Camera c = walk.camera();
     const glm::vec3 direction = glm::normalize(c.target - c.eye);
-    expectNear(direction, {0, 0, -1}, 1e-5f); // keeps the view direction
+    // Keeps the heading (-Z), looking down by kFramePitchDegrees.
+    const float pitch = glm::radians(WalkController::kFramePitchDegrees);
+    expectNear(direction, {0, -std::sin(pitch), -std::cos(pitch)}, 1e-5f);
     const float radius = std::sqrt(3.0f) * 10.0f;
     const float distance = glm::length(c.eye);
     // The sphere's angular radius seen from the eye is within half the vertical field of view.

@@ -1,0 +1,48 @@
+#include "app/viewer/viewer_window.h"
+
+#include "renderer/core/error.h"
+#include "renderer/gl/gl.h"
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include <cstdio>
+
+namespace chcrt::app {
+
+GlfwWindowContext::GlfwWindowContext(int width, int height, bool debugOutput) {
+    glfwSetErrorCallback(
+        [](int code, const char* text) { std::fprintf(stderr, "chcrt: GLFW error %d: %s\n", code, text); });
+    if (!glfwInit()) {
+        throw GlError("cannot open a window: GLFW failed to initialise (no display? set DISPLAY, or run under "
+                      "Xvfb: Xvfb :99 & DISPLAY=:99 chcrt view)");
+    }
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+    glfwWindowHint(GLFW_OPENGL_DEBUG_CONTEXT, debugOutput ? GLFW_TRUE : GLFW_FALSE);
+    window_ = glfwCreateWindow(width, height, "chcrt view", nullptr, nullptr);
+    if (!window_) {
+        glfwTerminate();
+        throw GlError("cannot create a window with an OpenGL 4.5 core context");
+    }
+    glfwMakeContextCurrent(window_);
+    glfwSwapInterval(0); // frame times are measured: no vsync
+    try {
+        loadGlFunctions([](const char* name) { return reinterpret_cast<void*>(glfwGetProcAddress(name)); });
+        checkRequiredGlFeatures();
+        if (debugOutput) enableGlDebugOutput(false);
+    } catch (...) {
+        glfwDestroyWindow(window_);
+        glfwTerminate();
+        throw;
+    }
+}
+
+GlfwWindowContext::~GlfwWindowContext() {
+    glfwDestroyWindow(window_);
+    glfwTerminate();
+}
+
+} // namespace chcrt::app
