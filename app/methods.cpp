@@ -2,7 +2,6 @@
 
 #include "culling/chcrt_tracer.h"
 #include "renderer/core/error.h"
-#include <cstdlib>  // EXPERIMENT
 
 namespace chcrt::app {
 
@@ -10,6 +9,7 @@ const std::vector<MethodInfo>& gpuMethods() {
     static const std::vector<MethodInfo> methods = {
         {"bvh", true, "pure BVH traversal in GLSL (the baseline)"},
         {"chcrt", true, "CHC+RT: occlusion-query culling of BVH subtrees per screen tile (conservative, exact)"},
+        {"chcrt-aggressive", false, "CHC+RT culling pairs whose query passes <= 20 rays (approximate)"},
     };
     return methods;
 }
@@ -25,13 +25,12 @@ const MethodInfo& findGpuMethod(const std::string& name) {
 
 std::unique_ptr<Tracer> makeTracer(const std::string& name, const SceneSession& session, const GpuSession& /*gpu*/) {
     findGpuMethod(name);
-    if (name == "chcrt") {
-        ChcrtOptions o;
-        if (const char* e = std::getenv("CHCRT_EXP_HEIGHT")) o.partition.maxSubtreeHeight = uint32_t(std::atoi(e));
-        if (const char* e = std::getenv("CHCRT_EXP_TILE")) o.pairs.minTileSize = std::atoi(e);
-        if (const char* e = std::getenv("CHCRT_EXP_TQ")) o.pairs.tq = float(std::atof(e));
-        auto t = std::make_unique<ChcrtTracer>(session.bvh, o);
-        return t;
+    if (name == "chcrt") return std::make_unique<ChcrtTracer>(session.bvh);
+    if (name == "chcrt-aggressive") {
+        // CHC+RT §7, Table 4: a pair counts as visible only when more rays than the threshold pass its query.
+        ChcrtOptions options;
+        options.visibleThreshold = 20;
+        return std::make_unique<ChcrtTracer>(session.bvh, options, name);
     }
     return nullptr; // "bvh"
 }

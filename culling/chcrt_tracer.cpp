@@ -7,8 +7,6 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
-#include <cstdio>
-#include <cstdlib>
 
 namespace chcrt {
 namespace {
@@ -76,20 +74,12 @@ ChcrtTracer::ChcrtTracer(const Bvh& bvh, const ChcrtOptions& options, std::strin
         queryPrograms_[anyHit] = makeProgram("culling/chcrt_query.frag.glsl", anyHit != 0);
         // A subtree of height h pushes at most h entries (one per level below its root).
         const uint32_t stack = std::min<uint32_t>(partition_.maxRootHeight() + 1, CHCRT_MAX_BVH_DEPTH);
-        std::vector<ShaderDefine> defines;
-        if (!std::getenv("CHCRT_EXP_FULLSTACK")) defines.push_back({"CHCRT_SUBTREE_STACK", std::to_string(stack)});
+        const std::vector<ShaderDefine> defines = {{"CHCRT_SUBTREE_STACK", std::to_string(stack)}};
         subtreePrograms_[anyHit] = makeProgram("culling/chcrt_subtrees.frag.glsl", anyHit != 0, defines);
     }
 }
 
 ChcrtTracer::~ChcrtTracer() {
-    if (std::getenv("CHCRT_EXP_STATS")) { // EXPERIMENT
-        const ChcrtStats& t = total_;
-        std::fprintf(stderr, "EXP %llu traces, %llu queries (%llu invisible, %llu lazy, %llu traversal), %llu subtrees in %llu calls, fronts %llu/%llu, newly %llu, phases %.1f/%.1f/%.1f ms, roots %zu maxh %u barriers %llu\n",
-            (unsigned long long)t.traces, (unsigned long long)t.queries, (unsigned long long)t.queriesInvisible, (unsigned long long)t.queriesLazy, (unsigned long long)t.queriesTraversal,
-            (unsigned long long)t.subtreesScheduled, (unsigned long long)t.shaderCalls, (unsigned long long)t.pairsVisible, (unsigned long long)t.pairsInvisible, (unsigned long long)t.pairsNewlyVisible,
-            t.phase1Ms, t.phase2Ms, t.phase3Ms, partition_.roots().size(), partition_.maxRootHeight(), (unsigned long long)t.barriers);
-    }
     if (!queryPool_.empty()) glDeleteQueries(GLsizei(queryPool_.size()), queryPool_.data());
 }
 

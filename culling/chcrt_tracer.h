@@ -3,7 +3,8 @@
 // query pairs (screen tile × BVH node, §4.1-4.4) decide which termination subtrees (§5.2) each tile's rays
 // must traverse; visibility fronts kept per ray set across frames (§4.5, §5.1, Algorithm 1) hide most of the
 // query latency. The conservative variant returns exactly the hits of pure BVH tracing (same subtree
-// traversal code and hit rule; queries never cull a box a ray could hit at its current nearest t).
+// traversal code and hit rule; queries never cull a box a ray could hit at its current nearest t), up to the
+// rule's own order dependence when a hit lies one ulp outside its boxes (culling/README.md, known edge case).
 // Not implemented yet: multi-queries and tighter bounds (§5.1), the leaf cache (§5.2), out-of-core caching
 // (§5.4), debug images. See culling/README.md.
 #include "culling/query_pair_hierarchy.h"

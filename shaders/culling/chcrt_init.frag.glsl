@@ -4,6 +4,7 @@
 #include "shared/render_layout.h"
 #include "shared/bvh_layout.h"
 #include "culling/culling_layout.h"
+#include "shared/intersect.h"
 
 layout(binding = CHCRT_UNIT_RAY_ORIGIN) uniform sampler2D rayOrigins;
 layout(binding = CHCRT_UNIT_RAY_DIRECTION) uniform sampler2D rayDirections;
@@ -14,5 +15,5 @@ void main() {
     float tmin = texelFetch(rayOrigins, pixel, 0).w;
     float tmax = texelFetch(rayDirections, pixel, 0).w;
     imageStore(hitImage, pixel, uvec4(floatBitsToUint(CHCRT_NO_HIT_T), CHCRT_NO_HIT_ID, 0u, 0u));
-    gl_FragDepth = tmax > tmin ? depthFromDistance(tmax) : 0.0f;
+    gl_FragDepth = tmax > tmin ? depthFromDistance(pruneLimit(tmax)) : 0.0f;
 }

@@ -13,7 +13,8 @@
 // Ray distance -> depth for the generalized occlusion queries (§4.1): depth = clamp(t * 2^-64, 0, 1).
 // Multiplying by a power of two is exact for every normal float, so the mapping is strictly monotone on
 // [2^-62, 2^64) and non-decreasing everywhere (underflow and clamping only merge values). Hence
-// entry <= best t implies depth(entry) <= depth(best t): with GL_LEQUAL a box that could hold a hit at the
+// entry <= best t implies depth(entry) <= depth(best t). The depth buffer holds depth(pruneLimit(best t))
+// (shared/intersect.h), the same limit traversal prunes with; with GL_LEQUAL a box that could hold a hit at the
 // current nearest t is never culled, including an entry equal to the hit distance and rays starting inside
 // the box (entry < 0 maps to 0). DEPTH32F stores gl_FragDepth in [0, 1] exactly.
 #define CHCRT_CULLING_DEPTH_SCALE 5.42101086242752217e-20

@@ -133,19 +133,17 @@ TEST_F(RenderTest, AggressiveCullingLosesHitsThatTheComparisonDetects) {
     renderer.useTracer(&aggressive);
     renderer.traceRayPass(camera, RayType::Primary, 0, stats);
     const std::vector<Hit> culled = renderer.readHits(0);
-    size_t differing = 0, lost = 0;
+    size_t differing = 0;
     for (size_t i = 0; i < reference.size(); ++i) {
         differing += !sameHit(reference[i], culled[i], false);
         // Culling only removes candidates: a differing pixel is a miss or a farther hit, never a nearer one.
         if (reference[i].triangleId != CHCRT_NO_HIT_ID && culled[i].triangleId != CHCRT_NO_HIT_ID) {
             EXPECT_GE(culled[i].t, reference[i].t);
         }
-        lost += reference[i].triangleId != CHCRT_NO_HIT_ID && culled[i].triangleId == CHCRT_NO_HIT_ID;
     }
     EXPECT_GT(differing, 0u);
     EXPECT_LT(differing, reference.size() / 2);
     EXPECT_EQ(aggressive.name(), "chcrt-aggressive");
-    (void)lost;
 }
 
 TEST_F(RenderTest, WithoutTemporalCoherenceEveryTraceStartsFromTheRootPair) {
@@ -179,7 +177,7 @@ std::string caseName(const ::testing::TestParamInfo<ExactnessCase>& info) {
     return scene + "_h" + std::to_string(info.param.maxSubtreeHeight) + "_tile" + std::to_string(info.param.minTileSize);
 }
 
-// Subtree heights below the BVH depth (~17 here) so that object-space splits happen; tiles small enough for
+// Subtree height 8, well below the BVH depth at 60k triangles, so that object-space splits happen; tiles small enough for
 // several screen-space levels at 96×72.
 INSTANTIATE_TEST_SUITE_P(ProceduralScenes, ChcrtExactnessTest,
                          ::testing::Values(ExactnessCase{"city:60k", 8, 16}, ExactnessCase{"interior:60k", 8, 16},
