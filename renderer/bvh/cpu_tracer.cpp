@@ -16,8 +16,9 @@
 //     pop until an entry with entry <= tLimit (older entries the closest hit has overtaken are dropped)
 //     nothing left: return best
 //
-// tLimit starts at ray.tmax and becomes the closest accepted t. Box tests and the pop compare inclusively
-// (entry <= tLimit) on purpose: a box entered exactly at the closest t may hold a triangle at the same t
+// tLimit starts at ray.tmax and becomes the closest accepted t. Box tests and the pop compare against
+// pruneLimit(tLimit) (slightly beyond tLimit, shared/intersect.h) on purpose: a box entered at (or, after rounding,
+// just beyond) the closest t may hold a triangle at the same t
 // with a lower original id, which wins the tie. Leaves are intersected as soon as they are reached (the
 // paper's leaf postponing is a SIMD optimisation that changes nothing for a scalar loop).
 #include "renderer/bvh/cpu_tracer.h"
@@ -64,7 +65,8 @@ Hit traverse(const Bvh& bvh, const Ray& ray) {
 
     // The root's box is tested once here; every other box is tested by its parent, two at a time.
     const BvhNodeGpu& root = bvh.nodes[0];
-    if (!rayHitsAabb(intersectRayAabb(origin, invDir, root.boundsMin, root.boundsMax), tmin, tLimit)) {
+    if (!rayHitsAabb(intersectRayAabb(origin, invDir, root.boundsMin, root.boundsMax), tmin,
+                     gpu::pruneLimit(tLimit))) {
         return best;
     }
     uint32_t node = 0;
@@ -76,8 +78,9 @@ Hit traverse(const Bvh& bvh, const Ray& ray) {
             const BvhNodeGpu& c1 = bvh.nodes[left + 1];
             const glm::vec2 e0 = intersectRayAabb(origin, invDir, c0.boundsMin, c0.boundsMax);
             const glm::vec2 e1 = intersectRayAabb(origin, invDir, c1.boundsMin, c1.boundsMax);
-            const bool hit0 = rayHitsAabb(e0, tmin, tLimit);
-            const bool hit1 = rayHitsAabb(e1, tmin, tLimit);
+            const float limit = gpu::pruneLimit(tLimit);
+            const bool hit0 = rayHitsAabb(e0, tmin, limit);
+            const bool hit1 = rayHitsAabb(e1, tmin, limit);
             if (hit0 && hit1) {
                 // Nearer child first (ties: left), the farther one waits with its entry distance.
                 const bool rightFirst = e1.x < e0.x;
@@ -116,7 +119,7 @@ Hit traverse(const Bvh& bvh, const Ray& ray) {
         node = kNoNode;
         while (stackSize > 0) {
             --stackSize;
-            if (stackEntry[stackSize] <= tLimit) {
+            if (stackEntry[stackSize] <= gpu::pruneLimit(tLimit)) {
                 node = stackNode[stackSize];
                 break;
             }

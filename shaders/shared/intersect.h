@@ -44,6 +44,16 @@ CHCRT_INLINE vec2 intersectRayAabb(vec3 origin, vec3 invDir, vec3 boundsMin, vec
     return vec2(tEntry, tExit);
 }
 
+// The distance up to which boxes are still visited when the closest hit so far is at bestT. A triangle inside a
+// box can be hit at a computed t a few ulps *below* the box's computed entry distance (different rounding), so
+// pruning at exactly bestT could skip a box holding an equal-t triangle with a lower id, and the tie-break would
+// then depend on traversal order (seen once on the 1M plant: CHC+RT and pure BVH visit subtrees in different
+// orders). A relative margin of 2^-20 is far above those rounding errors and costs nothing measurable. Every
+// tracer (GLSL, CPU twin, CHC+RT queries) prunes with this limit.
+CHCRT_INLINE float pruneLimit(float bestT) {
+    return bestT * (1.0f + 1.0f / 1048576.0f);
+}
+
 CHCRT_INLINE bool rayHitsAabb(vec2 entryExit, float tmin, float tmax) {
     return entryExit.x <= entryExit.y && entryExit.y >= tmin && entryExit.x <= tmax;
 }

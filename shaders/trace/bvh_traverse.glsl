@@ -6,8 +6,8 @@
 // Host defines: TRACE_ANY_HIT (1: return the first hit in [tmin, tmax], for shadow and AO rays).
 //
 // Determinism: a hit is accepted when tmin <= t <= best t, and on equal t the lower original triangle id
-// wins; nodes are pruned only when their entry distance is strictly beyond the best t, so a tie in a later
-// subtree is still found. Every tracer of the project (GLSL, CPU, CHC+RT subtrees) applies the same rule.
+// wins; nodes are pruned only when their entry distance is beyond pruneLimit(best t) (shared/intersect.h), so a
+// tie in a later subtree is still found, whatever the traversal order. Every tracer of the project (GLSL, CPU, CHC+RT subtrees) applies the same rule.
 //
 // llvmpipe ends all loops of an invocation after 65,535 iterations in total (PLATFORM.md): every loop here
 // counts into traceIterations and stops at CHCRT_TRACE_ITERATION_CAP; the caller reports capped rays.
@@ -69,7 +69,7 @@ void traverseBvh(uint root, vec3 origin, vec3 direction, float tmin, inout Trace
     vec3 invDir = safeInverseDirection(direction);
     vec4 root0 = texelFetch(bvhNodes, int(root) * CHCRT_BVH_TEXELS_PER_NODE);
     vec4 root1 = texelFetch(bvhNodes, int(root) * CHCRT_BVH_TEXELS_PER_NODE + 1);
-    if (!rayHitsAabb(intersectRayAabb(origin, invDir, root0.xyz, root1.xyz), tmin, best.t)) {
+    if (!rayHitsAabb(intersectRayAabb(origin, invDir, root0.xyz, root1.xyz), tmin, pruneLimit(best.t))) {
         return;
     }
     uint nodeFirst = floatBitsToUint(root0.w);
@@ -94,8 +94,9 @@ void traverseBvh(uint root, vec3 origin, vec3 direction, float tmin, inout Trace
             vec4 b1 = texelFetch(bvhNodes, texel + 3);
             vec2 entryExitA = intersectRayAabb(origin, invDir, a0.xyz, a1.xyz);
             vec2 entryExitB = intersectRayAabb(origin, invDir, b0.xyz, b1.xyz);
-            bool hitA = rayHitsAabb(entryExitA, tmin, best.t);
-            bool hitB = rayHitsAabb(entryExitB, tmin, best.t);
+            float limit = pruneLimit(best.t);
+            bool hitA = rayHitsAabb(entryExitA, tmin, limit);
+            bool hitB = rayHitsAabb(entryExitB, tmin, limit);
             if (hitA && hitB) {
                 // Nearer child first (exploits occlusion); the farther one waits with its entry distance.
                 bool aFirst = entryExitA.x <= entryExitB.x;
@@ -123,7 +124,7 @@ void traverseBvh(uint root, vec3 origin, vec3 direction, float tmin, inout Trace
         while (stackSize > 0 && cost.iterations < CHCRT_TRACE_ITERATION_CAP) {
             ++cost.iterations;
             --stackSize;
-            if (stackEntry[stackSize] <= best.t) {
+            if (stackEntry[stackSize] <= pruneLimit(best.t)) {
                 int popped = int(stackNode[stackSize]) * CHCRT_BVH_TEXELS_PER_NODE;
                 nodeFirst = floatBitsToUint(texelFetch(bvhNodes, popped).w);
                 nodeCount = floatBitsToUint(texelFetch(bvhNodes, popped + 1).w);
