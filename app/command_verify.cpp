@@ -39,6 +39,21 @@ HitComparison compareExactly(std::span<const Ray> rays, std::span<const Hit> met
     return result;
 }
 
+void printDifference(const Scene& scene, const Ray& ray, const Hit& method, const Hit& reference, size_t pixel,
+                     int width, int frame) {
+    std::printf("    frame %d pixel (%zu, %zu): origin (%.9g, %.9g, %.9g) dir (%.9g, %.9g, %.9g) [%.9g, %.9g]\n"
+                "      method: id %u t %.9g   reference: id %u t %.9g\n",
+                frame, pixel % size_t(width), pixel / size_t(width), ray.origin.x, ray.origin.y, ray.origin.z,
+                ray.direction.x, ray.direction.y, ray.direction.z, ray.tmin, ray.tmax, method.triangleId, method.t,
+                reference.triangleId, reference.t);
+    for (const Hit* hit : {&method, &reference}) {
+        if (!hit->hit()) continue;
+        const ExactIntersection x = intersectInDouble(scene, ray, hit->triangleId);
+        std::printf("      triangle %u in double precision: t %.9g, barycentrics (%.3g, %.3g, %.3g)\n", hit->triangleId,
+                    x.t, 1.0 - x.u - x.v, x.u, x.v);
+    }
+}
+
 } // namespace
 
 int runVerify(const VerifyOptions& options) {
@@ -63,11 +78,12 @@ int runVerify(const VerifyOptions& options) {
                 session.scene.name.c_str(), formatCount(session.scene.triangleCount()).c_str(),
                 session.path.name.c_str(), frames.size(), settings.width, settings.height, settings.samplesPerPixel);
     if (againstEmbree) {
-        std::printf("  tolerance: |dt| <= %.0e * t + %.1e; ties at equal t and border hits within %.0e (barycentric) "
-                    "are not differences\n",
+        std::printf("  tolerance: |dt| <= %.0e * t + %.1e + the triangle's float rounding bound; ties at equal t and "
+                    "border hits within %.0e (barycentric, + rounding bound) are not differences\n",
                     double(tolerance.relativeT), double(tolerance.absoluteT), double(tolerance.barycentricEpsilon));
     }
     uint64_t totalDiffering = 0, totalCapped = 0;
+    int shown = 0;
     nlohmann::json rows = nlohmann::json::array();
     session.progress->begin("Verifying", uint64_t(rayTypes.size()) * frames.size());
     uint64_t done = 0;
@@ -87,7 +103,14 @@ int runVerify(const VerifyOptions& options) {
                 if (againstEmbree) {
                     std::vector<Hit> reference(rays.size());
                     embree->trace(rays, reference, false); // closest hit: same hit/miss as any-hit, and ids
-                    frameResult.add(compareHits(session.scene, rays, hits, reference, isAnyHit(type), tolerance));
+                    std::vector<size_t> differing;
+                    frameResult.add(
+                        compareHits(session.scene, rays, hits, reference, isAnyHit(type), tolerance, &differing));
+                    for (size_t pixel : differing) {
+                        if (shown >= options.showDifferences) break;
+                        printDifference(session.scene, rays[pixel], hits[pixel], reference[pixel], pixel, settings.width, frame);
+                        ++shown;
+                    }
                 } else {
                     renderer.useTracer(nullptr);
                     renderer.traceRayPass(camera, type, sample, stats);

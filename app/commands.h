@@ -33,6 +33,7 @@ struct VerifyOptions {
     std::string method = "bvh";
     std::string rayTypes = "primary";
     uint64_t maxDiffering = 0;
+    int showDifferences = 0; // print this many differing pixels with both hits
 };
 int runVerify(const VerifyOptions& options);
 

@@ -62,6 +62,8 @@ int run(int argc, char** argv) {
     verifyCommand->add_option("--ray-type", verify.rayTypes, "Ray types, comma-separated: primary, shadow, ao, diffuse")
         ->capture_default_str();
     verifyCommand->add_option("--max-diff", verify.maxDiffering, "Differing pixels tolerated")->capture_default_str();
+    verifyCommand->add_option("--show-diff", verify.showDifferences,
+                              "Print up to N differing pixels with their ray and both hits");
 
     InfoOptions info;
     CLI::App* infoCommand = cli.add_subcommand("info", "Print the OpenGL renderer, its limits and scene statistics");
