@@ -2,15 +2,15 @@
 
 const float kPi = 3.14159265358979f;
 
-// Orthonormal basis around a unit normal (Duff et al. 2017, "Building an Orthonormal Basis, Revisited"):
-// continuous except at n.z = -1 handled by the sign, so neighbouring pixels get neighbouring frames and the
-// shared Halton direction stays coherent in world space.
+// Orthonormal basis around a unit normal, aligned with the world: the bitangent is the world up direction
+// projected onto the surface (x for horizontal surfaces). CHC+RT §5.3 shoots the same tangent-space direction from
+// every pixel; with a world-aligned frame that direction means the same thing on every wall (e.g. "up and to the
+// side"), whichever way the wall faces. (A frame that is merely continuous, such as Duff et al.'s, flips "up" to
+// "down" between walls facing +z and -z, so at low sample counts one street side got only ground-facing AO rays.)
 void buildTangentFrame(vec3 n, out vec3 tangent, out vec3 bitangent) {
-    float s = n.z >= 0.0f ? 1.0f : -1.0f;
-    float a = -1.0f / (s + n.z);
-    float b = n.x * n.y * a;
-    tangent = vec3(1.0f + s * n.x * n.x * a, s * b, -s * n.x);
-    bitangent = vec3(b, s + n.y * n.y * a, -n.y);
+    vec3 reference = abs(n.y) < 0.999f ? vec3(0.0f, 1.0f, 0.0f) : vec3(1.0f, 0.0f, 0.0f);
+    tangent = normalize(cross(reference, n));
+    bitangent = cross(n, tangent);
 }
 
 // Cosine-weighted hemisphere direction (z up) for u in [0,1)^2, rotated about z by `rotation` radians.
