@@ -72,7 +72,9 @@ public:
             return false;
         }
         v.resize(count);
-        std::memcpy(v.data(), bytes.data() + position, count * sizeof(uint32_t));
+        if (count != 0) { // memcpy to an empty vector's null data() is undefined even for 0 bytes
+            std::memcpy(v.data(), bytes.data() + position, count * sizeof(uint32_t));
+        }
         position += count * sizeof(uint32_t);
         return true;
     }

@@ -86,21 +86,26 @@ struct ChildBox {
     glm::dvec3 lower, upper;
 };
 
-// Block recursion as in binary_linespace.cpp, over the non-empty child boxes still overlapping the block.
-void fillBlock(const Aabb& box, uint32_t n, double dilation, PatchRect a, PatchRect b,
-               const std::vector<ChildBox>& candidates, std::vector<uint8_t>& filled) {
+// Block recursion as in binary_linespace.cpp, over the non-empty child boxes still overlapping the block. The
+// boxes of a block are pool[begin, end); a block appends its own subset to the pool and truncates it on return
+// (one allocation per node instead of one per block).
+void fillBlock(const Aabb& box, uint32_t n, double dilation, PatchRect a, PatchRect b, std::vector<ChildBox>& pool,
+               size_t begin, size_t end, std::vector<uint8_t>& filled) {
     const ShaftVolume volume(patchRegion(box, n, a, dilation), patchRegion(box, n, b, dilation));
-    std::vector<ChildBox> inside;
-    for (const ChildBox& c : candidates) {
-        if (shaftOverlapsBox(volume, c.lower, c.upper)) {
-            inside.push_back(c);
+    const size_t mark = pool.size();
+    for (size_t i = begin; i < end; ++i) {
+        if (shaftOverlapsBox(volume, pool[i].lower, pool[i].upper)) {
+            const ChildBox c = pool[i]; // copy first: push_back may reallocate
+            pool.push_back(c);
         }
     }
-    if (inside.empty()) {
+    const size_t count = pool.size() - mark;
+    if (count == 0) {
         return;
     }
     if (a.count() == 1 && b.count() == 1) {
         filled[lsShaftIndexFromPatches(a.face, a.v0 * n + a.u0, b.face, b.v0 * n + b.u0, n, true)] = 1;
+        pool.resize(mark);
         return;
     }
     PatchRect& larger = a.count() >= b.count() ? a : b;
@@ -111,8 +116,9 @@ void fillBlock(const Aabb& box, uint32_t n, double dilation, PatchRect a, PatchR
         first.v1 = second.v0 = (larger.v0 + larger.v1) / 2;
     }
     const bool splitA = &larger == &a;
-    fillBlock(box, n, dilation, splitA ? first : a, splitA ? b : first, inside, filled);
-    fillBlock(box, n, dilation, splitA ? second : a, splitA ? b : second, inside, filled);
+    fillBlock(box, n, dilation, splitA ? first : a, splitA ? b : first, pool, mark, mark + count, filled);
+    fillBlock(box, n, dilation, splitA ? second : a, splitA ? b : second, pool, mark, mark + count, filled);
+    pool.resize(mark);
 }
 
 } // namespace
@@ -165,8 +171,8 @@ NTree buildNTree(const Bvh& bvh, const NTreeParams& params, Progress& progress) 
             for (uint32_t pair = 0; pair < kFacePairCount; ++pair) {
                 uint32_t f1 = 0, f2 = 0;
                 facePairFaces(pair, f1, f2);
-                fillBlock(node.bounds(), n, dilation, PatchRect{f1, 0, n, 0, n}, PatchRect{f2, 0, n, 0, n}, children,
-                          filled);
+                fillBlock(node.bounds(), n, dilation, PatchRect{f1, 0, n, 0, n}, PatchRect{f2, 0, n, 0, n}, children, 0,
+                          children.size(), filled);
             }
             const std::vector<uint32_t> packed = packBits(filled);
             std::copy(packed.begin(), packed.end(), tree.binaryWords.begin() + std::ptrdiff_t(space * words));

@@ -1,9 +1,10 @@
 // Line Space build time and memory on real scenes (not a test; figures for linespace/README.md).
 //   linespace_report --scene city:100k [--scene dragon.glb] --n 4,6,8 --depth 9 --threshold 8 [--binary]
-//                    [--threads 2] [--cache DIR]
+//                    [--threads 2] [--cache DIR] [--ntree 4:4,6:3,8:3] [--ntree-only]
 // Prints, per scene and parameter set: Line Space nodes, build seconds, filled fractions, MB, bytes per shaft,
 // and the BVH + triangle bytes for comparison.
 #include "linespace/linespace_cache.h"
+#include "linespace/ntree.h"
 #include "renderer/bvh/bvh.h"
 #include "renderer/core/error.h"
 #include "renderer/scene/procedural/procedural.h"
@@ -44,6 +45,8 @@ int main(int argc, char** argv) {
     uint32_t threshold = 8, threads = 0;
     bool candidates = true;
     std::string cache;
+    std::vector<std::pair<uint32_t, uint32_t>> ntrees; // (N, d)
+    bool skipBvh = false;
     for (int i = 1; i < argc; ++i) {
         const std::string arg = argv[i];
         auto next = [&]() -> std::string {
@@ -65,11 +68,21 @@ int main(int argc, char** argv) {
             threads = static_cast<uint32_t>(std::stoul(next()));
         } else if (arg == "--binary") {
             candidates = false;
+        } else if (arg == "--ntree") {
+            std::stringstream stream(next());
+            std::string item;
+            while (std::getline(stream, item, ',')) {
+                const size_t colon = item.find(':');
+                ntrees.emplace_back(static_cast<uint32_t>(std::stoul(item.substr(0, colon))),
+                                    static_cast<uint32_t>(std::stoul(item.substr(colon + 1))));
+            }
+        } else if (arg == "--ntree-only") {
+            skipBvh = true;
         } else if (arg == "--cache") {
             cache = next();
         } else {
             std::printf("usage: linespace_report --scene SPEC... [--n 4,6,8] [--depth 9] [--threshold 8] [--binary] "
-                        "[--threads N] [--cache DIR]\n");
+                        "[--threads N] [--cache DIR] [--ntree 4:4,6:3,8:3] [--ntree-only]\n");
             return arg == "--help" ? 0 : 2;
         }
     }
@@ -84,7 +97,16 @@ int main(int argc, char** argv) {
             std::printf("%s: %zu triangles, BVH %u nodes, depth %u, %.2f MB (nodes + triangles), built in %.2f s\n",
                         spec.c_str(), scene.triangleCount(), bvh.stats.nodeCount, bvh.stats.maxDepth,
                         double(bvh.stats.bytes) / 1e6, bvh.stats.buildSeconds);
-            for (const uint32_t depth : depths) {
+            for (const auto& [n, d] : ntrees) {
+                chcrt::ls::NTreeParams params;
+                params.n = n;
+                params.depth = d;
+                params.threads = threads;
+                const chcrt::ls::NTree tree = chcrt::ls::buildNTree(bvh, params, *progress);
+                std::printf("  %s: %s\n", params.toString().c_str(), tree.stats.summary().c_str());
+                std::fflush(stdout);
+            }
+            for (const uint32_t depth : skipBvh ? std::vector<uint32_t>{} : depths) {
                 for (const uint32_t n : ns) {
                     chcrt::ls::LineSpaceParams params;
                     params.n = n;
