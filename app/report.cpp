@@ -45,6 +45,7 @@ nlohmann::json toJson(const FrameStats& s, uint64_t pixels) {
     return {{"ms_total", s.totalMs},       {"ms_gbuffer", s.gbufferMs}, {"ms_raygen", s.raygenMs},
             {"ms_trace", s.traceMs()},     {"ms_shade", s.shadeMs},     {"trace", trace},
             {"rays_generated", s.raysGenerated}, {"capped_rays", s.cappedRays},
+            {"gbuffer_triangles", s.gbufferTriangles},
             {"mrays_per_s_generated", s.traceMs() > 0 ? double(s.raysGenerated) / (s.traceMs() * 1000.0) : 0.0},
             {"pixels", pixels}};
 }

@@ -184,7 +184,8 @@ void Renderer::renderGBuffer(const Camera& camera, FrameStats& stats) {
     gbufferProgram_.set("cameraPosition", frame.eye);
     gbufferProgram_.set("cameraForward", frame.forward);
     sceneGpu_->bindForShading();
-    sceneGpu_->drawTriangles();
+    sceneGpu_->bindForTracing(); // the BVH triangle buffer maps BVH-order triangles to original ids
+    stats.gbufferTriangles += sceneGpu_->drawTriangles(clipFromWorld, frustumCulling_);
 
     glDisable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);

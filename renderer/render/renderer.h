@@ -28,6 +28,7 @@ struct FrameStats {
     std::array<TraceStats, 4> trace{};
     uint64_t raysGenerated = 0; // pixels × passes (inactive rays included)
     uint64_t cappedRays = 0;    // rays that hit the loop cap (must be 0; see render_layout.h)
+    uint64_t gbufferTriangles = 0; // triangles submitted to the G-buffer pass after frustum culling
     double traceMs() const;
 };
 
@@ -71,6 +72,8 @@ public:
     std::vector<Ray> readRays(int set) const;
     std::vector<Hit> readHits(int set) const;
     const FrameTargets& targets() const { return *targets_; }
+    // Frustum culling of BVH clusters in the G-buffer pass (on by default; off only for tests and comparisons).
+    void setFrustumCulling(bool enabled) { frustumCulling_ = enabled; }
 
     float sceneDiagonal() const { return sceneDiagonal_; }
 
@@ -96,6 +99,7 @@ private:
     ShaderProgram composeProgram_;
     GlBuffer cappedRayCounter_;
     std::function<void()> passCallback_;
+    bool frustumCulling_ = true;
 };
 
 } // namespace chcrt

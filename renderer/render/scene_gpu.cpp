@@ -43,7 +43,8 @@ std::vector<uint8_t> resampleRgba8(const Texture& texture, uint32_t width, uint3
 } // namespace
 
 SceneGpu::SceneGpu(const Scene& scene, const Bvh& bvh) : triangleCount_(scene.triangleCount()) {
-    uploadGeometry(scene);
+    buildClusters(bvh);
+    uploadGeometry(scene, bvh);
     bvhNodes_ = createTextureBuffer(bvh.nodes.data(), bvh.nodes.size() * sizeof(BvhNodeGpu), GL_RGBA32F);
     bvhTriangles_ =
         createTextureBuffer(bvh.triangles.data(), bvh.triangles.size() * sizeof(TriangleGpu), GL_RGBA32F);
@@ -52,7 +53,46 @@ SceneGpu::SceneGpu(const Scene& scene, const Bvh& bvh) : triangleCount_(scene.tr
     gpuBytes_ += bvhNodes_.bytes + bvhTriangles_.bytes + triangleAttributes_.bytes + materials_.bytes;
 }
 
-void SceneGpu::uploadGeometry(const Scene& scene) {
+// Clusters for frustum culling: the topmost BVH nodes with at most kClusterTriangles triangles. Each node's
+// triangles form one contiguous range of the BVH-ordered triangle array (ranges are checked, not assumed: a node
+// whose children's ranges are not adjacent is split further).
+void SceneGpu::buildClusters(const Bvh& bvh) {
+    constexpr uint32_t kClusterTriangles = 4096;
+    // Per node: triangle range [first, first + count) if contiguous, else count = UINT32_MAX.
+    struct Range {
+        uint32_t first = 0, count = 0;
+    };
+    std::vector<Range> ranges(bvh.nodes.size());
+    for (size_t i = bvh.nodes.size(); i-- > 0;) {
+        const BvhNodeGpu& node = bvh.nodes[i];
+        if (node.triCount != 0) {
+            ranges[i] = {node.leftFirst, node.triCount};
+            continue;
+        }
+        const Range a = ranges[node.leftFirst], b = ranges[node.leftFirst + 1];
+        const bool contiguous = a.count != UINT32_MAX && b.count != UINT32_MAX &&
+                                (a.first + a.count == b.first || b.first + b.count == a.first);
+        ranges[i] = contiguous ? Range{std::min(a.first, b.first), a.count + b.count} : Range{0, UINT32_MAX};
+    }
+    std::vector<uint32_t> stack = {0};
+    while (!stack.empty()) {
+        const uint32_t index = stack.back();
+        stack.pop_back();
+        const BvhNodeGpu& node = bvh.nodes[index];
+        const Range range = ranges[index];
+        if (node.triCount != 0 || (range.count != UINT32_MAX && range.count <= kClusterTriangles)) {
+            Aabb bounds;
+            bounds.lower = node.boundsMin;
+            bounds.upper = node.boundsMax;
+            clusters_.push_back({bounds, range.first, range.count});
+        } else {
+            stack.push_back(node.leftFirst + 1);
+            stack.push_back(node.leftFirst);
+        }
+    }
+}
+
+void SceneGpu::uploadGeometry(const Scene& scene, const Bvh& bvh) {
     // Interleaved position, normal, texcoord: 32 bytes per vertex.
     struct Vertex {
         glm::vec3 position;
@@ -67,7 +107,14 @@ void SceneGpu::uploadGeometry(const Scene& scene) {
         vertices[i].texcoord = scene.texcoords.empty() ? glm::vec2(0.0f) : scene.texcoords[i];
     }
     vertexBuffer_ = createBuffer(vertices.size() * sizeof(Vertex), vertices.data(), 0);
-    indexBuffer_ = createBuffer(scene.triangles.size() * sizeof(glm::uvec3), scene.triangles.data(), 0);
+    // Indices in BVH order, so that every cluster (BVH subtree) is one contiguous draw.
+    std::vector<glm::uvec3> bvhOrderIndices(bvh.triangles.size());
+    for (size_t k = 0; k < bvh.triangles.size(); ++k) bvhOrderIndices[k] = scene.triangles[bvh.triangles[k].originalId];
+    indexBuffer_ = createBuffer(bvhOrderIndices.size() * sizeof(glm::uvec3), bvhOrderIndices.data(), 0);
+    std::vector<uint32_t> clusterFirst(clusters_.size());
+    for (size_t c = 0; c < clusters_.size(); ++c) clusterFirst[c] = clusters_[c].firstTriangle;
+    clusterFirstBuffer_ = createBuffer(clusterFirst.size() * sizeof(uint32_t), clusterFirst.data(), 0);
+    indirectBuffer_ = createBuffer(clusters_.size() * 5 * sizeof(uint32_t), nullptr, GL_DYNAMIC_STORAGE_BIT);
     vertexArray_ = createVertexArray();
     const GLuint vao = vertexArray_.id();
     glVertexArrayVertexBuffer(vao, 0, vertexBuffer_.id(), 0, sizeof(Vertex));
@@ -79,6 +126,13 @@ void SceneGpu::uploadGeometry(const Scene& scene) {
         glVertexArrayAttribFormat(vao, attribute, sizes[attribute], GL_FLOAT, GL_FALSE, offsets[attribute]);
         glVertexArrayAttribBinding(vao, attribute, 0);
     }
+    // Attribute 3: the cluster's first BVH-order triangle, one value per instance; each indirect command draws one
+    // instance with baseInstance = its cluster index, so the shader sees that cluster's value.
+    glVertexArrayVertexBuffer(vao, 1, clusterFirstBuffer_.id(), 0, sizeof(uint32_t));
+    glVertexArrayBindingDivisor(vao, 1, 1);
+    glEnableVertexArrayAttrib(vao, 3);
+    glVertexArrayAttribIFormat(vao, 3, 1, GL_UNSIGNED_INT, 0);
+    glVertexArrayAttribBinding(vao, 3, 1);
     gpuBytes_ += vertices.size() * sizeof(Vertex) + scene.triangles.size() * sizeof(glm::uvec3);
 }
 
@@ -156,10 +210,47 @@ void SceneGpu::bindForShading() const {
     glBindTextureUnit(CHCRT_UNIT_BASE_COLOR, baseColorArray_.id());
 }
 
-void SceneGpu::drawTriangles() const {
+namespace {
+
+// A box is outside when it lies entirely on the negative side of one frustum plane. With reversed infinite Z
+// (camera_math.h) the clip volume is -w <= x, y <= w and 0 <= z <= w; z >= 0 holds everywhere in front of the
+// camera's plane, so the planes are left, right, bottom, top and near (z <= w).
+bool outsideFrustum(const glm::mat4& clipFromWorld, const Aabb& box) {
+    const glm::mat4 m = glm::transpose(clipFromWorld); // rows of clipFromWorld as columns
+    const glm::vec4 planes[5] = {m[3] + m[0], m[3] - m[0], m[3] + m[1], m[3] - m[1], m[3] - m[2]};
+    for (const glm::vec4& plane : planes) {
+        // The box corner furthest along the plane normal.
+        const glm::vec3 corner(plane.x >= 0 ? box.upper.x : box.lower.x, plane.y >= 0 ? box.upper.y : box.lower.y,
+                               plane.z >= 0 ? box.upper.z : box.lower.z);
+        if (glm::dot(glm::vec3(plane), corner) + plane.w < 0.0f) return true;
+    }
+    return false;
+}
+
+} // namespace
+
+uint64_t SceneGpu::drawTriangles(const glm::mat4& clipFromWorld, bool frustumCulling) {
+    struct DrawElementsIndirectCommand {
+        uint32_t count, instanceCount, firstIndex, baseVertex, baseInstance;
+    };
+    std::vector<DrawElementsIndirectCommand> commands;
+    commands.reserve(clusters_.size());
+    uint64_t triangles = 0;
+    for (size_t c = 0; c < clusters_.size(); ++c) {
+        const Cluster& cluster = clusters_[c];
+        if (frustumCulling && outsideFrustum(clipFromWorld, cluster.bounds)) continue;
+        commands.push_back({cluster.triangleCount * 3, 1, cluster.firstTriangle * 3, 0, uint32_t(c)});
+        triangles += cluster.triangleCount;
+    }
+    if (commands.empty()) return 0;
+    glNamedBufferSubData(indirectBuffer_.id(), 0, GLsizeiptr(commands.size() * sizeof(DrawElementsIndirectCommand)),
+                         commands.data());
     glBindVertexArray(vertexArray_.id());
-    glDrawElements(GL_TRIANGLES, GLsizei(triangleCount_ * 3), GL_UNSIGNED_INT, nullptr);
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, indirectBuffer_.id());
+    glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, nullptr, GLsizei(commands.size()), 0);
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
     glBindVertexArray(0);
+    return triangles;
 }
 
 } // namespace chcrt

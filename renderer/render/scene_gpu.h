@@ -7,6 +7,7 @@
 #include "renderer/scene/scene.h"
 
 #include <cstdint>
+#include <vector>
 
 namespace chcrt {
 
@@ -18,20 +19,34 @@ public:
     // Binds the texture buffers and the texture array to their units (shaders/shared/render_layout.h).
     void bindForTracing() const;
     void bindForShading() const;
-    // Draws all triangles in scene order (gl_PrimitiveID = original triangle id).
-    void drawTriangles() const;
+    // Draws the triangles of every cluster whose box is not entirely outside the frustum of clipFromWorld
+    // (reversed infinite Z, so there is no far plane). Triangles are stored in BVH order, clusters are BVH subtrees
+    // (contiguous ranges); the G-buffer shader recovers the original id from the cluster's first BVH-order triangle
+    // (a per-draw attribute through baseInstance) plus gl_PrimitiveID. Returns the number of triangles drawn.
+    // Culling whole clusters that cannot produce fragments leaves the G-buffer bit-identical (tested).
+    uint64_t drawTriangles(const glm::mat4& clipFromWorld, bool frustumCulling = true);
+    size_t clusterCount() const { return clusters_.size(); }
 
     uint64_t triangleCount() const { return triangleCount_; }
     uint64_t gpuBytes() const { return gpuBytes_; }
 
 private:
-    void uploadGeometry(const Scene& scene);
+    struct Cluster {
+        Aabb bounds;
+        uint32_t firstTriangle = 0; // BVH order
+        uint32_t triangleCount = 0;
+    };
+    void uploadGeometry(const Scene& scene, const Bvh& bvh);
+    void buildClusters(const Bvh& bvh);
     void uploadAttributes(const Scene& scene);
     void uploadMaterials(const Scene& scene);
 
     GlVertexArray vertexArray_;
     GlBuffer vertexBuffer_;
-    GlBuffer indexBuffer_;
+    GlBuffer indexBuffer_;       // BVH triangle order
+    GlBuffer clusterFirstBuffer_; // per cluster: first BVH-order triangle (instanced attribute, divisor 1)
+    GlBuffer indirectBuffer_;     // DrawElementsIndirectCommand per visible cluster
+    std::vector<Cluster> clusters_;
     TextureBuffer bvhNodes_;
     TextureBuffer bvhTriangles_;
     TextureBuffer triangleAttributes_;

@@ -6,6 +6,9 @@
 in vec3 worldPosition;
 in vec3 worldNormal;
 in vec2 texcoord;
+flat in uint clusterFirst;
+
+layout(binding = CHCRT_UNIT_BVH_TRIANGLES) uniform samplerBuffer bvhTriangles;
 
 uniform vec3 cameraPosition;
 uniform vec3 cameraForward;
@@ -16,7 +19,10 @@ layout(location = CHCRT_GBUFFER_OUT_ALBEDO) out vec4 outAlbedo;
 layout(location = CHCRT_GBUFFER_OUT_TRIANGLE) out uint outTriangle;
 
 void main() {
-    uint triangleId = uint(gl_PrimitiveID);
+    // gl_PrimitiveID counts from 0 in each draw of the multi-draw; the BVH triangle buffer maps the BVH-order index
+    // back to the original id (texel 0's w, shared/bvh_layout.h).
+    uint bvhIndex = clusterFirst + uint(gl_PrimitiveID);
+    uint triangleId = floatBitsToUint(texelFetch(bvhTriangles, int(bvhIndex) * CHCRT_TRI_TEXELS_PER_TRIANGLE).w);
     vec4 attr0 = texelFetch(triangleAttributes, int(triangleId) * CHCRT_ATTR_TEXELS_PER_TRIANGLE);
     vec3 geometricNormal = attr0.xyz;
     // Shade with the interpolated normal, but orient it (and the geometric one) towards the camera: scenes are

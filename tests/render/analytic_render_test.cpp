@@ -139,5 +139,44 @@ TEST_F(RenderTest, RenderingIsDeterministicForASeed) {
     EXPECT_GT(sum / (first.width * first.height), 0.01);
 }
 
+// Frustum culling of clusters in the G-buffer pass must not change a single G-buffer texel: clusters that are
+// skipped cannot produce fragments. Compared bit for bit on near and far views, and culling must really cull.
+TEST_F(RenderTest, FrustumCullingLeavesTheGBufferBitIdentical) {
+    RenderSettings settings;
+    settings.width = 80;
+    settings.height = 60;
+    Renderer& renderer = makeProceduralRenderer("city:100k", settings);
+    auto readAll = [&](GLuint texture, GLenum format, GLenum type) {
+        std::vector<uint32_t> data(size_t(settings.width) * settings.height * 4);
+        glGetTextureImage(texture, 0, format, type, GLsizei(data.size() * 4), data.data());
+        return data;
+    };
+    for (const CameraPath& path : {proceduralNearPath(spec_), proceduralFarPath(spec_)}) {
+        for (int frame : {0, path.frameCount() / 2}) {
+            const Camera camera = path.cameraAtFrame(frame);
+            std::vector<uint32_t> images[2][3];
+            uint64_t drawn[2] = {0, 0};
+            for (int culling = 0; culling < 2; ++culling) {
+                renderer.setFrustumCulling(culling == 1);
+                FrameStats stats;
+                renderer.renderGBuffer(camera, stats);
+                drawn[culling] = stats.gbufferTriangles;
+                const FrameTargets& t = renderer.targets();
+                images[culling][0] = readAll(t.gbufferPosition.id(), GL_RGBA, GL_FLOAT);
+                images[culling][1] = readAll(t.gbufferNormal.id(), GL_RGBA, GL_FLOAT);
+                images[culling][2] = readAll(t.gbufferTriangle.id(), GL_RGBA_INTEGER, GL_UNSIGNED_INT);
+            }
+            EXPECT_EQ(drawn[0], scene_.triangleCount());
+            if (path.name.find("near") != std::string::npos) {
+                // Street level sees a small part of the city: most clusters lie outside the frustum.
+                EXPECT_LT(drawn[1], drawn[0] * 3 / 4) << path.name << " frame " << frame;
+            } else {
+                EXPECT_LE(drawn[1], drawn[0]); // the bird's-eye path sees (nearly) everything
+            }
+            for (int i = 0; i < 3; ++i) EXPECT_EQ(images[0][i], images[1][i]) << path.name << " frame " << frame;
+        }
+    }
+}
+
 } // namespace
 } // namespace chcrt::test
