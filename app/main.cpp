@@ -45,7 +45,7 @@ int run(int argc, char** argv) {
     BenchOptions bench;
     CLI::App* benchCommand = cli.add_subcommand("bench", "Compare tracing methods on the same rays (table, JSON, CSV)");
     addCommonOptions(*benchCommand, bench.common, false);
-    benchCommand->add_option("--method", bench.methods, "Methods, comma-separated: bvh, embree")->capture_default_str();
+    benchCommand->add_option("--method", bench.methods, "Methods, comma-separated: bvh, chcrt, chcrt-aggressive, embree")->capture_default_str();
     benchCommand->add_option("--ray-type", bench.rayTypes, "Ray types, comma-separated: primary, shadow, ao, diffuse")
         ->capture_default_str();
     benchCommand->add_option("--runs", bench.runs, "Timed runs (the median is reported)")->capture_default_str();
@@ -58,7 +58,7 @@ int run(int argc, char** argv) {
     CLI::App* verifyCommand =
         cli.add_subcommand("verify", "Check a tracing method's hits against Embree; exit 4 on differences");
     addCommonOptions(*verifyCommand, verify.common, false);
-    verifyCommand->add_option("--method", verify.method, "Method to check: bvh")->capture_default_str();
+    verifyCommand->add_option("--method", verify.method, "Method to check: bvh (against Embree), chcrt, chcrt-aggressive (against pure BVH)")->capture_default_str();
     verifyCommand->add_option("--ray-type", verify.rayTypes, "Ray types, comma-separated: primary, shadow, ao, diffuse")
         ->capture_default_str();
     verifyCommand->add_option("--max-diff", verify.maxDiffering, "Differing pixels tolerated")->capture_default_str();
