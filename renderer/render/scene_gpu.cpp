@@ -57,7 +57,7 @@ SceneGpu::SceneGpu(const Scene& scene, const Bvh& bvh) : triangleCount_(scene.tr
 // triangles form one contiguous range of the BVH-ordered triangle array (ranges are checked, not assumed: a node
 // whose children's ranges are not adjacent is split further).
 void SceneGpu::buildClusters(const Bvh& bvh) {
-    constexpr uint32_t kClusterTriangles = 4096;
+    constexpr uint32_t kClusterTriangles = 1024;
     // Per node: triangle range [first, first + count) if contiguous, else count = UINT32_MAX.
     struct Range {
         uint32_t first = 0, count = 0;
