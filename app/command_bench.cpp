@@ -17,7 +17,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstring>
 #include <cstdio>
 #include <map>
 
@@ -39,17 +38,6 @@ double median(std::vector<double> values) {
 
 uint64_t countActive(const std::vector<Ray>& rays) {
     return uint64_t(std::count_if(rays.begin(), rays.end(), [](const Ray& r) { return r.tmax > r.tmin; }));
-}
-
-// Pixels whose hit (t bits and triangle id; for any-hit rays only hit/miss) differs from the reference: exact
-// methods must give none.
-uint64_t countDifferentHits(const std::vector<Hit>& a, const std::vector<Hit>& b, bool anyHit) {
-    uint64_t count = 0;
-    for (size_t i = 0; i < a.size(); ++i) {
-        if (anyHit) count += a[i].hit() != b[i].hit();
-        else count += a[i].triangleId != b[i].triangleId || std::memcmp(&a[i].t, &b[i].t, sizeof(float)) != 0;
-    }
-    return count;
 }
 
 } // namespace
@@ -116,8 +104,13 @@ int runBench(const BenchOptions& options) {
                         runMs[m] += methodStats.traceMs();
                         if (!compare || (m == "bvh" && !embree && gpuMethodNames.size() == 1)) continue;
                         std::vector<Hit> hits = renderer.readHits(0);
-                        if (m == "bvh") bvhHits = std::move(hits);
-                        else results[m].comparison.differing += countDifferentHits(hits, bvhHits, isAnyHit(type));
+                        if (m == "bvh") {
+                            bvhHits = std::move(hits);
+                        } else {
+                            const std::vector<Ray> rays = renderer.readRays(0);
+                            results[m].comparison.differing +=
+                                compareHitsExactly(rays, hits, bvhHits, isAnyHit(type)).differing;
+                        }
                     }
                     renderer.useTracer(nullptr);
                     if (!timed) continue;

@@ -13,31 +13,9 @@
 #include "renderer/render/hit_comparison.h"
 
 #include <cstdio>
-#include <cstring>
 
 namespace chcrt::app {
 namespace {
-
-// Exact comparison for conservative methods: every pixel must carry the same id and the same bits of t. Any-hit
-// rays (shadow, AO) only answer "occluded or not", and which occluder is found first depends on traversal order,
-// so there only hit/miss must agree.
-HitComparison compareExactly(std::span<const Ray> rays, std::span<const Hit> method, std::span<const Hit> reference,
-                             bool anyHit) {
-    HitComparison result;
-    result.rays = rays.size();
-    for (size_t i = 0; i < rays.size(); ++i) {
-        result.activeRays += rays[i].tmax > rays[i].tmin;
-        result.hitsA += method[i].hit();
-        result.hitsB += reference[i].hit();
-        if (anyHit) {
-            result.differing += method[i].hit() != reference[i].hit();
-        } else {
-            result.differing += method[i].triangleId != reference[i].triangleId ||
-                                std::memcmp(&method[i].t, &reference[i].t, sizeof(float)) != 0;
-        }
-    }
-    return result;
-}
 
 void printDifference(const Scene& scene, const Ray& ray, const Hit& method, const Hit& reference, size_t pixel,
                      int width, int frame) {
@@ -114,7 +92,7 @@ int runVerify(const VerifyOptions& options) {
                 } else {
                     renderer.useTracer(nullptr);
                     renderer.traceRayPass(camera, type, sample, stats);
-                    frameResult.add(compareExactly(rays, hits, renderer.readHits(0), isAnyHit(type)));
+                    frameResult.add(compareHitsExactly(rays, hits, renderer.readHits(0), isAnyHit(type)));
                 }
                 renderer.useTracer(nullptr);
             }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace chcrt {
@@ -66,6 +67,24 @@ ExactIntersection intersectInDouble(const Scene& scene, const Ray& ray, uint32_t
     x.v = glm::dot(d, q) / x.det;
     x.t = glm::dot(e2, q) / x.det;
     return x;
+}
+
+HitComparison compareHitsExactly(std::span<const Ray> rays, std::span<const Hit> a, std::span<const Hit> b,
+                                 bool anyHit) {
+    HitComparison result;
+    result.rays = rays.size();
+    for (size_t i = 0; i < rays.size(); ++i) {
+        result.activeRays += rays[i].tmax > rays[i].tmin;
+        result.hitsA += a[i].hit();
+        result.hitsB += b[i].hit();
+        if (anyHit) {
+            result.differing += a[i].hit() != b[i].hit();
+        } else {
+            result.differing +=
+                a[i].triangleId != b[i].triangleId || std::memcmp(&a[i].t, &b[i].t, sizeof(float)) != 0;
+        }
+    }
+    return result;
 }
 
 void HitComparison::add(const HitComparison& o) {

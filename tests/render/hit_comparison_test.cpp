@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace chcrt {
 namespace {
 
@@ -62,6 +64,16 @@ TEST(HitComparison, InactiveRaysMustMiss) {
     const HitComparison c = compareHits(scene, rays, a, b, false, HitTolerance{});
     EXPECT_EQ(c.activeRays, 0u);
     EXPECT_EQ(c.differing, 1u);
+}
+
+TEST(HitComparison, ExactComparisonWantsSameIdAndSameBitsOfT) {
+    const std::vector<Ray> rays(4, rayDown(0.5f, 0.5f));
+    const std::vector<Hit> a = {hit(5, 1), hit(5, 1), hit(5, 1), Hit{}};
+    const std::vector<Hit> b = {hit(5, 1), hit(std::nextafter(5.0f, 6.0f), 1), hit(5, 0), hit(5, 1)};
+    const HitComparison closest = compareHitsExactly(rays, a, b, false);
+    EXPECT_EQ(closest.differing, 3u); // one ulp of t, another id, hit vs miss
+    // Any-hit: only hit/miss counts.
+    EXPECT_EQ(compareHitsExactly(rays, a, b, true).differing, 1u);
 }
 
 } // namespace
