@@ -93,6 +93,10 @@ int runBench(const BenchOptions& options) {
                 if (type != RayType::Primary) renderer.renderGBuffer(camera, scratch);
                 for (int sample = 0; sample < settings.samplesPerPixel; ++sample) {
                     renderer.generateRayPass(camera, type, sample, scratch);
+                    // Read back once per pass, outside the timed tracing: for the comparisons and the ray count.
+                    std::vector<Ray> rays;
+                    if (compare || timed) rays = renderer.readRays(0);
+                    const bool comparing = compare && (embree || gpuMethodNames.size() > 1);
                     std::vector<Hit> bvhHits;
                     for (const std::string& m : gpuMethodNames) {
                         renderer.useTracer(m == "bvh" ? nullptr : tracers[m].get());
@@ -102,19 +106,16 @@ int runBench(const BenchOptions& options) {
                             throw std::runtime_error("rays reached the shader loop cap during the benchmark (" + m + ")");
                         }
                         runMs[m] += methodStats.traceMs();
-                        if (!compare || (m == "bvh" && !embree && gpuMethodNames.size() == 1)) continue;
-                        std::vector<Hit> hits = renderer.readHits(0);
+                        if (!comparing) continue;
                         if (m == "bvh") {
-                            bvhHits = std::move(hits);
+                            bvhHits = renderer.readHits(0);
                         } else {
-                            const std::vector<Ray> rays = renderer.readRays(0);
                             results[m].comparison.differing +=
-                                compareHitsExactly(rays, hits, bvhHits, isAnyHit(type)).differing;
+                                compareHitsExactly(rays, renderer.readHits(0), bvhHits, isAnyHit(type)).differing;
                         }
                     }
                     renderer.useTracer(nullptr);
                     if (!timed) continue;
-                    const std::vector<Ray> rays = renderer.readRays(0);
                     const uint64_t active = countActive(rays);
                     for (const std::string& m : methods) results[m].activeRays += active;
                     if (!embree) continue;
