@@ -1,6 +1,7 @@
 #include "app/viewer/viewer_app.h"
 
 #include "app/methods.h"
+#include "app/report.h"
 #include "app/viewer/view_display.h"
 #include "app/viewer/viewer_script.h"
 #include "app/viewer/viewer_session.h"
@@ -664,14 +665,7 @@ void Viewer::notice(const std::string& text) {
 
 void Viewer::writeStatsJson() const {
     if (options_.common.statsJson.empty()) return;
-    const std::filesystem::path file = options_.common.statsJson;
-    const std::filesystem::path temporary = file.string() + ".tmp";
-    {
-        std::ofstream out(temporary);
-        if (!out) throw InputError("cannot write " + file.string());
-        out << nlohmann::json{{"frames", frameLog_}}.dump(1) << "\n";
-    }
-    std::filesystem::rename(temporary, file);
+    writeJsonFile(options_.common.statsJson, nlohmann::json{{"frames", frameLog_}});
 }
 
 } // namespace
