@@ -131,6 +131,15 @@ TEST_F(CliTest, RenderWritesFramesAndStatsJson) {
     EXPECT_EQ(j["scene"]["triangles"], 14);
 }
 
+TEST_F(CliTest, FramesAllWithAStepRendersEveryNthFrame) {
+    const Result r = run(std::string("render --scene city:10k --frames all:300 -o f_####.png ") + kSmall);
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_TRUE(exists("f_0000.png"));
+    EXPECT_TRUE(exists("f_0300.png")); // near paths last 10-20 s at 30 fps
+    EXPECT_FALSE(exists("f_0001.png"));
+    EXPECT_FALSE(exists("f_0299.png"));
+}
+
 TEST_F(CliTest, VerifyPassesOnACityForAllRayTypes) {
     const Result r = run("verify --scene city:20k --ray-type primary,shadow,ao,diffuse --frames 0,40 --width 64 "
                          "--height 48 -q --stats-json v.json");

@@ -44,7 +44,9 @@ TEST(HitComparison, ClassifiesMatchesTiesBorderCasesAndDifferences) {
                                 hit(6, 2),         // the nearer triangle missed deep inside it: difference
                                 Hit{},             // missed deep inside: difference
                                 hit(6, 2)};        // the apex (0,1) of triangle 0 is on its border: border case
-    const HitComparison c = compareHits(scene, rays, a, b, false, HitTolerance{});
+    std::vector<size_t> differingPixels;
+    const HitComparison c = compareHits(scene, rays, a, b, false, HitTolerance{}, &differingPixels);
+    EXPECT_EQ(differingPixels, (std::vector<size_t>{2, 3})); // what `verify --show-diff` prints
     EXPECT_EQ(c.activeRays, 5u);
     EXPECT_EQ(c.ties, 1u);
     EXPECT_EQ(c.differing, 2u);
