@@ -25,6 +25,16 @@ const char* toString(RayType type) {
     return "?";
 }
 
+PrimaryVisibility parsePrimaryVisibility(const std::string& name) {
+    if (name == "raster") return PrimaryVisibility::Raster;
+    if (name == "traced") return PrimaryVisibility::Traced;
+    throw InputError("unknown primary visibility '" + name + "' (expected raster or traced)");
+}
+
+const char* toString(PrimaryVisibility primary) {
+    return primary == PrimaryVisibility::Traced ? "traced" : "raster";
+}
+
 EffectSet parseEffects(const std::string& list) {
     EffectSet effects{false, false, false};
     if (list == "none") return effects;

@@ -24,6 +24,15 @@ struct EffectSet {
 EffectSet parseEffects(const std::string& list);
 std::string toString(const EffectSet& effects);
 
+// How the G-buffer (primary visibility) is made. Raster: rasterise the clusters inside the frustum. Traced:
+// generate one primary ray per pixel, trace it with the active Tracer (pure BVH, CHC+RT, ...; CHC+RT §5 "Prim")
+// and resolve the hit buffer into the same G-buffer targets, so that out-of-core scenes never rasterise the
+// whole scene. Everything after the G-buffer is the same for both.
+enum class PrimaryVisibility { Raster, Traced };
+// "raster" | "traced"; throws InputError otherwise.
+PrimaryVisibility parsePrimaryVisibility(const std::string& name);
+const char* toString(PrimaryVisibility primary);
+
 struct RenderSettings {
     int width = 512;
     int height = 512;
@@ -39,6 +48,7 @@ struct RenderSettings {
     float exposure = 1.0f;
     float skyAmbient = 0.35f; // ambient sky radiance scaled by AO
     float originOffset = 2e-4f; // secondary ray origin offset per unit of view distance
+    PrimaryVisibility primaryVisibility = PrimaryVisibility::Raster;
 };
 
 // Throws InputError naming the field for out-of-range values (size, spp, rotation, lengths).

@@ -74,6 +74,7 @@ Renderer::Renderer(const Scene& scene, const Bvh& bvh, const AreaLight& light, c
     activeTracer_ = bvhTracer_.get();
     gbufferProgram_ = ShaderProgram(
         {{GL_VERTEX_SHADER, "raster/gbuffer.vert.glsl"}, {GL_FRAGMENT_SHADER, "raster/gbuffer.frag.glsl"}});
+    gbufferFromHitsProgram_ = makeFullscreenProgram("raster/gbuffer_from_hits.frag.glsl");
     for (int type = 0; type < int(raygenPrograms_.size()); ++type) {
         raygenPrograms_[type] = makeFullscreenProgram("rays/raygen.frag.glsl", {{"RAY_TYPE", std::to_string(type)}});
     }
@@ -136,7 +137,8 @@ FrameStats Renderer::renderFrame(const Camera& camera) {
 
 int Renderer::passesPerFrame() const {
     const EffectSet& e = settings_.effects;
-    return 2 + settings_.samplesPerPixel * (int(e.shadows) + int(e.ao) + 2 * int(e.diffuse));
+    const int gbufferPasses = settings_.primaryVisibility == PrimaryVisibility::Traced ? 2 : 1; // trace + resolve
+    return 1 + gbufferPasses + settings_.samplesPerPixel * (int(e.shadows) + int(e.ao) + 2 * int(e.diffuse));
 }
 
 void Renderer::warmUp(const Camera& camera) {
@@ -158,6 +160,48 @@ void Renderer::warmUp(const Camera& camera) {
 }
 
 void Renderer::renderGBuffer(const Camera& camera, FrameStats& stats) {
+    if (settings_.primaryVisibility == PrimaryVisibility::Traced) {
+        traceGBuffer(camera, stats);
+    } else {
+        rasterizeGBuffer(camera, stats);
+    }
+}
+
+void Renderer::traceGBuffer(const Camera& camera, FrameStats& stats) {
+    // Primary rays into ray set 0, traced by the active tracer into hit set 0 (CHC+RT keeps its primary-ray
+    // visibility front across frames like any other ray set), then resolved into the G-buffer targets.
+    generateRays(camera, CHCRT_RAY_PRIMARY, 0, 0, stats);
+    trace(camera, RayType::Primary, false, 0, 0, 0, stats);
+    const auto start = Clock::now();
+    const FrameTargets& t = *targets_;
+    const CameraFrame frame = makeCameraFrame(camera, t.width, t.height);
+    const ShaderProgram& program = gbufferFromHitsProgram_;
+    program.use();
+    program.set("cameraPosition", frame.eye);
+    program.set("cameraForward", frame.forward);
+    program.set("nearPlane", nearPlaneFor(sceneBounds_));
+    program.set("pixelSpread", 2.0f * frame.tanHalfFovY / float(t.height));
+    program.set("textureSide", float(sceneGpu_->baseColorSide()));
+    glBindFramebuffer(GL_FRAMEBUFFER, t.gbuffer.id());
+    glViewport(0, 0, t.width, t.height);
+    // Every pixel is written (misses with the clear values); depth is written through gl_FragDepth, which
+    // needs the depth test enabled.
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_ALWAYS);
+    glDisable(GL_BLEND);
+    sceneGpu_->bindForShading();
+    glBindTextureUnit(CHCRT_UNIT_RAY_ORIGIN, t.rays[0].origin.id());
+    glBindTextureUnit(CHCRT_UNIT_RAY_DIRECTION, t.rays[0].direction.id());
+    glBindTextureUnit(CHCRT_UNIT_HIT, t.hits[0].hit.id());
+    drawFullscreenTriangle();
+    glDisable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glFinish();
+    stats.gbufferMs += millisecondsSince(start);
+    if (passCallback_) passCallback_();
+}
+
+void Renderer::rasterizeGBuffer(const Camera& camera, FrameStats& stats) {
     const auto start = Clock::now();
     const FrameTargets& t = *targets_;
     const CameraFrame frame = makeCameraFrame(camera, t.width, t.height);
@@ -298,7 +342,20 @@ void Renderer::accumulate(RayType type, int /*sampleIndex*/, FrameStats& stats) 
     stats.shadeMs += millisecondsSince(start);
 }
 
-void Renderer::compose(FrameStats& stats) {
+void Renderer::compose(FrameStats& stats) { compose(stats, 0); }
+
+ImageRgba32f Renderer::readIndirectImage() {
+    FrameStats scratch;
+    std::function<void()> callback = std::move(passCallback_); // not a pass of the frame
+    passCallback_ = nullptr;
+    compose(scratch, 1);
+    ImageRgba32f image = readHdrImage();
+    compose(scratch, 0);
+    passCallback_ = std::move(callback);
+    return image;
+}
+
+void Renderer::compose(FrameStats& stats, int outputMode) {
     const auto start = Clock::now();
     const FrameTargets& t = *targets_;
     composeProgram_.use();
@@ -309,7 +366,7 @@ void Renderer::compose(FrameStats& stats) {
     composeProgram_.set("skyAmbient", glm::vec3(0.85f, 0.92f, 1.0f) * settings_.skyAmbient);
     composeProgram_.set("backgroundColor", glm::vec3(0.55f, 0.7f, 0.9f));
     composeProgram_.set("exposure", settings_.exposure);
-    composeProgram_.set("outputMode", 0);
+    composeProgram_.set("outputMode", outputMode); // 0: full shading, 1: indirect only (compose.frag.glsl)
     glBindFramebuffer(GL_FRAMEBUFFER, t.output.id());
     glViewport(0, 0, t.width, t.height);
     glBindTextureUnit(CHCRT_UNIT_GBUFFER_POSITION, t.gbufferPosition.id());

@@ -1,5 +1,6 @@
 #pragma once
-// The hybrid frame: rasterise the G-buffer (primary visibility), then for each enabled effect and each of the
+// The hybrid frame: make the G-buffer (primary visibility: rasterised, or traced with the current Tracer and
+// resolved from the hit buffer, RenderSettings::primaryVisibility), then for each enabled effect and each of the
 // N samples per pixel generate one ray per pixel into the ray textures, trace them with the current Tracer
 // (pure BVH by default; CHC+RT and Line Space plug in through the same interface) and accumulate; finally
 // compose and tone-map. The same object serves `chcrt render`, `bench`, `verify` and the viewer.
@@ -58,6 +59,8 @@ public:
     void warmUp(const Camera& camera);
 
     // Building blocks for bench/verify and the viewer.
+    // The G-buffer by settings().primaryVisibility: rasterised (timed into gbufferMs), or traced: primary rays
+    // (raygenMs) traced with the current tracer into hit set 0 (trace[Primary]) and resolved (gbufferMs).
     void renderGBuffer(const Camera& camera, FrameStats& stats);
     // Generates the rays of one pass (for `type` and sample `sampleIndex`) into ray set 0. Secondary rays need
     // the G-buffer of the same camera.
@@ -69,6 +72,10 @@ public:
     // Read-backs (blocking) for checks and image output.
     ImageRgba32f readDisplayImage() const;
     ImageRgba32f readHdrImage() const;
+    // The one-bounce diffuse contribution alone (albedo × mean incoming radiance, linear HDR, background 0) of
+    // the last frame, for error metrics of approximate indirect tracing (Line Space). Re-runs composition in its
+    // indirect-only mode and restores the composed frame; all zero when the diffuse effect is off.
+    ImageRgba32f readIndirectImage();
     std::vector<Ray> readRays(int set) const;
     std::vector<Hit> readHits(int set) const;
     const FrameTargets& targets() const { return *targets_; }
@@ -78,6 +85,9 @@ public:
     float sceneDiagonal() const { return sceneDiagonal_; }
 
 private:
+    void rasterizeGBuffer(const Camera& camera, FrameStats& stats);
+    void traceGBuffer(const Camera& camera, FrameStats& stats);
+    void compose(FrameStats& stats, int outputMode);
     void generateRays(const Camera& camera, int rayProgram, int sampleIndex, int raySet, FrameStats& stats);
     void trace(const Camera& camera, RayType type, bool bounceShadow, int sampleIndex, int raySet, int hitSet,
                FrameStats& stats);
@@ -94,6 +104,7 @@ private:
     std::unique_ptr<Tracer> bvhTracer_;
     Tracer* activeTracer_ = nullptr;
     ShaderProgram gbufferProgram_;
+    ShaderProgram gbufferFromHitsProgram_; // traced primary visibility
     std::array<ShaderProgram, 5> raygenPrograms_; // indexed by CHCRT_RAY_*
     ShaderProgram accumulateShadow_, accumulateAo_, accumulateDiffuse_;
     ShaderProgram composeProgram_;

@@ -50,7 +50,8 @@ SceneGpu::SceneGpu(const Scene& scene, const Bvh& bvh) : triangleCount_(scene.tr
         createTextureBuffer(bvh.triangles.data(), bvh.triangles.size() * sizeof(TriangleGpu), GL_RGBA32F);
     uploadAttributes(scene);
     uploadMaterials(scene);
-    gpuBytes_ += bvhNodes_.bytes + bvhTriangles_.bytes + triangleAttributes_.bytes + materials_.bytes;
+    gpuBytes_ += bvhNodes_.bytes + bvhTriangles_.bytes + triangleAttributes_.bytes + triangleNormals_.bytes +
+                 materials_.bytes;
 }
 
 // Clusters for frustum culling: the topmost BVH nodes with at most kClusterTriangles triangles. Each node's
@@ -139,6 +140,12 @@ void SceneGpu::uploadGeometry(const Scene& scene, const Bvh& bvh) {
 void SceneGpu::uploadAttributes(const Scene& scene) {
     // Layout: CHCRT_ATTR_TEXELS_PER_TRIANGLE texels per original triangle id (render_layout.h).
     std::vector<glm::vec4> texels(scene.triangles.size() * CHCRT_ATTR_TEXELS_PER_TRIANGLE);
+    // Vertex normals as 16-bit fixed point ((n * 0.5 + 0.5) * 65535): texture buffers have no snorm formats;
+    // the error (3e-5) is far below what shading can show.
+    std::vector<uint16_t> normals(scene.triangles.size() * CHCRT_NORMAL_TEXELS_PER_TRIANGLE * 4, 0);
+    auto toUnorm16 = [](float v) {
+        return uint16_t(std::lround(std::clamp(v * 0.5f + 0.5f, 0.0f, 1.0f) * 65535.0f));
+    };
     const bool hasUv = !scene.texcoords.empty();
     for (size_t i = 0; i < scene.triangles.size(); ++i) {
         const glm::uvec3 tri = scene.triangles[i];
@@ -155,11 +162,20 @@ void SceneGpu::uploadAttributes(const Scene& scene) {
             uv1 = scene.texcoords[tri.y];
             uv2 = scene.texcoords[tri.z];
         }
+        // Texture-space scale: sqrt(uv area / world area), so that the traced G-buffer can choose the mip level
+        // rasterisation's derivatives would (shaders/raster/gbuffer_from_hits.frag.glsl).
+        const float uvArea = std::abs((uv1.x - uv0.x) * (uv2.y - uv0.y) - (uv2.x - uv0.x) * (uv1.y - uv0.y));
+        const float uvScale = length > 0.0f ? std::sqrt(uvArea / length) : 0.0f; // length = 2 × world area
         texels[i * 3 + 0] = glm::vec4(n, materialBits);
         texels[i * 3 + 1] = glm::vec4(uv0, uv1);
-        texels[i * 3 + 2] = glm::vec4(uv2, 0.0f, 0.0f);
+        texels[i * 3 + 2] = glm::vec4(uv2, uvScale, 0.0f);
+        for (int k = 0; k < 3; ++k) {
+            const glm::vec3 vn = scene.normals[tri[k]];
+            for (int c = 0; c < 3; ++c) normals[(i * 3 + k) * 4 + c] = toUnorm16(vn[c]);
+        }
     }
     triangleAttributes_ = createTextureBuffer(texels.data(), texels.size() * sizeof(glm::vec4), GL_RGBA32F);
+    triangleNormals_ = createTextureBuffer(normals.data(), normals.size() * sizeof(uint16_t), GL_RGBA16UI);
 }
 
 void SceneGpu::uploadMaterials(const Scene& scene) {
@@ -167,6 +183,7 @@ void SceneGpu::uploadMaterials(const Scene& scene) {
     uint32_t side = 1;
     for (const Texture& texture : scene.textures) side = std::max({side, texture.width, texture.height});
     side = std::min(side, kMaxTextureArraySide);
+    baseColorSide_ = side;
     const int layers = std::max<int>(1, int(scene.textures.size()));
     const int levels = 1 + int(std::floor(std::log2(float(side))));
     GLuint array = 0;
@@ -206,6 +223,7 @@ void SceneGpu::bindForTracing() const {
 
 void SceneGpu::bindForShading() const {
     glBindTextureUnit(CHCRT_UNIT_TRI_ATTRIBUTES, triangleAttributes_.texture.id());
+    glBindTextureUnit(CHCRT_UNIT_TRI_NORMALS, triangleNormals_.texture.id());
     glBindTextureUnit(CHCRT_UNIT_MATERIALS, materials_.texture.id());
     glBindTextureUnit(CHCRT_UNIT_BASE_COLOR, baseColorArray_.id());
 }

@@ -28,6 +28,8 @@ public:
     size_t clusterCount() const { return clusters_.size(); }
 
     uint64_t triangleCount() const { return triangleCount_; }
+    // Side of the base-colour texture array's level 0 in texels (mip selection of traced hits).
+    uint32_t baseColorSide() const { return baseColorSide_; }
     uint64_t gpuBytes() const { return gpuBytes_; }
 
 private:
@@ -50,9 +52,11 @@ private:
     TextureBuffer bvhNodes_;
     TextureBuffer bvhTriangles_;
     TextureBuffer triangleAttributes_;
+    TextureBuffer triangleNormals_; // vertex normals per original id (traced G-buffer)
     TextureBuffer materials_;
     GlTexture baseColorArray_;
     uint64_t triangleCount_ = 0;
+    uint32_t baseColorSide_ = 1;
     uint64_t gpuBytes_ = 0;
 };
 

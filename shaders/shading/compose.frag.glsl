@@ -23,7 +23,8 @@ uniform bool diffuseEnabled;
 uniform vec3 skyAmbient;      // ambient sky radiance, scaled by AO
 uniform vec3 backgroundColor; // radiance of pixels that see no geometry
 uniform float exposure;
-uniform int outputMode; // 0: full shading, 1: indirect only (albedo · incoming), 2: AO only, 3: direct only
+// 0: full shading, 1: indirect only (albedo · incoming; Renderer::readIndirectImage), 2: AO only, 3: direct only
+uniform int outputMode;
 
 layout(location = 0) out vec4 outHdr;
 layout(location = 1) out vec4 outDisplay;
@@ -39,7 +40,7 @@ vec3 mean(vec4 accumulated) {
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
-    vec3 radiance = backgroundColor;
+    vec3 radiance = outputMode == 1 ? vec3(0.0f) : backgroundColor; // indirect only: the background has none
     if (texelFetch(gbufferTriangle, pixel, 0).x != CHCRT_NO_HIT_ID) {
         vec3 albedo = texelFetch(gbufferAlbedo, pixel, 0).rgb;
         vec3 n = texelFetch(gbufferNormal, pixel, 0).xyz;

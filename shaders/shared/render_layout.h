@@ -21,10 +21,16 @@
 #define CHCRT_UNIT_ACCUM_AO 13       // sampler2D RGBA32F: r = sum of unoccluded AO samples, a = count
 #define CHCRT_UNIT_ACCUM_INDIRECT 14 // sampler2D RGBA32F: sum of one-bounce diffuse radiance (rgb), count
 #define CHCRT_UNIT_BOUNCE_HIT 15     // usampler2D RGBA32UI: the diffuse pass's hit buffer (for its shadow rays)
+// Units 16-21: Line Space (shaders/linespace/linespace_bindings.h).
+#define CHCRT_UNIT_TRI_NORMALS 22    // usamplerBuffer, RGBA16UI ((n * 0.5 + 0.5) * 65535), per original id
 
 // --- Per-triangle attributes by original id (for shading hits): 3 texels = 48 bytes ----------------------
-//   texel 0: geometric normal.xyz (unit), material id   texel 1: uv0.xy, uv1.xy   texel 2: uv2.xy, 0, 0
+//   texel 0: geometric normal.xyz (unit), material id   texel 1: uv0.xy, uv1.xy
+//   texel 2: uv2.xy, sqrt(uv area / world area) (texture-space scale for the traced G-buffer's mip level), 0
 #define CHCRT_ATTR_TEXELS_PER_TRIANGLE 3
+// --- Per-triangle vertex normals by original id (the traced G-buffer interpolates them at the hit's
+//     barycentrics, like rasterisation does): 3 texels = 24 bytes, texel k = vertex k's normal.xyz, 0 ---------
+#define CHCRT_NORMAL_TEXELS_PER_TRIANGLE 3
 // --- Materials: 2 texels = 32 bytes -------------------------------------------------------------------
 //   texel 0: base colour factor (linear rgba)   texel 1: texture layer (-1 = none), uv scale to the layer
 #define CHCRT_MATERIAL_TEXELS 2

@@ -20,6 +20,11 @@ TEST(RenderSettings, ParsesRayTypesAndEffects) {
     EXPECT_EQ(toString(parseEffects("all")), "shadow,ao,diffuse");
     EXPECT_THROW(parseEffects("shadow,caustics"), InputError);
     EXPECT_THROW(parseEffects(""), InputError);
+    EXPECT_EQ(parsePrimaryVisibility("raster"), PrimaryVisibility::Raster);
+    EXPECT_EQ(parsePrimaryVisibility("traced"), PrimaryVisibility::Traced);
+    EXPECT_STREQ(toString(PrimaryVisibility::Traced), "traced");
+    EXPECT_EQ(RenderSettings{}.primaryVisibility, PrimaryVisibility::Raster);
+    EXPECT_THROW(parsePrimaryVisibility("rasterised"), InputError);
 }
 
 TEST(RenderSettings, RejectsOutOfRangeValues) {
