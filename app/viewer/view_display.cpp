@@ -61,6 +61,17 @@ void ViewDisplay::accumulate(const FrameTargets& frame) {
     ++accumulatedFrames_;
 }
 
+void ViewDisplay::showImage(const std::vector<float>& rgb) {
+    std::vector<float> rgba(size_t(width_) * height_ * 4, 1.0f);
+    for (int y = 0; y < height_ && rgb.size() >= size_t(width_) * height_ * 3; ++y) {
+        const size_t source = size_t(height_ - 1 - y) * width_ * 3; // GL rows bottom to top
+        for (int x = 0; x < width_; ++x) {
+            for (int c = 0; c < 3; ++c) rgba[(size_t(y) * width_ + x) * 4 + c] = rgb[source + size_t(x) * 3 + c];
+        }
+    }
+    glTextureSubImage2D(display_.id(), 0, 0, 0, width_, height_, GL_RGBA, GL_FLOAT, rgba.data());
+}
+
 void ViewDisplay::visualize(const FrameTargets& frame, const ViewerSettings& settings, const Aabb& bounds,
                             const HitTargets& costHits) {
     glBindFramebuffer(GL_FRAMEBUFFER, displayFbo_.id());

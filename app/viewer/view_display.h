@@ -28,6 +28,9 @@ public:
     // holding the traversal cost of the traced rays (cost view).
     void visualize(const FrameTargets& frame, const ViewerSettings& settings, const Aabb& sceneBounds,
                    const HitTargets& costHits);
+    // Shows a CPU image (RGB in [0, 1], rows top to bottom, width × height of the display) as the display image:
+    // CHC+RT's colourised debug images.
+    void showImage(const std::vector<float>& rgb);
     // Draws the display image over the whole default framebuffer.
     void blitToWindow(int framebufferWidth, int framebufferHeight) const;
     ImageRgba32f readImage() const; // rows top to bottom

@@ -7,7 +7,8 @@ namespace chcrt::app {
 const std::vector<ViewMode>& allViewModes() {
     static const std::vector<ViewMode> modes = {ViewMode::Shaded, ViewMode::Position, ViewMode::Normal,
                                                 ViewMode::Albedo, ViewMode::TriangleId, ViewMode::Depth,
-                                                ViewMode::Cost};
+                                                ViewMode::Cost, ViewMode::Overdraw, ViewMode::Subtrees,
+                                                ViewMode::Batches};
     return modes;
 }
 
@@ -20,6 +21,9 @@ const char* toString(ViewMode mode) {
     case ViewMode::TriangleId: return "triangle";
     case ViewMode::Depth: return "depth";
     case ViewMode::Cost: return "cost";
+    case ViewMode::Overdraw: return "overdraw";
+    case ViewMode::Subtrees: return "subtrees";
+    case ViewMode::Batches: return "batches";
     }
     return "?";
 }
@@ -33,6 +37,9 @@ const char* describe(ViewMode mode) {
     case ViewMode::TriangleId: return "original triangle id, hashed to a colour";
     case ViewMode::Depth: return "linear view depth, log scale over the scene diagonal";
     case ViewMode::Cost: return "BVH traversal steps per ray (inner nodes + leaves + triangles), heat map";
+    case ViewMode::Overdraw: return "CHC+RT: occlusion-query fragments per pixel, heat map (paper Figure 4)";
+    case ViewMode::Subtrees: return "CHC+RT: termination subtree that produced each hit, hashed colour (Figure 5)";
+    case ViewMode::Batches: return "CHC+RT: subtrees traversed per pixel over all batches, heat map (Figure 5)";
     }
     return "";
 }
@@ -47,7 +54,11 @@ ViewMode parseViewMode(const std::string& name) {
 }
 
 bool isGBufferMode(ViewMode mode) {
-    return mode != ViewMode::Shaded && mode != ViewMode::Cost;
+    return mode != ViewMode::Shaded && mode != ViewMode::Cost && !isChcrtDebugMode(mode);
+}
+
+bool isChcrtDebugMode(ViewMode mode) {
+    return mode == ViewMode::Overdraw || mode == ViewMode::Subtrees || mode == ViewMode::Batches;
 }
 
 } // namespace chcrt::app

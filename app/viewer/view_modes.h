@@ -1,13 +1,14 @@
 #pragma once
-// The viewer's view modes. Only modes that work are listed: the shaded image, the G-buffer channels and the
-// BVH traversal cost per pixel (heat map of the tracer's cost output, shaders/shared/render_layout.h). CHC+RT
-// query overdraw, scheduled subtrees and Line Space shafts join this list with their methods.
+// The viewer's view modes. Only modes that work are listed: the shaded image, the G-buffer channels, the BVH
+// traversal cost per pixel (heat map of the tracer's cost output, shaders/shared/render_layout.h) and CHC+RT's
+// debug images (ChcrtTracer::setDebugImage; CHC+RT Figures 4 and 5) of the rays chosen for the cost view. Line
+// Space shafts join this list with their method.
 #include <string>
 #include <vector>
 
 namespace chcrt::app {
 
-enum class ViewMode { Shaded, Position, Normal, Albedo, TriangleId, Depth, Cost };
+enum class ViewMode { Shaded, Position, Normal, Albedo, TriangleId, Depth, Cost, Overdraw, Subtrees, Batches };
 
 const std::vector<ViewMode>& allViewModes();
 const char* toString(ViewMode mode);            // "shaded", "position", ..., "cost"
@@ -15,5 +16,7 @@ const char* describe(ViewMode mode);            // one line for the panel
 ViewMode parseViewMode(const std::string& name); // throws InputError listing the modes
 // Modes that need only the G-buffer (no rays, no shading).
 bool isGBufferMode(ViewMode mode);
+// CHC+RT debug images (need a CHC+RT method; other methods show black).
+bool isChcrtDebugMode(ViewMode mode);
 
 } // namespace chcrt::app

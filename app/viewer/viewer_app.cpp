@@ -8,6 +8,7 @@
 #include "app/viewer/viewer_ui.h"
 #include "app/viewer/viewer_window.h"
 #include "app/viewer/walk_controller.h"
+#include "culling/chcrt_tracer.h"
 #include "renderer/core/error.h"
 #include "renderer/gl/gl.h"
 
@@ -65,6 +66,27 @@ nlohmann::json statsToJson(const FrameStats& s) {
             {"rays_generated", s.raysGenerated}, {"capped_rays", s.cappedRays}};
 }
 
+// One frame's CHC+RT counters: the difference of the tracer's running totals around the frame.
+ViewerChcrtStats chcrtFrameStats(const ChcrtStats& before, const ChcrtStats& after) {
+    ViewerChcrtStats f;
+    f.traces = after.traces - before.traces;
+    f.queries = after.queries - before.queries;
+    f.subtreesScheduled = after.subtreesScheduled - before.subtreesScheduled;
+    f.shaderCalls = after.shaderCalls - before.shaderCalls;
+    f.phase1Ms = after.phase1Ms - before.phase1Ms;
+    f.phase2Ms = after.phase2Ms - before.phase2Ms;
+    f.phase3Ms = after.phase3Ms - before.phase3Ms;
+    f.fallbackMs = after.fallbackMs - before.fallbackMs;
+    f.fallbackTraces = after.fallbackTraces - before.fallbackTraces;
+    return f;
+}
+
+nlohmann::json chcrtStatsToJson(const ViewerChcrtStats& c) {
+    return {{"traces", c.traces},         {"queries", c.queries},       {"subtrees_scheduled", c.subtreesScheduled},
+            {"shader_calls", c.shaderCalls}, {"phase1_ms", c.phase1Ms}, {"phase2_ms", c.phase2Ms},
+            {"phase3_ms", c.phase3Ms},     {"fallback_ms", c.fallbackMs}, {"fallback_traces", c.fallbackTraces}};
+}
+
 double median(std::vector<double> values) {
     if (values.empty()) return 0.0;
     std::sort(values.begin(), values.end());
@@ -116,6 +138,8 @@ private:
     std::unique_ptr<SceneSession> scene_;
     std::unique_ptr<Tracer> tracer_;
     std::string activeMethod_;
+    bool activeAlwaysCull_ = false;
+    std::string activeParameters_;
     std::unique_ptr<ViewDisplay> display_;
     std::unique_ptr<ViewerPanel> panel_;
     SceneLoader loader_;
@@ -294,14 +318,29 @@ void Viewer::finishLoading() {
 }
 
 void Viewer::applyMethod() {
-    if (settings_.method == activeMethod_ && !activeMethod_.empty()) return;
+    if (settings_.method == activeMethod_ && !activeMethod_.empty() && settings_.chcrtAlwaysCull == activeAlwaysCull_ &&
+        methodParameters(settings_.common) == activeParameters_) {
+        return;
+    }
+    // Methods read their parameters from the session's options (app/methods.cpp).
+    copyMethodParameters(settings_.common, scene_->options);
+    activeParameters_ = methodParameters(settings_.common);
     gpu_.renderer->useTracer(nullptr);
     tracer_.reset();
     if (settings_.method != kRasterOnlyMethod) {
-        tracer_ = makeTracer(settings_.method, *scene_, gpu_); // nullptr for "bvh": the renderer's own tracer
+        // nullptr for "bvh": the renderer's own tracer
+        try {
+            tracer_ = makeTracer(settings_.method, *scene_, gpu_, settings_.chcrtAlwaysCull);
+        } catch (const InputError& error) {
+            // Parameters the method refuses (e.g. a visibility threshold for exact CHC+RT): back to pure BVH.
+            notice(std::string("method ") + settings_.method + ": " + error.what() + "; using bvh");
+            settings_.method = "bvh";
+            tracer_.reset();
+        }
         gpu_.renderer->useTracer(tracer_.get());
     }
     activeMethod_ = settings_.method;
+    activeAlwaysCull_ = settings_.chcrtAlwaysCull;
 }
 
 void Viewer::handleInteractiveInput(double seconds) {
@@ -474,6 +513,9 @@ void Viewer::checkExpectations(const nlohmann::json& expect) {
             }
         } else if (key == "method") {
             if (activeMethod_ != value.get<std::string>()) fail("method = " + activeMethod_);
+        } else if (key == "primary") {
+            const char* actual = toString(gpu_.renderer->settings().primaryVisibility);
+            if (value.get<std::string>() != actual) fail(std::string("primary = ") + actual);
         } else if (key == "viewMode") {
             if (toString(settings_.viewMode) != value.get<std::string>()) {
                 fail(std::string("viewMode = ") + toString(settings_.viewMode));
@@ -513,7 +555,8 @@ void Viewer::renderIfNeeded() {
         dirty_ = true;
     }
     if (!sameCamera(camera_, renderedCamera_)) dirty_ = true;
-    if (settings_.method != activeMethod_) {
+    if (settings_.method != activeMethod_ || settings_.chcrtAlwaysCull != activeAlwaysCull_ ||
+        methodParameters(settings_.common) != activeParameters_) {
         applyMethod();
         dirty_ = true;
     }
@@ -525,6 +568,18 @@ void Viewer::renderIfNeeded() {
 
     const auto start = Clock::now();
     renderer.setSettings(toRenderSettings(settings_, w, h, display_->accumulatedFrames()));
+    // CHC+RT methods: debug images on only in their view modes (instrumented shader variants are slower), and
+    // the frame's CHC+RT counters as the difference of the tracer's running totals.
+    ChcrtTracer* chcrt = dynamic_cast<ChcrtTracer*>(tracer_.get());
+    const bool debugView = isChcrtDebugMode(settings_.viewMode);
+    if (chcrt) {
+        const ChcrtDebugImage kind = !debugView                               ? ChcrtDebugImage::None
+                                     : settings_.viewMode == ViewMode::Overdraw ? ChcrtDebugImage::Overdraw
+                                     : settings_.viewMode == ViewMode::Subtrees ? ChcrtDebugImage::Subtrees
+                                                                                : ChcrtDebugImage::Batches;
+        if (chcrt->debugImageKind() != kind) chcrt->setDebugImage(kind);
+    }
+    const ChcrtStats chcrtBefore = chcrt ? chcrt->totalStats() : ChcrtStats{};
     FrameStats stats;
     if (shaded) {
         stats = renderer.renderFrame(camera_);
@@ -532,13 +587,23 @@ void Viewer::renderIfNeeded() {
         else display_->showSingleFrame();
     } else {
         renderer.renderGBuffer(camera_, stats);
-        if (settings_.viewMode == ViewMode::Cost) {
+        if (settings_.viewMode == ViewMode::Cost || debugView) {
+            // The debug image shows only the chosen ray set (traced primary rays of the G-buffer excluded).
+            if (chcrt && debugView) chcrt->clearDebugImage();
             renderer.generateRayPass(camera_, settings_.costRayType, 0, stats);
             renderer.traceRayPass(camera_, settings_.costRayType, 0, stats);
         }
         stats.totalMs = millisecondsSince(start);
     }
-    display_->visualize(renderer.targets(), settings_, scene_->scene.bounds(), renderer.targets().hits[0]);
+    status_.chcrt.reset();
+    if (chcrt) status_.chcrt = chcrtFrameStats(chcrtBefore, chcrt->totalStats());
+    if (debugView) {
+        const bool ready = chcrt && chcrt->debugTexture() != 0 && chcrt->debugWidth() == w && chcrt->debugHeight() == h;
+        display_->showImage(ready ? colorizeChcrtDebugImage(chcrt->debugImageKind(), chcrt->readDebugImage(), w, h)
+                                  : std::vector<float>(size_t(w) * h * 3, 0.0f));
+    } else {
+        display_->visualize(renderer.targets(), settings_, scene_->scene.bounds(), renderer.targets().hits[0]);
+    }
     checkGlErrors("viewer frame");
     dirty_ = false;
     renderedCamera_ = camera_;
@@ -549,6 +614,11 @@ void Viewer::renderIfNeeded() {
     entry["frame"] = renderedFrames_ - 1;
     entry["method"] = activeMethod_;
     entry["view_mode"] = toString(settings_.viewMode);
+    entry["primary"] = toString(renderer.settings().primaryVisibility);
+    if (status_.chcrt) {
+        entry["chcrt"] = chcrtStatsToJson(*status_.chcrt);
+        entry["chcrt"]["always_cull"] = activeAlwaysCull_;
+    }
     entry["width"] = w;
     entry["height"] = h;
     entry["accumulated_frames"] = display_->accumulatedFrames();

@@ -17,7 +17,8 @@
 //    {"loadScene": "city:5k"},                        background load; the script waits until it is ready
 //    {"screenshot": "a.png"},                         the current view (internal resolution, no panel)
 //    {"expect": {"cappedRays": 0, "minRaysGenerated": 1, "tracePasses": {"shadow": 1},
-//                "accumulatedFrames": 1, "imageSize": [64, 36], "method": "bvh", "viewMode": "cost"}}]
+//                "accumulatedFrames": 1, "imageSize": [64, 36], "method": "bvh", "viewMode": "cost",
+//                "primary": "traced"}}]
 // An unmet expectation ends the session with exit code 4 (after the remaining steps are skipped).
 #include "app/viewer/walk_controller.h"
 #include "renderer/scene/scene.h"

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <sstream>
 #include <string_view>
 
 namespace chcrt::app {
@@ -59,7 +60,17 @@ std::string commonArguments(const ViewerSettings& s, const Camera& camera, int w
     line += " --width " + std::to_string(width) + " --height " + std::to_string(height);
     line += " --spp " + std::to_string(std::max(c.spp, 1)) + " --seed " + std::to_string(c.seed);
     line += " --rotation " + formatFloat(c.rotation) + " --ao-length " + formatFloat(c.aoLength);
+    if (s.method != kRasterOnlyMethod && c.primary != CommonOptions{}.primary) line += " --primary " + c.primary;
     if (c.bvhLeafSize != CommonOptions{}.bvhLeafSize) line += " --bvh-leaf-size " + std::to_string(c.bvhLeafSize);
+    if (s.method.rfind("chcrt", 0) == 0) { // the CHC+RT parameters changed in the panel
+        const CommonOptions d;
+        if (c.chcrtThreshold != d.chcrtThreshold) line += " --chcrt-threshold " + std::to_string(c.chcrtThreshold);
+        if (c.chcrtMinTile != d.chcrtMinTile) line += " --chcrt-min-tile " + std::to_string(c.chcrtMinTile);
+        if (c.chcrtHeight != d.chcrtHeight) line += " --chcrt-height " + std::to_string(c.chcrtHeight);
+        if (c.chcrtMultiQuery != d.chcrtMultiQuery) line += " --chcrt-multi-query " + std::to_string(c.chcrtMultiQuery);
+        if (!c.chcrtTighterBounds.empty()) line += " --chcrt-tighter-bounds " + c.chcrtTighterBounds;
+        if (!c.chcrtLeafCache.empty()) line += " --chcrt-leaf-cache " + c.chcrtLeafCache;
+    }
     if (c.bvhBins != CommonOptions{}.bvhBins) line += " --bvh-bins " + std::to_string(c.bvhBins);
     return line;
 }
@@ -82,7 +93,10 @@ RenderSettings toRenderSettings(const ViewerSettings& s, int width, int height, 
     c.width = width;
     c.height = height;
     RenderSettings r = chcrt::app::toRenderSettings(c, 1);
-    if (s.method == kRasterOnlyMethod) r.effects = EffectSet{false, false, false};
+    if (s.method == kRasterOnlyMethod) {
+        r.effects = EffectSet{false, false, false};
+        r.primaryVisibility = PrimaryVisibility::Raster; // "raster" traces no rays at all
+    }
     if (accumulatedFrame > 0) {
         r.seed = s.common.seed + uint32_t(accumulatedFrame);
         if (s.refineWithFullRotation) r.rotationDegrees = 360.0f;
@@ -100,6 +114,32 @@ void applySettings(ViewerSettings& settings, const nlohmann::json& changes) {
             s.method = name;
         } else if (key == "viewMode") {
             s.viewMode = parseViewMode(jsonValue<std::string>(value, key));
+        } else if (key == "chcrtThreshold") {
+            s.common.chcrtThreshold = jsonValue<int>(value, key);
+        } else if (key == "chcrtMinTile") {
+            s.common.chcrtMinTile = jsonValue<int>(value, key);
+        } else if (key == "chcrtHeight") {
+            s.common.chcrtHeight = jsonValue<int>(value, key);
+        } else if (key == "chcrtMultiQuery") {
+            s.common.chcrtMultiQuery = jsonValue<int>(value, key);
+        } else if (key == "chcrtTighterBounds") {
+            s.common.chcrtTighterBounds = jsonValue<bool>(value, key) ? "on" : "off";
+        } else if (key == "chcrtLeafCache") {
+            s.common.chcrtLeafCache = jsonValue<bool>(value, key) ? "on" : "off";
+        } else if (key == "lsN") {
+            s.common.lsN = jsonValue<uint32_t>(value, key);
+        } else if (key == "lsDepth") {
+            s.common.lsDepth = jsonValue<uint32_t>(value, key);
+        } else if (key == "lsT") {
+            s.common.lsT = jsonValue<uint32_t>(value, key);
+        } else if (key == "lsAngle") {
+            s.common.lsAngle = jsonValue<float>(value, key);
+        } else if (key == "chcrtAlwaysCull") {
+            s.chcrtAlwaysCull = jsonValue<bool>(value, key);
+        } else if (key == "primary") {
+            const std::string primary = jsonValue<std::string>(value, key);
+            parsePrimaryVisibility(primary); // throws for anything but raster / traced
+            s.common.primary = primary;
         } else if (key == "effects") {
             s.common.effects = jsonValue<std::string>(value, key);
         } else if (key == "spp") {
@@ -126,7 +166,9 @@ void applySettings(ViewerSettings& settings, const nlohmann::json& changes) {
             s.costScale = jsonValue<float>(value, key);
         } else {
             throw InputError("unknown viewer setting '" + key +
-                             "' (method, viewMode, effects, spp, seed, rotation, aoLength, exposure, renderScale, "
+                             "' (method, viewMode, primary, chcrtAlwaysCull, chcrtThreshold, chcrtMinTile, "
+                             "chcrtHeight, chcrtMultiQuery, chcrtTighterBounds, chcrtLeafCache, lsN, lsDepth, lsT, "
+                             "lsAngle, effects, spp, seed, rotation, aoLength, exposure, renderScale, "
                              "accumulate, maxAccumulatedFrames, refineWithFullRotation, costRayType, costScale)");
         }
     }
@@ -134,8 +176,40 @@ void applySettings(ViewerSettings& settings, const nlohmann::json& changes) {
     if (s.maxAccumulatedFrames < 1) throw InputError("maxAccumulatedFrames must be at least 1");
     if (!(s.costScale > 0.0f)) throw InputError("costScale must be positive");
     if (s.common.spp < 1) throw InputError("spp must be at least 1");
+    // Method parameters: -1 = the method's default; the tracers validate the rest when they are created.
+    if (s.common.chcrtThreshold < -1 || s.common.chcrtMinTile < -1 || s.common.chcrtMinTile == 0 ||
+        s.common.chcrtHeight < -1 || s.common.chcrtHeight == 0 || s.common.chcrtMultiQuery < -1 ||
+        s.common.chcrtMultiQuery == 0) {
+        throw InputError("CHC+RT parameters must be positive (threshold: >= 0)");
+    }
+    if (s.common.lsN < 1 || s.common.lsDepth < 1 || s.common.lsT < 1 || !(s.common.lsAngle >= 0.0f)) {
+        throw InputError("Line Space parameters must be positive");
+    }
     toRenderSettings(s, 1, 1, 0); // validates effects, rotation, lengths, exposure
     settings = s;
+}
+
+std::string methodParameters(const CommonOptions& c) {
+    std::ostringstream out;
+    out << c.chcrtThreshold << ' ' << c.chcrtMinTile << ' ' << c.chcrtHeight << ' ' << c.chcrtMultiQuery << ' '
+        << c.chcrtTighterBounds << ' ' << c.chcrtLeafCache << ' ' << c.lsN << ' ' << c.lsDepth << ' ' << c.lsT << ' '
+        << c.lsAngle << ' ' << c.lsNtree << ' ' << c.lsModes;
+    return out.str();
+}
+
+void copyMethodParameters(const CommonOptions& from, CommonOptions& to) {
+    to.chcrtThreshold = from.chcrtThreshold;
+    to.chcrtMinTile = from.chcrtMinTile;
+    to.chcrtHeight = from.chcrtHeight;
+    to.chcrtMultiQuery = from.chcrtMultiQuery;
+    to.chcrtTighterBounds = from.chcrtTighterBounds;
+    to.chcrtLeafCache = from.chcrtLeafCache;
+    to.lsN = from.lsN;
+    to.lsDepth = from.lsDepth;
+    to.lsT = from.lsT;
+    to.lsAngle = from.lsAngle;
+    to.lsNtree = from.lsNtree;
+    to.lsModes = from.lsModes;
 }
 
 std::string renderCommandLine(const ViewerSettings& s, const Camera& camera, int width, int height) {

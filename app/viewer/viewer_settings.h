@@ -20,9 +20,13 @@ inline constexpr const char* kRasterOnlyMethod = "raster";
 std::vector<std::string> viewerMethods();
 
 struct ViewerSettings {
-    CommonOptions common;          // effects, spp, seed, rotation, AO length, exposure; width/height = window
+    CommonOptions common;          // effects, spp, seed, rotation, AO length, exposure, primary visibility;
+                                   // width/height = window
     std::string method = "bvh";    // kRasterOnlyMethod or a gpuMethods() name
     ViewMode viewMode = ViewMode::Shaded;
+    // CHC+RT methods without their adaptive fallback to a pure BVH pass (app/methods.h makeTracer), so that the
+    // culling itself is what runs and is timed.
+    bool chcrtAlwaysCull = false;
     RayType costRayType = RayType::Primary; // rays whose traversal cost the cost view shows
     float costScale = 1000.0f;     // traversal steps at the top of the (logarithmic) heat map
     float renderScale = 0.5f;      // internal resolution / window resolution
@@ -39,10 +43,18 @@ void internalSize(const ViewerSettings& settings, int windowWidth, int windowHei
 // The renderer settings of refinement frame `accumulatedFrame` (0 = the plain frame, as `chcrt render` draws it).
 RenderSettings toRenderSettings(const ViewerSettings& settings, int width, int height, int accumulatedFrame);
 
-// Applies {"name": value, ...} (names as in docs: method, viewMode, effects, spp, seed, rotation, aoLength,
+// Applies {"name": value, ...} (names as in docs: method, viewMode, primary (raster | traced), chcrtAlwaysCull,
+// the method parameters chcrtThreshold, chcrtMinTile, chcrtHeight, chcrtMultiQuery (ints), chcrtTighterBounds,
+// chcrtLeafCache (bools), lsN, lsDepth, lsT (ints), lsAngle, effects, spp, seed, rotation, aoLength,
 // exposure, renderScale, accumulate, maxAccumulatedFrames, costRayType, costScale, refineWithFullRotation).
 // Validates everything before changing anything; throws InputError naming the key.
 void applySettings(ViewerSettings& settings, const nlohmann::json& changes);
+
+// The tracing methods' parameters of `common` (CHC+RT --chcrt-*, Line Space --ls-*) as one string: the viewer
+// recreates the tracer when it changes (methods read them from SceneSession::options, app/methods.cpp).
+std::string methodParameters(const CommonOptions& common);
+// Copies those parameters (only) from `from` into `to`.
+void copyMethodParameters(const CommonOptions& from, CommonOptions& to);
 
 // `chcrt render ...` reproducing the current camera and settings at the internal resolution (the first,
 // unaccumulated frame), and the `chcrt bench ...` line timing the same rays per method.

@@ -69,6 +69,17 @@ void ViewerPanel::drawStatistics(const ViewerStatus& status) {
         const std::string label = std::string("trace ") + toString(type) + " (" + std::to_string(t.passes) + ")";
         row(label.c_str(), t.milliseconds);
     }
+    if (status.chcrt) {
+        // CHC+RT Algorithm 1's phases, summed over the frame's traces (they are inside the trace rows above).
+        const ViewerChcrtStats& c = *status.chcrt;
+        row("  CHC+RT phase 1", c.phase1Ms);
+        row("  CHC+RT phase 2", c.phase2Ms);
+        row("  CHC+RT phase 3", c.phase3Ms);
+        if (c.fallbackTraces > 0) row("  CHC+RT fallback", c.fallbackMs);
+        ImGui::Text("  %llu queries, %llu subtrees scheduled, %llu shader calls",
+                    static_cast<unsigned long long>(c.queries), static_cast<unsigned long long>(c.subtreesScheduled),
+                    static_cast<unsigned long long>(c.shaderCalls));
+    }
     row("shading", s.shadeMs);
     ImGui::Text("%.2f Mrays/s (%llu rays)", megaRaysPerSecond(s), static_cast<unsigned long long>(s.raysGenerated));
     if (s.cappedRays > 0) {
@@ -93,6 +104,45 @@ void ViewerPanel::drawSettings(ViewerSettings& settings, ViewerActions& actions)
             if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", describe(mode));
         }
         ImGui::EndCombo();
+    }
+    // Primary visibility: rasterised G-buffer, or primary rays traced with the method's tracer (CHC+RT §5 "Prim").
+    // The raster-only method traces nothing, so it always rasterises.
+    ImGui::BeginDisabled(settings.method == kRasterOnlyMethod);
+    bool traced = settings.common.primary == "traced";
+    if (ImGui::Checkbox("trace primary rays", &traced)) changes["primary"] = traced ? "traced" : "raster";
+    ImGui::EndDisabled();
+    if (settings.method.rfind("chcrt", 0) == 0 && ImGui::TreeNode("CHC+RT parameters")) {
+        // Each change recreates the tracer (its visibility fronts start again); culling/README.md, CHC+RT §5.
+        const CommonOptions& c = settings.common;
+        bool alwaysCull = settings.chcrtAlwaysCull;
+        if (ImGui::Checkbox("always cull (no adaptive fallback)", &alwaysCull)) changes["chcrtAlwaysCull"] = alwaysCull;
+        int minTile = c.chcrtMinTile < 0 ? 64 : c.chcrtMinTile;
+        if (ImGui::SliderInt("min tile (px)", &minTile, 8, 256)) changes["chcrtMinTile"] = minTile;
+        int height = c.chcrtHeight < 0 ? 24 : c.chcrtHeight;
+        if (ImGui::SliderInt("subtree height", &height, 2, 32)) changes["chcrtHeight"] = height;
+        int multi = c.chcrtMultiQuery < 0 ? 4 : c.chcrtMultiQuery;
+        if (ImGui::SliderInt("pairs per multi-query", &multi, 1, 16)) changes["chcrtMultiQuery"] = multi;
+        bool tighter = c.chcrtTighterBounds != "off";
+        if (ImGui::Checkbox("tighter bounds", &tighter)) changes["chcrtTighterBounds"] = tighter;
+        ImGui::SameLine();
+        bool leafCache = c.chcrtLeafCache != "off";
+        if (ImGui::Checkbox("leaf cache", &leafCache)) changes["chcrtLeafCache"] = leafCache;
+        if (settings.method == "chcrt-aggressive") {
+            int threshold = c.chcrtThreshold < 0 ? 20 : c.chcrtThreshold;
+            if (ImGui::SliderInt("visible threshold (rays)", &threshold, 0, 200)) changes["chcrtThreshold"] = threshold;
+        }
+        ImGui::TreePop();
+    }
+    if (settings.method.find("+ls") != std::string::npos && ImGui::TreeNode("Line Space parameters")) {
+        // Each change rebuilds (or loads from the cache) the Line Space: the window waits for it.
+        const CommonOptions& c = settings.common;
+        int n = int(c.lsN), depth = int(c.lsDepth), t = int(c.lsT);
+        if (ImGui::SliderInt("N (patches per edge)", &n, 1, 16)) changes["lsN"] = n;
+        if (ImGui::SliderInt("depth D", &depth, 1, 16)) changes["lsDepth"] = depth;
+        if (ImGui::SliderInt("T", &t, 1, 32)) changes["lsT"] = t;
+        float angle = c.lsAngle;
+        if (ImGui::SliderFloat("candidate angle", &angle, 0.0f, 90.0f, "%.0f deg")) changes["lsAngle"] = angle;
+        ImGui::TreePop();
     }
     EffectSet effects = parseEffects(settings.common.effects);
     bool effectsChanged = ImGui::Checkbox("shadows", &effects.shadows);
@@ -119,7 +169,7 @@ void ViewerPanel::drawSettings(ViewerSettings& settings, ViewerActions& actions)
     if (ImGui::SliderFloat("render scale", &scale, 0.1f, 1.0f, "%.2f")) changes["renderScale"] = scale;
     bool accumulate = settings.accumulate;
     if (ImGui::Checkbox("refine when still", &accumulate)) changes["accumulate"] = accumulate;
-    if (settings.viewMode == ViewMode::Cost) {
+    if (settings.viewMode == ViewMode::Cost || isChcrtDebugMode(settings.viewMode)) {
         int type = int(settings.costRayType);
         const char* types[] = {"primary", "shadow", "ao", "diffuse"};
         if (ImGui::Combo("cost rays", &type, types, 4)) changes["costRayType"] = types[type];

@@ -11,8 +11,15 @@
 
 namespace chcrt::app {
 
+// CHC+RT counters of the last frame (all its traces), when the method is a CHC+RT one.
+struct ViewerChcrtStats {
+    uint64_t traces = 0, queries = 0, subtreesScheduled = 0, shaderCalls = 0, fallbackTraces = 0;
+    double phase1Ms = 0, phase2Ms = 0, phase3Ms = 0, fallbackMs = 0;
+};
+
 struct ViewerStatus {
     FrameStats stats;          // of the last rendered frame
+    std::optional<ViewerChcrtStats> chcrt;
     double frameMs = 0;        // wall time of the last loop iteration (render + panel + swap)
     std::vector<float> frameHistoryMs;
     int accumulatedFrames = 0;

@@ -287,6 +287,70 @@ TEST_F(ViewerTest, ResizingTheWindowResizesTheRenderTargets) {
     EXPECT_EQ(image("big.png").width, 100);
 }
 
+// Primary visibility switches live: raster → traced keeps the image close (the same surfaces; edge pixels and
+// secondary-ray origins differ slightly), and under traced primary visibility CHC+RT (exact) gives the pure-BVH
+// screenshot bit for bit, frames after its visibility fronts started and changed CHC+RT parameters (the tracer
+// is recreated) included; a parameter exact CHC+RT refuses falls back to bvh. `--primary traced` starts traced.
+TEST_F(ViewerTest, PrimaryVisibilitySwitchesLiveAndChcrtTracesTheSameImage) {
+    Result r = view(R"([
+        {"frames": 1, "screenshot": "raster.png", "expect": {"primary": "raster", "tracePasses": {"primary": 0}}},
+        {"set": {"primary": "traced"}, "frames": 1, "screenshot": "traced_bvh.png",
+         "expect": {"primary": "traced", "tracePasses": {"primary": 1, "shadow": 1}, "cappedRays": 0}},
+        {"set": {"method": "chcrt"}, "frames": 1, "screenshot": "traced_chcrt_first.png"},
+        {"set": {"primary": "raster"}, "frames": 1},
+        {"set": {"primary": "traced"}, "frames": 1, "screenshot": "traced_chcrt.png",
+         "expect": {"method": "chcrt", "primary": "traced", "cappedRays": 0}},
+        {"set": {"chcrtAlwaysCull": true, "chcrtHeight": 6, "chcrtMultiQuery": 1, "chcrtLeafCache": false},
+         "frames": 1, "screenshot": "traced_chcrt_params.png", "expect": {"method": "chcrt", "cappedRays": 0}},
+        {"set": {"chcrtThreshold": 5}, "frames": 1, "expect": {"method": "bvh"}},
+        {"set": {"chcrtThreshold": -1}},
+        {"set": {"method": "raster"}, "frames": 1, "expect": {"primary": "raster", "tracePasses": {"primary": 0}}}])",
+                    "--no-accumulate --stats-json stats.json");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_LT(differingFraction("raster.png", "traced_bvh.png"), 0.03);
+    for (const char* chcrt : {"traced_chcrt_first.png", "traced_chcrt.png", "traced_chcrt_params.png"}) {
+        const ImageDifference same = compareImages(image("traced_bvh.png"), image(chcrt));
+        EXPECT_EQ(same.differingPixels, 0u) << chcrt;
+        EXPECT_EQ(same.maxAbsoluteError, 0.0) << chcrt;
+    }
+    const nlohmann::json stats = json("stats.json");
+    EXPECT_EQ(stats["frames"][0]["primary"], "raster");
+    EXPECT_EQ(stats["frames"][1]["primary"], "traced");
+
+    r = view(R"([{"frames": 1, "screenshot": "flag.png", "expect": {"primary": "traced"}}])",
+             "--no-accumulate --primary traced");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_EQ(compareImages(image("flag.png"), image("traced_bvh.png")).differingPixels, 0u);
+    EXPECT_EQ(view(R"([{"frames": 1}])", "--primary sideways").exitCode, 2);
+}
+
+// CHC+RT's debug images as view modes (Figures 4 and 5): each shows something other than the shaded view and
+// the others; with a method that is not CHC+RT they are black. Frames of a CHC+RT method report its counters.
+TEST_F(ViewerTest, ChcrtDebugViewsShowQueriesSubtreesAndBatches) {
+    const Result r = view(R"([
+        {"set": {"method": "chcrt"}, "frames": 1, "screenshot": "shaded.png"},
+        {"set": {"viewMode": "overdraw"}, "frames": 1, "screenshot": "overdraw.png",
+         "expect": {"viewMode": "overdraw"}},
+        {"set": {"viewMode": "subtrees"}, "frames": 1, "screenshot": "subtrees.png"},
+        {"set": {"viewMode": "batches"}, "frames": 1, "screenshot": "batches.png"},
+        {"set": {"method": "bvh"}, "frames": 1, "screenshot": "bvh_batches.png"}])",
+                          "--no-accumulate --stats-json stats.json");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    for (const char* mode : {"overdraw.png", "subtrees.png", "batches.png"}) {
+        EXPECT_GT(differingFraction("shaded.png", mode), 0.3) << mode;
+    }
+    EXPECT_GT(differingFraction("overdraw.png", "subtrees.png"), 0.05);
+    EXPECT_GT(differingFraction("subtrees.png", "batches.png"), 0.05);
+    const ImageRgba32f black = image("bvh_batches.png");
+    EXPECT_EQ(*std::max_element(black.pixels.begin(), black.pixels.end()), 1.0f); // alpha only
+    size_t lit = 0;
+    for (size_t i = 0; i < black.pixels.size(); ++i) lit += i % 4 != 3 && black.pixels[i] > 0.0f;
+    EXPECT_EQ(lit, 0u);
+    const nlohmann::json stats = json("stats.json");
+    EXPECT_GT(stats["frames"][0]["chcrt"]["traces"].get<int>(), 0);
+    EXPECT_FALSE(stats["frames"][4].contains("chcrt"));
+}
+
 TEST_F(ViewerTest, ReportsFailuresWithExitCodes) {
     // An unmet expectation: exit 4 with a message naming it.
     Result r = view(R"([{"frames": 1, "expect": {"accumulatedFrames": 5}}])");
