@@ -224,6 +224,31 @@ void addFacadeDetail(MeshBuilder& builder, const Facade& f, uint64_t count, cons
     }
 }
 
+// Per-facade detail element counts: the budget left after `used` triangles, spread over the facades in
+// proportion to their area; cumulative rounding makes the counts sum exactly to the total.
+std::vector<uint64_t> facadeDetailCounts(const std::vector<Facade>& facades, uint64_t target, uint64_t used) {
+    const uint64_t elementCost = MeshBuilder::boxCost(kAllFaces & ~uint32_t(kNegX));
+    const uint64_t elements = target > used ? (target - used) / elementCost : 0;
+    double totalArea = 0.0;
+    for (const Facade& f : facades) totalArea += f.area();
+    double areaSoFar = 0.0;
+    uint64_t placed = 0;
+    std::vector<uint64_t> counts(facades.size());
+    for (size_t i = 0; i < facades.size(); ++i) {
+        const Facade& f = facades[i];
+        areaSoFar += f.area();
+        const uint64_t upTo = i + 1 == facades.size() ? elements : uint64_t(double(elements) * (areaSoFar / totalArea));
+        counts[i] = upTo - placed;
+        placed = upTo;
+    }
+    return counts;
+}
+
+uint64_t buildingCost(const Building& b) {
+    const uint64_t box = MeshBuilder::boxCost(kSides) + MeshBuilder::boxCost(kPosY);
+    return b.podium > 0.0f ? 2 * box : box;
+}
+
 } // namespace
 
 void generateCity(const ProceduralSpec& spec, MeshBuilder& builder) {
@@ -237,21 +262,59 @@ void generateCity(const ProceduralSpec& spec, MeshBuilder& builder) {
         addBuilding(builder, b, materials);
         collectFacades(b, facades);
     }
+    const std::vector<uint64_t> counts = facadeDetailCounts(facades, target, builder.triangleCount());
+    for (size_t i = 0; i < facades.size(); ++i) addFacadeDetail(builder, facades[i], counts[i], materials);
+}
 
-    // Spread the remaining budget over the facades in proportion to their area; cumulative rounding makes
-    // the per-facade counts sum exactly to the total.
-    const uint64_t elementCost = MeshBuilder::boxCost(kAllFaces & ~uint32_t(kNegX));
-    const uint64_t used = builder.triangleCount();
-    const uint64_t elements = target > used ? (target - used) / elementCost : 0;
-    double totalArea = 0.0;
-    for (const Facade& f : facades) totalArea += f.area();
-    double areaSoFar = 0.0;
-    uint64_t placed = 0;
-    for (const Facade& f : facades) {
-        areaSoFar += f.area();
-        const uint64_t upTo = &f == &facades.back() ? elements : uint64_t(double(elements) * (areaSoFar / totalArea));
-        addFacadeDetail(builder, f, upTo - placed, materials);
-        placed = upTo;
+// The same city in parts (out-of-core preparation): the plan is the layout plus every facade's detail count,
+// computed exactly as generateCity does (the triangle count before the detail follows from the primitives'
+// fixed costs), so the union of all parts is the same geometry; only the triangle order differs.
+struct CityParts::Plan {
+    CityLayout city;
+    std::vector<Facade> facades;
+    std::vector<uint32_t> facadeBegin; // per building, + 1 at the end
+    std::vector<uint64_t> counts;
+    uint64_t groundTriangles = 0;
+};
+
+CityParts::CityParts(const ProceduralSpec& spec) : plan_(std::make_unique<Plan>()) {
+    Plan& p = *plan_;
+    p.city = makeCityLayout(spec);
+    const StreetGrid& g = p.city.grid;
+    p.groundTriangles = 5 * 2 + uint64_t(g.cellsX()) * uint64_t(g.cellsZ()) * MeshBuilder::boxCost(kNoBottom) +
+                        p.city.parks.size() * MeshBuilder::boxCost(kNoBottom);
+    uint64_t used = p.groundTriangles;
+    for (const Building& b : p.city.buildings) {
+        p.facadeBegin.push_back(uint32_t(p.facades.size()));
+        collectFacades(b, p.facades);
+        used += buildingCost(b);
+    }
+    p.facadeBegin.push_back(uint32_t(p.facades.size()));
+    p.counts = facadeDetailCounts(p.facades, spec.targetTriangles, used);
+}
+
+CityParts::~CityParts() = default;
+
+uint32_t CityParts::buildingCount() const { return uint32_t(plan_->city.buildings.size()); }
+
+uint64_t CityParts::groundTriangles() const { return plan_->groundTriangles; }
+
+uint64_t CityParts::buildingTriangles(uint32_t building) const {
+    const Plan& p = *plan_;
+    uint64_t n = buildingCost(p.city.buildings[building]);
+    const uint64_t detail = MeshBuilder::boxCost(kAllFaces & ~uint32_t(kNegX));
+    for (uint32_t f = p.facadeBegin[building]; f < p.facadeBegin[building + 1]; ++f) n += p.counts[f] * detail;
+    return n;
+}
+
+void CityParts::generate(bool ground, uint32_t firstBuilding, uint32_t endBuilding, MeshBuilder& builder) const {
+    const Plan& p = *plan_;
+    const Materials materials = addMaterials(builder);
+    if (ground) addGroundAndBlocks(builder, p.city, materials);
+    for (uint32_t b = firstBuilding; b < endBuilding; ++b) {
+        addBuilding(builder, p.city.buildings[b], materials);
+        for (uint32_t f = p.facadeBegin[b]; f < p.facadeBegin[b + 1]; ++f)
+            addFacadeDetail(builder, p.facades[f], p.counts[f], materials);
     }
 }
 

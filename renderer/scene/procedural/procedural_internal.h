@@ -7,6 +7,7 @@
 #include "renderer/scene/procedural/rng.h"
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -81,6 +82,24 @@ struct CitySummary {
     float maxBuildingHeight = 0.0f;
 };
 CitySummary summarizeCity(const ProceduralSpec& spec);
+
+// The city in parts, for streaming preparation of cities larger than RAM (renderer/outofcore/): the ground
+// (streets, sidewalks, parks) and any range of buildings with their facade detail. The union of
+// generate(true, 0, 0) and generate(false, b0, b1) over a partition of the buildings is exactly
+// generateCity's geometry (in another triangle order). Each part starts with the same materials.
+class CityParts {
+public:
+    explicit CityParts(const ProceduralSpec& spec);
+    ~CityParts();
+    uint32_t buildingCount() const;
+    uint64_t groundTriangles() const;
+    uint64_t buildingTriangles(uint32_t building) const; // with its facade detail
+    void generate(bool ground, uint32_t firstBuilding, uint32_t endBuilding, MeshBuilder& builder) const;
+
+private:
+    struct Plan;
+    std::unique_ptr<Plan> plan_;
+};
 
 struct PlantSummary {
     StreetGrid grid;

@@ -1,0 +1,56 @@
+#include "app/outofcore_report.h"
+
+namespace chcrt::app {
+
+nlohmann::json outOfCoreStatsJson(const outofcore::OutOfCoreStats& s, double frames,
+                                  const outofcore::OutOfCoreTracer& tracer) {
+    const double n = frames > 0 ? frames : 1.0;
+    const double mb = 1.0 / double(1u << 20);
+    const outofcore::OutOfCoreOptions& o = tracer.options();
+    return {{"per_frames", frames},
+            {"mrays_per_s", s.traceMs > 0 ? double(s.raysTraced) / (s.traceMs * 1000.0) : 0.0},
+            {"trace_ms", s.traceMs / n},
+            {"queries", double(s.queries) / n},
+            {"mb_transferred_bvh", double(s.uploadedBvhBytes) * mb / n},
+            {"mb_transferred_geometry", double(s.uploadedGeometryBytes) * mb / n},
+            {"cache_hits", double(s.cacheHits) / n},
+            {"cache_misses", double(s.cacheMisses) / n},
+            {"cache_evictions", double(s.cacheEvictions) / n},
+            {"cache_deferred", double(s.cacheDeferred) / n},
+            {"host_reads", double(s.hostReads) / n},
+            {"mb_read_from_file", double(s.hostBytesRead) * mb / n},
+            {"resident_mb", double(s.residentBytes) * mb},
+            {"allocated_mb", double(s.allocatedBytes) * mb},
+            {"host_resident_mb", double(s.hostResidentBytes) * mb},
+            {"slots", s.slots},
+            {"resident_subtrees", s.residentSubtrees},
+            {"gpu_cache_mb", double(o.gpuCacheBytes) * mb},
+            {"host_cache_mb", double(o.hostCacheBytes) * mb},
+            {"policy", outofcore::toString(o.policy)},
+            {"file_subtrees", tracer.file().subtrees().size()}};
+}
+
+} // namespace chcrt::app
+
+#include "renderer/outofcore/primary_resolve.h"
+
+#include <cstdio>
+#include <cstdlib>
+
+namespace chcrt::app {
+
+void installOutOfCorePrimary(Renderer& renderer, outofcore::OutOfCoreTracer& tracer) {
+    outofcore::PrimaryResolve* resolve = &tracer.primaryResolve(); // now: turns on subtree recording
+    renderer.setOutOfCorePrimary([resolve](const Camera& camera, const FrameTargets& targets, float nearPlane) {
+        resolve->resolve(camera, targets, nearPlane);
+        if (std::getenv("CHCRT_DEBUG_RESOLVE")) {
+            const outofcore::PrimaryResolveStats& r = resolve->lastStats();
+            std::fprintf(stderr, "resolve: %llu hit pixels, %llu subtrees, %llu unresolved, %.1f ms on the host\n",
+                         (unsigned long long)r.hitPixels, (unsigned long long)r.subtreesRead,
+                         (unsigned long long)r.unresolvedPixels, r.hostMs);
+        }
+        return resolve->geometricNormalTexture();
+    });
+}
+
+} // namespace chcrt::app

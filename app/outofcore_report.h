@@ -1,0 +1,25 @@
+#pragma once
+// JSON of the out-of-core statistics (CHC+RT Table 3: Mrays/s, queries, MB transferred BVH / geometry, cache
+// hits/misses/evictions, resident MB) for `chcrt bench --json` rows and `--stats-json` (docs/outofcore.md).
+#include "renderer/outofcore/out_of_core_tracer.h"
+#include "renderer/render/renderer.h"
+
+#include <nlohmann/json.hpp>
+
+namespace chcrt::app {
+
+// Counters divided by `frames` (per-frame means; 1 = the counters themselves); levels as they are.
+nlohmann::json outOfCoreStatsJson(const outofcore::OutOfCoreStats& stats, double frames,
+                                  const outofcore::OutOfCoreTracer& tracer);
+
+} // namespace chcrt::app
+
+namespace chcrt::app {
+
+// A scene that is not in core (docs/outofcore.md): the renderer's traced G-buffer is resolved through
+// `tracer`'s recorded subtrees (outofcore::PrimaryResolve) and secondary rays read per-pixel geometric normals.
+// The renderer must use traced primary visibility, and `tracer` must trace the G-buffer's primary rays (it must
+// outlive the renderer's use of it).
+void installOutOfCorePrimary(Renderer& renderer, outofcore::OutOfCoreTracer& tracer);
+
+} // namespace chcrt::app

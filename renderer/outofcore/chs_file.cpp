@@ -1,0 +1,296 @@
+#include "renderer/outofcore/chs_file.h"
+
+#include "renderer/core/error.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace chcrt::outofcore {
+namespace {
+
+void readExact(int fd, void* data, uint64_t bytes, uint64_t offset, const std::string& what) {
+    auto* p = static_cast<char*>(data);
+    while (bytes > 0) {
+        const ssize_t got = ::pread(fd, p, bytes, off_t(offset));
+        if (got < 0 && errno == EINTR) continue;
+        if (got <= 0) throw InputError(what + (got < 0 ? std::string(": ") + std::strerror(errno) : ": file is truncated"));
+        p += got, bytes -= uint64_t(got), offset += uint64_t(got);
+    }
+}
+
+} // namespace
+
+ChsFile::ChsFile(const std::filesystem::path& file) : path_(file) {
+    const std::string name = file.string();
+    fd_ = ::open(name.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd_ < 0) throw InputError("cannot open prepared scene " + name + ": " + std::strerror(errno));
+    try {
+        validate();
+    } catch (...) {
+        ::close(fd_); // the destructor does not run for a throwing constructor
+        fd_ = -1;
+        throw;
+    }
+}
+
+void ChsFile::validate() {
+    const std::string name = path_.string();
+    struct stat st {};
+    if (::fstat(fd_, &st) != 0) throw InputError("cannot stat " + name + ": " + std::strerror(errno));
+    const uint64_t size = uint64_t(st.st_size);
+    if (size < sizeof(ChsHeader)) throw InputError(name + ": not a prepared scene (file is truncated or too small)");
+    readExact(fd_, &header_, sizeof(header_), 0, name);
+    const ChsHeader& h = header_;
+    if (std::memcmp(h.magic, kChsMagic, sizeof(h.magic)) != 0) throw InputError(name + ": not a prepared scene (bad magic)");
+    if (h.version != kChsVersion) {
+        throw InputError(name + ": prepared scene version " + std::to_string(h.version) + ", this build reads version " +
+                         std::to_string(kChsVersion) + " (prepare it again)");
+    }
+    if (h.headerBytes != sizeof(ChsHeader) || h.headerChecksum != chsChecksum(&h, offsetof(ChsHeader, headerChecksum))) {
+        throw InputError(name + ": corrupted prepared scene (header checksum mismatch)");
+    }
+    if (h.fileBytes != size) {
+        throw InputError(name + ": truncated or extended prepared scene (" + std::to_string(size) + " bytes, header says " +
+                         std::to_string(h.fileBytes) + ")");
+    }
+    const uint64_t metaExpected = uint64_t(h.upperNodeCount) * sizeof(ChsUpperNode) +
+                                  uint64_t(h.subtreeCount) * sizeof(ChsSubtreeRecord) +
+                                  uint64_t(h.materialCount) * sizeof(ChsMaterialRecord) + h.sourceBytes;
+    if (h.metaBytes != metaExpected || h.metaOffset < sizeof(ChsHeader) || h.metaOffset + h.metaBytes != size ||
+        h.subtreeCount == 0 || h.upperNodeCount == 0) {
+        throw InputError(name + ": corrupted prepared scene (inconsistent sizes in the header)");
+    }
+    upper_.resize(h.upperNodeCount);
+    subtrees_.resize(h.subtreeCount);
+    materials_.resize(h.materialCount);
+    source_.resize(h.sourceBytes);
+    uint64_t at = h.metaOffset;
+    readExact(fd_, upper_.data(), upper_.size() * sizeof(ChsUpperNode), at, name);
+    at += upper_.size() * sizeof(ChsUpperNode);
+    readExact(fd_, subtrees_.data(), subtrees_.size() * sizeof(ChsSubtreeRecord), at, name);
+    at += subtrees_.size() * sizeof(ChsSubtreeRecord);
+    readExact(fd_, materials_.data(), materials_.size() * sizeof(ChsMaterialRecord), at, name);
+    at += materials_.size() * sizeof(ChsMaterialRecord);
+    readExact(fd_, source_.data(), source_.size(), at, name);
+    uint64_t sum = chsChecksum(upper_.data(), upper_.size() * sizeof(ChsUpperNode));
+    sum = chsChecksum(subtrees_.data(), subtrees_.size() * sizeof(ChsSubtreeRecord), sum);
+    sum = chsChecksum(materials_.data(), materials_.size() * sizeof(ChsMaterialRecord), sum);
+    sum = chsChecksum(source_.data(), source_.size(), sum);
+    if (sum != h.metaChecksum) throw InputError(name + ": corrupted prepared scene (metadata checksum mismatch)");
+    // Structure: children in range and after their parent, every subtree referenced from its upper node, blobs
+    // inside the subtree area and of the size their counts imply.
+    const bool uv = hasTexcoords();
+    for (uint32_t i = 0; i < h.upperNodeCount; ++i) {
+        const ChsUpperNode& u = upper_[i];
+        const bool ok = u.subtree == kChsNoSubtree
+                            ? (u.firstChild > i && uint64_t(u.firstChild) + 1 < h.upperNodeCount)
+                            : (u.subtree < h.subtreeCount && subtrees_[u.subtree].upperNode == i);
+        if (!ok) throw InputError(name + ": corrupted prepared scene (upper node " + std::to_string(i) + ")");
+    }
+    for (uint32_t i = 0; i < h.subtreeCount; ++i) {
+        const ChsSubtreeRecord& r = subtrees_[i];
+        if (r.nodeCount == 0 || r.nodeCount > h.maxSubtreeNodes || r.triangleCount > h.maxSubtreeTriangles ||
+            r.bytes != chsSubtreeBytes(r.nodeCount, r.triangleCount, uv) || r.offset < sizeof(ChsHeader) ||
+            r.offset + r.bytes > h.metaOffset || r.upperNode >= h.upperNodeCount) {
+            throw InputError(name + ": corrupted prepared scene (subtree record " + std::to_string(i) + ")");
+        }
+    }
+}
+
+ChsFile::~ChsFile() {
+    if (fd_ >= 0) ::close(fd_);
+}
+
+AreaLight ChsFile::light() const {
+    AreaLight l;
+    const float* f = header_.light;
+    l.corner = {f[0], f[1], f[2]};
+    l.edgeU = {f[3], f[4], f[5]};
+    l.edgeV = {f[6], f[7], f[8]};
+    l.radiance = {f[9], f[10], f[11]};
+    return l;
+}
+
+BvhNodeGpu ChsFile::readSubtreeNode(uint32_t index, uint32_t localNode) const {
+    if (index >= subtrees_.size() || localNode >= subtrees_[index].nodeCount) {
+        throw InputError(path_.string() + ": no node " + std::to_string(localNode) + " in subtree " + std::to_string(index));
+    }
+    BvhNodeGpu node;
+    readExact(fd_, &node, sizeof(node), subtrees_[index].offset + uint64_t(localNode) * sizeof(BvhNodeGpu),
+              path_.string() + ": reading subtree " + std::to_string(index));
+    return node;
+}
+
+SubtreeData ChsFile::readSubtree(uint32_t index) const {
+    if (index >= subtrees_.size()) throw InputError(path_.string() + ": no subtree " + std::to_string(index));
+    const ChsSubtreeRecord& r = subtrees_[index];
+    SubtreeData d;
+    d.nodes.resize(r.nodeCount);
+    d.triangles.resize(r.triangleCount);
+    d.normals.resize(size_t(r.triangleCount) * 3);
+    if (hasTexcoords()) d.texcoords.resize(size_t(r.triangleCount) * 3);
+    const std::string what = path_.string() + ": reading subtree " + std::to_string(index);
+    uint64_t at = r.offset;
+    auto read = [&](void* data, uint64_t bytes) {
+        readExact(fd_, data, bytes, at, what);
+        at += bytes;
+    };
+    read(d.nodes.data(), d.nodes.size() * sizeof(BvhNodeGpu));
+    read(d.triangles.data(), d.triangles.size() * sizeof(TriangleGpu));
+    read(d.normals.data(), d.normals.size() * sizeof(glm::vec3));
+    read(d.texcoords.data(), d.texcoords.size() * sizeof(glm::vec2));
+    uint64_t sum = chsChecksum(d.nodes.data(), d.nodes.size() * sizeof(BvhNodeGpu));
+    sum = chsChecksum(d.triangles.data(), d.triangles.size() * sizeof(TriangleGpu), sum);
+    sum = chsChecksum(d.normals.data(), d.normals.size() * sizeof(glm::vec3), sum);
+    sum = chsChecksum(d.texcoords.data(), d.texcoords.size() * sizeof(glm::vec2), sum);
+    if (sum != r.checksum) throw InputError(path_.string() + ": corrupted prepared scene (subtree " + std::to_string(index) + " checksum mismatch)");
+    // Local indices in range (a checksum collision must not turn into out-of-bounds GPU reads).
+    for (uint32_t k = 0; k < r.nodeCount; ++k) {
+        const BvhNodeGpu& n = d.nodes[k];
+        const bool ok = n.triCount == 0 ? (n.leftFirst > k && uint64_t(n.leftFirst) + 1 < r.nodeCount)
+                                        : uint64_t(n.leftFirst) + n.triCount <= r.triangleCount;
+        if (!ok) throw InputError(path_.string() + ": corrupted prepared scene (subtree " + std::to_string(index) + " node " + std::to_string(k) + ")");
+    }
+    return d;
+}
+
+bool isPreparedScenePath(const std::string& scene) {
+    return std::filesystem::path(scene).extension() == ".chs";
+}
+
+namespace {
+
+// Name, light, source, materials and stored camera of a prepared scene (no geometry).
+void loadMetadata(const ChsFile& chs, const std::filesystem::path& file, LoadedPreparedScene& out) {
+    const ChsHeader& h = chs.header();
+    out.source = chs.source();
+    out.light = chs.light();
+    Scene& scene = out.scene;
+    scene.name = file.stem().string();
+    for (const ChsMaterialRecord& m : chs.materials()) {
+        Material material;
+        material.baseColorFactor = {m.baseColor[0], m.baseColor[1], m.baseColor[2], m.baseColor[3]};
+        material.baseColorTexture = -1; // textures are not stored in .chs version 1
+        material.name.assign(m.name, strnlen(m.name, sizeof(m.name)));
+        scene.materials.push_back(material);
+    }
+    if (scene.materials.empty()) scene.materials.emplace_back();
+    if (h.flags & kChsFlagCamera) {
+        Camera c;
+        c.eye = {h.camera[0], h.camera[1], h.camera[2]};
+        c.target = {h.camera[3], h.camera[4], h.camera[5]};
+        c.up = {h.camera[6], h.camera[7], h.camera[8]};
+        c.fovYDegrees = h.camera[9];
+        scene.cameras.push_back({"prepared", c});
+    }
+}
+
+} // namespace
+
+LoadedPreparedScene loadPreparedSceneProxy(const std::filesystem::path& file) {
+    const ChsFile chs(file);
+    const ChsHeader& h = chs.header();
+    LoadedPreparedScene out;
+    loadMetadata(chs, file, out);
+    Scene& scene = out.scene;
+    // One zero-area triangle from the minimum to the maximum corner: the scene's bounds (near plane, ray
+    // lengths as fractions of the diagonal) equal the real scene's, and no ray can hit it.
+    const glm::vec3 lo(h.boundsMin[0], h.boundsMin[1], h.boundsMin[2]), hi(h.boundsMax[0], h.boundsMax[1], h.boundsMax[2]);
+    scene.positions = {lo, hi, hi};
+    scene.normals.assign(3, glm::vec3(0.0f, 1.0f, 0.0f));
+    scene.triangles = {glm::uvec3(0, 1, 2)};
+    scene.triangleMaterials = {0};
+    scene.stats.uniqueTriangles = scene.stats.instancedTriangles = h.triangleCount; // what the file holds
+    scene.stats.meshCount = scene.stats.instanceCount = 1;
+    out.bvh = buildBvh(scene);
+    return out;
+}
+
+LoadedPreparedScene loadPreparedScene(const std::filesystem::path& file) {
+    const ChsFile chs(file);
+    const ChsHeader& h = chs.header();
+    LoadedPreparedScene out;
+    loadMetadata(chs, file, out);
+    Scene& scene = out.scene;
+    if (h.triangleCount >= (uint64_t(1) << 32) / 3) throw InputError(file.string() + ": too large to load in core");
+    const size_t n = size_t(h.triangleCount);
+    scene.positions.resize(n * 3);
+    scene.normals.resize(n * 3);
+    if (chs.hasTexcoords()) scene.texcoords.resize(n * 3);
+    scene.triangles.resize(n);
+    scene.triangleMaterials.resize(n);
+    Bvh& bvh = out.bvh;
+    bvh.nodes.resize(h.upperNodeCount);
+    bvh.nodes.reserve(h.upperNodeCount + h.nodeCount);
+    bvh.triangles.reserve(n);
+    std::vector<uint8_t> seen(n, 0);
+    const auto& upper = chs.upperNodes();
+    for (uint32_t i = 0; i < h.upperNodeCount; ++i) {
+        const ChsUpperNode& u = upper[i];
+        BvhNodeGpu& dst = bvh.nodes[i];
+        dst.boundsMin = {u.boundsMin[0], u.boundsMin[1], u.boundsMin[2]};
+        dst.boundsMax = {u.boundsMax[0], u.boundsMax[1], u.boundsMax[2]};
+        if (u.subtree == kChsNoSubtree) {
+            dst.leftFirst = u.firstChild;
+            dst.triCount = 0;
+            continue;
+        }
+        // Splice the subtree in: its root replaces the upper node, the rest is appended (local k >= 1 goes to
+        // base + k - 1), leaves point into the appended triangles.
+        const SubtreeData d = chs.readSubtree(u.subtree);
+        const uint32_t base = uint32_t(bvh.nodes.size()), triBase = uint32_t(bvh.triangles.size());
+        auto rebase = [&](BvhNodeGpu node) {
+            node.leftFirst = node.triCount != 0 ? node.leftFirst + triBase : base + node.leftFirst - 1;
+            return node;
+        };
+        dst = rebase(d.nodes[0]);
+        for (size_t k = 1; k < d.nodes.size(); ++k) bvh.nodes.push_back(rebase(d.nodes[k]));
+        for (size_t t = 0; t < d.triangles.size(); ++t) {
+            const TriangleGpu& tri = d.triangles[t];
+            if (tri.originalId >= n || seen[tri.originalId]) {
+                throw InputError(file.string() + ": triangle ids do not cover 0.." + std::to_string(n - 1) + " exactly once");
+            }
+            seen[tri.originalId] = 1;
+            bvh.triangles.push_back(tri);
+            const size_t id = tri.originalId, v = id * 3;
+            scene.positions[v] = tri.v0, scene.positions[v + 1] = tri.v1, scene.positions[v + 2] = tri.v2;
+            for (int c = 0; c < 3; ++c) {
+                scene.normals[v + c] = d.normals[t * 3 + c];
+                if (!d.texcoords.empty()) scene.texcoords[v + c] = d.texcoords[t * 3 + c];
+            }
+            scene.triangles[id] = glm::uvec3(uint32_t(v), uint32_t(v + 1), uint32_t(v + 2));
+            if (tri.materialId >= scene.materials.size()) throw InputError(file.string() + ": material id out of range");
+            scene.triangleMaterials[id] = tri.materialId;
+        }
+    }
+    scene.stats.uniqueTriangles = scene.stats.instancedTriangles = n;
+    scene.stats.meshCount = scene.stats.instanceCount = 1;
+    bvh.stats.nodeCount = uint32_t(bvh.nodes.size());
+    bvh.stats.sahCost = computeSahCost(bvh);
+    bvh.stats.bytes = bvh.nodes.size() * sizeof(BvhNodeGpu) + bvh.triangles.size() * sizeof(TriangleGpu);
+    for (const BvhNodeGpu& node : bvh.nodes) bvh.stats.leafCount += node.triCount != 0;
+    bvh.stats.averageLeafTriangles = bvh.stats.leafCount ? double(n) / bvh.stats.leafCount : 0.0;
+    return out;
+}
+
+} // namespace chcrt::outofcore
+
+namespace chcrt::outofcore {
+
+ChsFileSummary summarize(const ChsFile& file) {
+    ChsFileSummary s;
+    s.minTriangles = UINT32_MAX;
+    for (const ChsSubtreeRecord& r : file.subtrees()) {
+        s.minTriangles = std::min(s.minTriangles, r.triangleCount);
+        s.maxHeight = std::max(s.maxHeight, r.height);
+        s.subtreeBytes += r.bytes;
+    }
+    s.meanTriangles = double(file.header().triangleCount) / double(file.subtrees().size());
+    return s;
+}
+
+} // namespace chcrt::outofcore

@@ -1,0 +1,105 @@
+#pragma once
+// Reading a prepared scene (.chs, chs_format.h). Opening validates the header, its checksum, the version, the
+// file size and the metadata (upper hierarchy, directory, materials) with its checksum; a subtree's checksum
+// is verified each time it is read. Every problem is an InputError with a one-line message naming the file.
+//
+// Reads use explicit positional I/O (pread), not mmap: a subtree is decoded into its own buffers anyway
+// (rebasing for the GPU needs a copy), explicit reads keep the process's memory exactly what the host cache
+// holds (mapped file pages would count towards RSS and their eviction is up to the kernel), and an I/O error
+// becomes an exception instead of SIGBUS on a truncated file.
+#include "renderer/outofcore/chs_format.h"
+#include "renderer/scene/scene.h"
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace chcrt::outofcore {
+
+// One decoded subtree: nodes and triangles with local indices, as stored.
+struct SubtreeData {
+    std::vector<BvhNodeGpu> nodes;
+    std::vector<TriangleGpu> triangles;
+    std::vector<glm::vec3> normals;   // 3 per triangle
+    std::vector<glm::vec2> texcoords; // 3 per triangle, or empty
+    uint64_t bytes() const {
+        return nodes.size() * sizeof(BvhNodeGpu) + triangles.size() * sizeof(TriangleGpu) +
+               normals.size() * sizeof(glm::vec3) + texcoords.size() * sizeof(glm::vec2);
+    }
+};
+
+class ChsFile {
+public:
+    // Throws InputError for a missing, truncated, corrupted or version-mismatched file.
+    explicit ChsFile(const std::filesystem::path& file);
+    ~ChsFile();
+    ChsFile(const ChsFile&) = delete;
+    ChsFile& operator=(const ChsFile&) = delete;
+
+    const ChsHeader& header() const { return header_; }
+    const std::vector<ChsUpperNode>& upperNodes() const { return upper_; }
+    const std::vector<ChsSubtreeRecord>& subtrees() const { return subtrees_; }
+    const std::vector<ChsMaterialRecord>& materials() const { return materials_; }
+    const std::string& source() const { return source_; } // generator spec or file the scene was prepared from
+    const std::filesystem::path& path() const { return path_; }
+    bool hasTexcoords() const { return (header_.flags & kChsFlagTexcoords) != 0; }
+    AreaLight light() const;
+
+    // Reads and verifies subtree `index` (thread-safe: pread). Throws InputError on a checksum mismatch or
+    // out-of-range local indices.
+    SubtreeData readSubtree(uint32_t index) const;
+    // Reads one node (local index) of subtree `index` without the rest of the blob (thread-safe: pread), e.g.
+    // its root and the root's children for the culling hierarchy's tighter bounds (CHC+RT §5.1). Not
+    // checksummed: only boxes and counts are used; throws InputError for an out-of-range index.
+    BvhNodeGpu readSubtreeNode(uint32_t index, uint32_t localNode) const;
+
+private:
+    void validate(); // header, sizes, metadata and structure; throws InputError
+    std::filesystem::path path_;
+    int fd_ = -1;
+    ChsHeader header_{};
+    std::vector<ChsUpperNode> upper_;
+    std::vector<ChsSubtreeRecord> subtrees_;
+    std::vector<ChsMaterialRecord> materials_;
+    std::string source_;
+};
+
+// Loads a whole prepared scene in core (when it fits): a Scene (3 unshared vertices per triangle, triangle i =
+// original id i) and a Bvh made of the upper hierarchy with every subtree spliced in, so that traced hits
+// equal those of the scene it was prepared from. Throws InputError when the triangle ids do not cover
+// 0..N-1 exactly once.
+struct LoadedPreparedScene {
+    Scene scene;
+    Bvh bvh;
+    AreaLight light;
+    std::string source;
+};
+LoadedPreparedScene loadPreparedScene(const std::filesystem::path& file);
+// The scene of a prepared file WITHOUT its geometry, for rendering out of core (CHC+RT §5.4) when the scene does
+// not fit: materials, light, stored camera, source spec, and a single zero-area triangle spanning the file's
+// bounds (so bounds-derived settings match the real scene and nothing can be hit). Every hit then comes from
+// the out-of-core tracer. Reads only the metadata.
+LoadedPreparedScene loadPreparedSceneProxy(const std::filesystem::path& file);
+
+// Estimated bytes of loadPreparedScene's result plus the renderer's GPU copies for a triangle count (used to
+// decide whether an out-of-core scene can also be loaded in core for reference runs).
+inline uint64_t estimatedInCoreBytes(uint64_t triangles) { return triangles * 400; }
+
+// Whether a --scene argument names a prepared scene (by its .chs extension).
+bool isPreparedScenePath(const std::string& scene);
+
+} // namespace chcrt::outofcore
+
+namespace chcrt::outofcore {
+
+// Statistics of a prepared file for `chcrt info`.
+struct ChsFileSummary {
+    uint32_t minTriangles = 0;
+    double meanTriangles = 0.0;
+    uint32_t maxHeight = 0;
+    uint64_t subtreeBytes = 0;
+};
+ChsFileSummary summarize(const ChsFile& file);
+
+} // namespace chcrt::outofcore

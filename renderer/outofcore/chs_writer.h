@@ -1,0 +1,69 @@
+#pragma once
+// Writing a prepared scene (.chs, chs_format.h) chunk by chunk: each chunk's BVH is cut into termination
+// subtrees (CHC+RT §5.2: topmost nodes within the height and triangle limits) which are written at once; the
+// chunk keeps only its upper nodes in memory. finish() joins the chunks under a top-level SAH tree over their
+// root boxes, writes the metadata and the header, and renames the temp file into place, so an interrupted
+// prepare never leaves a file that looks valid.
+#include "renderer/outofcore/chs_format.h"
+#include "renderer/scene/scene.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace chcrt::outofcore {
+
+struct ChsWriterOptions {
+    uint32_t subtreeTriangles = 1u << 16;
+    uint32_t subtreeHeight = 24;
+};
+
+struct ChsSceneInfo {
+    std::string source;
+    std::vector<Material> materials;
+    AreaLight light;
+    bool hasCamera = false;
+    Camera camera;
+    bool texcoords = false;
+};
+
+class ChsWriter {
+public:
+    // Creates "<file>.tmp" next to the target. Throws InputError when it cannot be created or an option is 0.
+    ChsWriter(const std::filesystem::path& file, const ChsWriterOptions& options);
+    ~ChsWriter(); // removes the temp file unless finish() succeeded
+    ChsWriter(const ChsWriter&) = delete;
+    ChsWriter& operator=(const ChsWriter&) = delete;
+
+    // Writes one chunk: `bvh` built over `scene`; triangle original ids are offset by `idOffset`, positions
+    // (and the boxes, recomputed from them) are moved by `translation`.
+    void addChunk(const Scene& scene, const Bvh& bvh, uint64_t idOffset, const glm::vec3& translation = glm::vec3(0.0f));
+
+    // Writes the metadata and header and renames the file into place. Returns the file size.
+    uint64_t finish(const ChsSceneInfo& info);
+
+    uint64_t triangleCount() const { return triangles_; }
+    uint32_t subtreeCount() const { return uint32_t(records_.size()); }
+
+private:
+    struct Chunk {
+        std::vector<ChsUpperNode> nodes; // root = 0; termination roots carry their subtree index
+    };
+    void write(const void* data, size_t bytes);
+
+    std::filesystem::path file_, temp_;
+    ChsWriterOptions options_;
+    std::FILE* out_ = nullptr;
+    uint64_t offset_ = 0;
+    uint64_t triangles_ = 0;
+    uint64_t nodes_ = 0;
+    uint32_t maxNodes_ = 0, maxTriangles_ = 0;
+    bool texcoords_ = false;
+    bool texcoordsKnown_ = false;
+    std::vector<ChsSubtreeRecord> records_;
+    std::vector<Chunk> chunks_;
+    bool finished_ = false;
+};
+
+} // namespace chcrt::outofcore

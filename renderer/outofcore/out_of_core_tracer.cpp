@@ -1,0 +1,125 @@
+#include "renderer/outofcore/out_of_core_tracer.h"
+
+#include "renderer/core/error.h"
+#include "renderer/outofcore/chs_culling_hierarchy.h"
+#include "renderer/outofcore/primary_resolve.h"
+#include "shaders/shared/render_layout.h"
+
+namespace chcrt::outofcore {
+namespace {
+
+GLuint boundBufferTexture(GLuint unit) {
+    GLint previousUnit = 0, texture = 0;
+    glGetIntegerv(GL_ACTIVE_TEXTURE, &previousUnit);
+    glActiveTexture(GL_TEXTURE0 + unit);
+    glGetIntegerv(GL_TEXTURE_BINDING_BUFFER, &texture);
+    glActiveTexture(GLenum(previousUnit));
+    return GLuint(texture);
+}
+
+} // namespace
+
+OutOfCoreStats OutOfCoreStats::difference(const OutOfCoreStats& later, const OutOfCoreStats& earlier) {
+    OutOfCoreStats d = later;
+    d.queries -= earlier.queries;
+    d.raysTraced -= earlier.raysTraced;
+    d.traceMs -= earlier.traceMs;
+    d.cacheHits -= earlier.cacheHits;
+    d.cacheMisses -= earlier.cacheMisses;
+    d.cacheEvictions -= earlier.cacheEvictions;
+    d.cacheDeferred -= earlier.cacheDeferred;
+    d.uploadedBvhBytes -= earlier.uploadedBvhBytes;
+    d.uploadedGeometryBytes -= earlier.uploadedGeometryBytes;
+    d.hostReads -= earlier.hostReads;
+    d.hostBytesRead -= earlier.hostBytesRead;
+    return d;
+}
+
+OutOfCoreStats& OutOfCoreStats::operator+=(const OutOfCoreStats& o) {
+    const OutOfCoreStats sum = difference(o, OutOfCoreStats{}); // levels of `o`
+    queries += sum.queries;
+    raysTraced += sum.raysTraced;
+    traceMs += sum.traceMs;
+    cacheHits += sum.cacheHits;
+    cacheMisses += sum.cacheMisses;
+    cacheEvictions += sum.cacheEvictions;
+    cacheDeferred += sum.cacheDeferred;
+    uploadedBvhBytes += sum.uploadedBvhBytes;
+    uploadedGeometryBytes += sum.uploadedGeometryBytes;
+    hostReads += sum.hostReads;
+    hostBytesRead += sum.hostBytesRead;
+    residentBytes = o.residentBytes;
+    allocatedBytes = o.allocatedBytes;
+    hostResidentBytes = o.hostResidentBytes;
+    slots = o.slots;
+    residentSubtrees = o.residentSubtrees;
+    return *this;
+}
+
+OutOfCoreTracer::OutOfCoreTracer(const std::filesystem::path& file, const OutOfCoreOptions& options,
+                                 ChcrtOptions chcrt, std::string name)
+    : options_(options), file_(std::make_unique<ChsFile>(file)) {
+    store_ = std::make_unique<SubtreeStore>(*file_, options.hostCacheBytes);
+    cache_ = std::make_unique<GpuSubtreeCache>(*store_, GpuCacheOptions{options.gpuCacheBytes, options.policy});
+    chcrt.adaptive = false; // no full-scene tracer exists out of core
+    chcrt_ = std::make_unique<ChcrtTracer>(buildCullingHierarchy(*file_), *cache_, nullptr, chcrt, std::move(name));
+}
+
+OutOfCoreTracer::~OutOfCoreTracer() = default;
+
+PrimaryResolve& OutOfCoreTracer::primaryResolve() {
+    if (!primaryResolve_) primaryResolve_ = std::make_unique<PrimaryResolve>(*this);
+    return *primaryResolve_;
+}
+
+void OutOfCoreTracer::trace(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width,
+                            int height, TraceStats& stats) {
+    const GLuint nodes = boundBufferTexture(CHCRT_UNIT_BVH_NODES);
+    const GLuint triangles = boundBufferTexture(CHCRT_UNIT_BVH_TRIANGLES);
+    const bool record = recordPrimarySubtrees_ && request.rayType == RayType::Primary && !request.anyHit;
+    const ChcrtDebugImage selected = chcrt_->debugImageKind();
+    if (record && selected != ChcrtDebugImage::None && selected != ChcrtDebugImage::Subtrees) {
+        throw InputError("out-of-core primary visibility uses the subtrees debug image; no other can be selected");
+    }
+    try {
+        if (record) {
+            chcrt_->setDebugImage(ChcrtDebugImage::Subtrees);
+            chcrt_->clearDebugImage();
+        }
+        chcrt_->trace(request, rays, hits, width, height, stats);
+        if (record) chcrt_->setDebugImage(selected);
+    } catch (...) {
+        if (record) chcrt_->setDebugImage(selected);
+        glBindTextureUnit(CHCRT_UNIT_BVH_NODES, nodes);
+        glBindTextureUnit(CHCRT_UNIT_BVH_TRIANGLES, triangles);
+        throw;
+    }
+    glBindTextureUnit(CHCRT_UNIT_BVH_NODES, nodes);
+    glBindTextureUnit(CHCRT_UNIT_BVH_TRIANGLES, triangles);
+}
+
+OutOfCoreStats OutOfCoreTracer::snapshot() const {
+    OutOfCoreStats s;
+    const ChcrtStats& t = chcrt_->totalStats();
+    s.queries = t.queries;
+    s.raysTraced = t.raysTraced;
+    s.traceMs = t.totalMs();
+    const GpuCacheStats& c = cache_->stats();
+    s.cacheHits = c.hits;
+    s.cacheMisses = c.misses;
+    s.cacheEvictions = c.evictions;
+    s.cacheDeferred = c.deferred;
+    s.uploadedBvhBytes = c.uploadedNodeBytes;
+    s.uploadedGeometryBytes = c.uploadedTriangleBytes;
+    s.residentBytes = c.residentBytes;
+    s.allocatedBytes = c.allocatedBytes;
+    s.slots = c.slots;
+    s.residentSubtrees = c.residentSubtrees;
+    const SubtreeStoreStats h = store_->stats();
+    s.hostReads = h.misses;
+    s.hostBytesRead = h.bytesRead;
+    s.hostResidentBytes = h.residentBytes;
+    return s;
+}
+
+} // namespace chcrt::outofcore

@@ -1,0 +1,84 @@
+#pragma once
+// CHC+RT tracing of a prepared scene out of core (CHC+RT §5.4): the culling hierarchy comes from the file's
+// upper part (chs_culling_hierarchy.h), the subtrees from a GpuSubtreeCache under --gpu-cache-mb fed by a
+// SubtreeStore under --host-cache-mb. Nothing of the scene has to be in core for tracing; hits carry the
+// original triangle ids stored in the file.
+//
+// Texture units: the cache binds its own node/triangle buffers on the BVH units (CHCRT_UNIT_BVH_*); this
+// tracer restores whatever was bound there before, so callers that bound the in-core BVH once (tests, the
+// pure-BVH oracle of `chcrt verify`) keep working after an out-of-core trace.
+#include "culling/chcrt_tracer.h"
+#include "renderer/outofcore/chs_file.h"
+#include "renderer/outofcore/gpu_subtree_cache.h"
+#include "renderer/outofcore/subtree_store.h"
+
+#include <filesystem>
+#include <memory>
+
+namespace chcrt::outofcore {
+
+class PrimaryResolve;
+
+struct OutOfCoreOptions {
+    uint64_t gpuCacheBytes = 1024ull << 20; // --gpu-cache-mb
+    uint64_t hostCacheBytes = 2048ull << 20; // --host-cache-mb
+    CachePolicy policy = CachePolicy::Lru;   // --cache-policy
+};
+
+// Counters in the shape of CHC+RT Table 3, for one frame or summed (difference of two snapshots).
+struct OutOfCoreStats {
+    uint64_t queries = 0;
+    uint64_t raysTraced = 0;
+    double traceMs = 0.0;  // CHC+RT tracing time (phases 1-3), ms
+    uint64_t cacheHits = 0, cacheMisses = 0, cacheEvictions = 0, cacheDeferred = 0;
+    uint64_t uploadedBvhBytes = 0, uploadedGeometryBytes = 0;
+    uint64_t hostReads = 0, hostBytesRead = 0;
+    uint64_t residentBytes = 0, allocatedBytes = 0; // GPU cache, at the snapshot
+    uint64_t hostResidentBytes = 0;
+    uint32_t slots = 0, residentSubtrees = 0;
+    // `later` minus `earlier` for counters; levels (resident, allocated, slots) from `later`.
+    static OutOfCoreStats difference(const OutOfCoreStats& later, const OutOfCoreStats& earlier);
+    // Sums the counters; levels from `o` (the later one).
+    OutOfCoreStats& operator+=(const OutOfCoreStats& o);
+};
+
+class OutOfCoreTracer final : public Tracer {
+public:
+    // Opens the file, builds its culling hierarchy and the caches (needs a current GL context). `options.adaptive`
+    // is ignored: there is no full-scene tracer out of core. Throws InputError for a bad file or a GPU budget
+    // that cannot hold one subtree.
+    OutOfCoreTracer(const std::filesystem::path& file, const OutOfCoreOptions& options, ChcrtOptions chcrt,
+                    std::string name = "chcrt");
+    ~OutOfCoreTracer() override;
+
+    std::string name() const override { return chcrt_->name(); }
+    void trace(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width, int height,
+               TraceStats& stats) override;
+
+    const ChsFile& file() const { return *file_; }
+    ChcrtTracer& chcrt() { return *chcrt_; }
+    const GpuSubtreeCache& cache() const { return *cache_; }
+    const SubtreeStore& store() const { return *store_; }
+    SubtreeStore& store() { return *store_; }
+    // Primary rays (closest hit) are traced with ChcrtTracer's "subtrees" debug image, cleared first, so that
+    // afterwards it holds 1 + the subtree of each pixel's final hit (PrimaryResolve, primary_resolve.h). Throws
+    // InputError at the next trace when another debug image is selected.
+    void setRecordPrimarySubtrees(bool record) { recordPrimarySubtrees_ = record; }
+    // The G-buffer resolve of a scene that is not in core (primary_resolve.h), created on first use (turns on
+    // the recording above).
+    PrimaryResolve& primaryResolve();
+    const OutOfCoreOptions& options() const { return options_; }
+    // Cumulative counters since construction (take differences for a frame).
+    OutOfCoreStats snapshot() const;
+
+private:
+    OutOfCoreOptions options_;
+    std::unique_ptr<ChsFile> file_;
+    std::unique_ptr<SubtreeStore> store_;
+    std::unique_ptr<GpuSubtreeCache> cache_;
+    std::unique_ptr<ChcrtTracer> chcrt_;
+    bool recordPrimarySubtrees_ = false;
+    std::unique_ptr<PrimaryResolve> primaryResolve_; // last: destroyed first (it uses the tracer)
+};
+
+} // namespace chcrt::outofcore

@@ -1,0 +1,56 @@
+#pragma once
+// Primary visibility of a scene that is not in core (issue #5; CHC+RT §5.4, the "Prim" column of Table 3):
+// primary rays are traced by the OutOfCoreTracer, and their hits resolved into the renderer's G-buffer. The
+// in-core resolve (raster/gbuffer_from_hits.frag.glsl) reads per-triangle buffers indexed by original id over
+// the whole scene, which cannot exist out of core. Here the tracer records, per pixel, the termination subtree
+// that produced the final hit (ChcrtTracer's "subtrees" debug image: the subtree shader stores it whenever a
+// ray's hit changes); the host then looks the hit triangle up in that subtree (host store: decoded subtrees
+// with the file's vertex normals and the triangles' material ids), writes per-pixel shading normal, geometric
+// normal and albedo images, and outofcore/gbuffer_from_pixel_attributes.frag.glsl writes the G-buffer with
+// the same orientation rule as the in-core pass. Nothing here is indexed by triangle id over the scene, and
+// the shared traversal shaders are unchanged.
+#include "renderer/gl/gl_objects.h"
+#include "renderer/gl/shader.h"
+#include "renderer/outofcore/out_of_core_tracer.h"
+#include "renderer/render/frame_targets.h"
+#include "renderer/scene/scene.h"
+
+#include <glm/glm.hpp>
+
+#include <vector>
+
+namespace chcrt::outofcore {
+
+struct PrimaryResolveStats {
+    uint64_t hitPixels = 0;
+    uint64_t subtreesRead = 0;    // subtrees looked up this frame (host store gets)
+    uint64_t unresolvedPixels = 0; // hits whose triangle was not found (never expected; shaded with the geometric normal 0)
+    double hostMs = 0.0;           // read-back, lookup and upload
+};
+
+class PrimaryResolve {
+public:
+    // Turns on the tracer's per-pixel subtree recording for primary rays. Needs a current GL context.
+    explicit PrimaryResolve(OutOfCoreTracer& tracer);
+    ~PrimaryResolve();
+    PrimaryResolve(const PrimaryResolve&) = delete;
+    PrimaryResolve& operator=(const PrimaryResolve&) = delete;
+
+    // Writes targets.gbuffer from ray set 0 and hit set 0, which must hold the primary rays just traced by
+    // the tracer. `nearPlane` as the renderer's (camera_math.h, nearPlaneFor).
+    void resolve(const Camera& camera, const FrameTargets& targets, float nearPlane);
+    const PrimaryResolveStats& lastStats() const { return stats_; }
+    // Per-pixel unit geometric normals of the last resolve (RGBA32F, frame size; 0 before the first), for
+    // secondary ray generation (Renderer::setOutOfCorePrimary).
+    GLuint geometricNormalTexture() const { return geometric_.id(); }
+
+private:
+    OutOfCoreTracer& tracer_;
+    std::vector<glm::vec3> albedos_; // per material (base colour factor; v1 files keep no textures)
+    ShaderProgram program_;
+    GlTexture shading_, geometric_, albedo_;
+    int width_ = 0, height_ = 0;
+    PrimaryResolveStats stats_;
+};
+
+} // namespace chcrt::outofcore

@@ -1,0 +1,108 @@
+// `--out-of-core` from the command line (issue #5 part 2): verify is exact with a GPU cache ~15x smaller than
+// the scene, bench reports the Table 3 statistics, a scene that is not loaded in core renders and benchmarks
+// without a pure-BVH reference, and bad combinations are one-line errors with exit code 2.
+#include "tests/outofcore/outofcore_test_util.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <fstream>
+#include <sys/wait.h>
+
+namespace chcrt {
+namespace {
+
+struct CliRun {
+    int exitCode = -1;
+    std::string output;
+};
+
+CliRun chcrt(const std::filesystem::path& dir, const std::string& arguments) {
+    const std::string command = "cd '" + dir.string() + "' && '" CHCRT_BINARY "' " + arguments + " 2>&1";
+    CliRun run;
+    FILE* pipe = ::popen(command.c_str(), "r");
+    if (!pipe) return run;
+    char buffer[4096];
+    size_t got = 0;
+    while ((got = std::fread(buffer, 1, sizeof(buffer), pipe)) > 0) run.output.append(buffer, got);
+    const int status = ::pclose(pipe);
+    run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return run;
+}
+
+size_t lineCount(const std::string& text) { return size_t(std::count(text.begin(), text.end(), '\n')); }
+
+class OutOfCoreCli : public ::testing::Test {
+protected:
+    void SetUp() override {
+        // ~14 MB of subtrees on the GPU, slots of ~0.3 MB: a 1 MB cache holds 3 of 90.
+        const CliRun prepare = chcrt(dir_.file(""), "prepare --scene city:200k -o c.chs --subtree-triangles 4000 -q");
+        ASSERT_EQ(prepare.exitCode, 0) << prepare.output;
+    }
+    test::ScratchDir dir_;
+};
+
+TEST_F(OutOfCoreCli, VerifyIsExactWithASmallCache) {
+    const CliRun run = chcrt(dir_.file(""), "verify --scene c.chs --method chcrt --out-of-core --gpu-cache-mb 1 "
+                                            "--host-cache-mb 2 --cache-policy round-robin --width 96 --height 64 "
+                                            "--frames 0-2 --ray-type primary,shadow,ao -q");
+    EXPECT_EQ(run.exitCode, 0) << run.output;
+    EXPECT_NE(run.output.find("PASS: 0 differing"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("out of core: 3 GPU cache slots"), std::string::npos) << run.output;
+}
+
+TEST_F(OutOfCoreCli, BenchReportsTable3StatisticsInAndOutOfCore) {
+    for (const std::string inCore : {"on", "off"}) {
+        const CliRun run = chcrt(dir_.file(""), "bench --scene c.chs --method chcrt --out-of-core --gpu-cache-mb 1 "
+                                                "--load-in-core " + inCore + " --ray-type primary,ao --width 64 "
+                                                "--height 48 --frames 0-1 --runs 1 --warmup 0 --json b.json -q");
+        ASSERT_EQ(run.exitCode, 0) << run.output;
+        std::ifstream in(dir_.file("b.json"));
+        const nlohmann::json j = nlohmann::json::parse(in);
+        ASSERT_EQ(j["rows"].size(), 2u);
+        for (const nlohmann::json& row : j["rows"]) {
+            ASSERT_TRUE(row.contains("outofcore")) << row.dump();
+            const nlohmann::json& o = row["outofcore"];
+            EXPECT_GT(o["queries"].get<double>(), 0.0);
+            EXPECT_LE(o["allocated_mb"].get<double>(), 1.0);
+            EXPECT_EQ(o["slots"].get<int>(), 3);
+            EXPECT_EQ(o["frames"].size(), 2u);
+            EXPECT_GT(row["active_rays_per_frame"].get<double>(), 0.0);
+            if (inCore == "on") EXPECT_EQ(row["diff_pixels"].get<int>(), 0);
+            else EXPECT_TRUE(row["diff_pixels"].is_null());
+        }
+        EXPECT_GT(j["rows"][0]["outofcore"]["cache_misses"].get<double>(), 3.0); // more uploads than slots
+    }
+}
+
+TEST_F(OutOfCoreCli, RendersWithoutTheSceneInCore) {
+    const CliRun run = chcrt(dir_.file(""), "render --scene c.chs --method chcrt --out-of-core --gpu-cache-mb 2 "
+                                            "--load-in-core off --effects shadow,ao --width 64 --height 48 --frames 0-1 "
+                                            "-o f_####.png --stats-json s.json -q");
+    ASSERT_EQ(run.exitCode, 0) << run.output;
+    EXPECT_TRUE(std::filesystem::exists(dir_.file("f_0001.png")));
+    std::ifstream in(dir_.file("s.json"));
+    const nlohmann::json j = nlohmann::json::parse(in);
+    ASSERT_EQ(j["frames"].size(), 2u);
+    EXPECT_GT(j["frames"][1]["outofcore"]["cache_hits"].get<double>(), 0.0);
+}
+
+TEST_F(OutOfCoreCli, BadCombinationsAreExit2WithOneLine) {
+    for (const std::string arguments : {
+             "verify --scene c.chs --method bvh --out-of-core",
+             "verify --scene city:20k --method chcrt --out-of-core",
+             "verify --scene c.chs --method chcrt --out-of-core --load-in-core off",
+             "verify --scene c.chs --method chcrt --out-of-core --cache-policy fifo",
+             "verify --scene c.chs --method chcrt --out-of-core --gpu-cache-mb 0",
+             "bench --scene c.chs --method chcrt,embree --out-of-core --load-in-core off",
+         }) {
+        const CliRun run = chcrt(dir_.file(""), arguments + " --frames 0 --width 32 --height 32 -q");
+        EXPECT_EQ(run.exitCode, 2) << arguments << "\n" << run.output;
+        EXPECT_EQ(lineCount(run.output), 1u) << arguments << "\n" << run.output;
+        EXPECT_EQ(run.output.rfind("chcrt: error: ", 0), 0u) << arguments << "\n" << run.output;
+    }
+}
+
+} // namespace
+} // namespace chcrt

@@ -1,0 +1,249 @@
+// Out-of-core CHC+RT tracing is exact (issue #5 part 2, task 2): a prepared city 10-20x larger than the GPU
+// cache budget traced through OutOfCoreTracer (file hierarchy + GpuSubtreeCache + SubtreeStore) gives bit for
+// bit the hits of in-core pure BVH tracing of the same file, for primary, shadow and AO rays over consecutive
+// frames of the near path, while the cache evicts. A budget below one subtree is an InputError.
+#include "renderer/core/error.h"
+#include "renderer/outofcore/out_of_core_tracer.h"
+#include "renderer/outofcore/primary_resolve.h"
+#include "renderer/render/camera_math.h"
+#include "shaders/shared/bvh_layout.h"
+#include "shaders/shared/render_layout.h"
+#include "renderer/render/hit_comparison.h"
+#include "tests/outofcore/outofcore_test_util.h"
+#include "tests/render/render_fixture.h"
+
+#include <gtest/gtest.h>
+
+namespace chcrt {
+namespace {
+
+using OutOfCoreTracerTest = test::RenderTest;
+
+// GPU bytes of all subtrees of the file (nodes + triangles, what the cache would hold to keep everything).
+uint64_t sceneGpuBytes(const outofcore::ChsFile& file) {
+    uint64_t bytes = 0;
+    for (const outofcore::ChsSubtreeRecord& r : file.subtrees()) {
+        bytes += uint64_t(r.nodeCount) * sizeof(BvhNodeGpu) + uint64_t(r.triangleCount) * sizeof(TriangleGpu);
+    }
+    return bytes;
+}
+
+void runExactness(outofcore::CachePolicy policy) {
+    test::ScratchDir dir;
+    const auto file = dir.file("city.chs");
+    test::prepareSmall("city:60k", file, 1000);
+    const outofcore::LoadedPreparedScene loaded = outofcore::loadPreparedScene(file);
+    RenderSettings settings;
+    settings.width = 80;
+    settings.height = 60;
+    Renderer renderer(loaded.scene, loaded.bvh, loaded.light, settings);
+
+    outofcore::OutOfCoreOptions options;
+    options.policy = policy;
+    options.hostCacheBytes = 1ull << 20; // smaller than the file too: subtrees are re-read
+    {
+        const outofcore::ChsFile chs(file);
+        options.gpuCacheBytes = sceneGpuBytes(chs) / 15; // the scene is ~15x the budget
+    }
+    ChcrtOptions chcrt;
+    chcrt.pairs.minTileSize = 16;
+    outofcore::OutOfCoreTracer tracer(file, options, chcrt);
+    ASSERT_LE(tracer.cache().stats().allocatedBytes, options.gpuCacheBytes);
+    ASSERT_GE(tracer.cache().slotCount(), 1u);
+
+    ProceduralSpec spec;
+    ASSERT_TRUE(parseProceduralSpec(loaded.source, spec));
+    const CameraPath path = proceduralNearPath(spec);
+    uint64_t hits = 0, compared = 0;
+    for (int frame = 0; frame < 4; ++frame) { // consecutive frames: the fronts and the cache carry over
+        const Camera camera = path.cameraAtFrame(frame);
+        FrameStats stats;
+        renderer.renderGBuffer(camera, stats);
+        for (RayType type : {RayType::Primary, RayType::Shadow, RayType::Ao}) {
+            renderer.generateRayPass(camera, type, 0, stats);
+            renderer.useTracer(&tracer);
+            renderer.traceRayPass(camera, type, 0, stats);
+            const std::vector<Hit> outOfCore = renderer.readHits(0);
+            renderer.useTracer(nullptr);
+            renderer.traceRayPass(camera, type, 0, stats);
+            const std::vector<Hit> pure = renderer.readHits(0);
+            ASSERT_EQ(outOfCore.size(), pure.size());
+            // The rule of `chcrt verify`: same id and t bits; any-hit rays (shadow, AO) only hit/miss.
+            const HitComparison result = compareHitsExactly(renderer.readRays(0), outOfCore, pure, isAnyHit(type));
+            EXPECT_EQ(result.differing, 0u) << toString(type) << " frame " << frame;
+            EXPECT_GT(result.activeRays, 0u);
+            for (size_t i = 0; i < pure.size(); ++i) hits += pure[i].hit();
+            compared += pure.size();
+        }
+        EXPECT_EQ(stats.cappedRays, 0u);
+    }
+    EXPECT_GT(hits, compared / 4);
+    const outofcore::GpuCacheStats& c = tracer.cache().stats();
+    EXPECT_GT(c.evictions, 0u);
+    EXPECT_GT(c.misses, c.slots);
+    EXPECT_LE(c.residentBytes, c.allocatedBytes);
+    EXPECT_LE(c.allocatedBytes, options.gpuCacheBytes);
+    const outofcore::OutOfCoreStats s = tracer.snapshot();
+    EXPECT_GT(s.queries, 0u);
+    EXPECT_EQ(s.uploadedBvhBytes + s.uploadedGeometryBytes, c.uploadedNodeBytes + c.uploadedTriangleBytes);
+}
+
+TEST_F(OutOfCoreTracerTest, HitsEqualInCorePureBvhWithLruEvictions) { runExactness(outofcore::CachePolicy::Lru); }
+
+TEST_F(OutOfCoreTracerTest, HitsEqualInCorePureBvhWithRoundRobinEvictions) {
+    runExactness(outofcore::CachePolicy::RoundRobin);
+}
+
+TEST_F(OutOfCoreTracerTest, BudgetBelowOneSubtreeIsAnInputError) {
+    test::ScratchDir dir;
+    const auto file = dir.file("city.chs");
+    test::prepareSmall("city:20k", file, 1000);
+    outofcore::OutOfCoreOptions options;
+    options.gpuCacheBytes = 1024;
+    EXPECT_THROW(outofcore::OutOfCoreTracer(file, options, ChcrtOptions{}), InputError);
+}
+
+std::vector<glm::vec4> readRgba32f(GLuint texture, int width, int height) {
+    std::vector<glm::vec4> texels(size_t(width) * height);
+    glGetTextureImage(texture, 0, GL_RGBA, GL_FLOAT, GLsizei(texels.size() * sizeof(glm::vec4)), texels.data());
+    return texels;
+}
+std::vector<uint32_t> readR32ui(GLuint texture, int width, int height) {
+    std::vector<uint32_t> texels(size_t(width) * height);
+    glGetTextureImage(texture, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, GLsizei(texels.size() * 4), texels.data());
+    return texels;
+}
+
+// Primary visibility without per-triangle buffers (PrimaryResolve): the G-buffer resolved from out-of-core
+// primary hits through the recorded subtrees equals the in-core traced G-buffer (same triangles and positions,
+// normals and albedo up to float rounding), with a cache far smaller than the scene.
+TEST_F(OutOfCoreTracerTest, PrimaryResolveMatchesTheInCoreTracedGBuffer) {
+    test::ScratchDir dir;
+    const auto file = dir.file("city.chs");
+    test::prepareSmall("city:60k", file, 1000);
+    const outofcore::LoadedPreparedScene loaded = outofcore::loadPreparedScene(file);
+    RenderSettings settings;
+    settings.width = 80;
+    settings.height = 60;
+    settings.primaryVisibility = PrimaryVisibility::Traced;
+    Renderer renderer(loaded.scene, loaded.bvh, loaded.light, settings);
+    outofcore::OutOfCoreOptions options;
+    options.hostCacheBytes = 1ull << 20;
+    {
+        const outofcore::ChsFile chs(file);
+        options.gpuCacheBytes = sceneGpuBytes(chs) / 15;
+    }
+    outofcore::OutOfCoreTracer tracer(file, options, ChcrtOptions{});
+    outofcore::PrimaryResolve resolve(tracer);
+    const float nearPlane = nearPlaneFor(loaded.scene.bounds());
+    ProceduralSpec spec;
+    ASSERT_TRUE(parseProceduralSpec(loaded.source, spec));
+    const CameraPath path = proceduralNearPath(spec);
+    const FrameTargets& t = renderer.targets();
+    const int w = settings.width, h = settings.height;
+    uint64_t hitPixels = 0;
+    for (int frame = 0; frame < 3; ++frame) {
+        const Camera camera = path.cameraAtFrame(frame);
+        FrameStats stats;
+        renderer.useTracer(nullptr);
+        renderer.renderGBuffer(camera, stats); // in core: pure BVH primary hits, id-indexed resolve
+        const auto position = readRgba32f(t.gbufferPosition.id(), w, h);
+        const auto normal = readRgba32f(t.gbufferNormal.id(), w, h);
+        const auto albedo = readRgba32f(t.gbufferAlbedo.id(), w, h);
+        const auto triangle = readR32ui(t.gbufferTriangle.id(), w, h);
+
+        renderer.generateRayPass(camera, RayType::Primary, 0, stats);
+        renderer.useTracer(&tracer);
+        renderer.traceRayPass(camera, RayType::Primary, 0, stats);
+        renderer.useTracer(nullptr);
+        resolve.resolve(camera, t, nearPlane);
+        EXPECT_EQ(resolve.lastStats().unresolvedPixels, 0u);
+        const auto position2 = readRgba32f(t.gbufferPosition.id(), w, h);
+        const auto normal2 = readRgba32f(t.gbufferNormal.id(), w, h);
+        const auto albedo2 = readRgba32f(t.gbufferAlbedo.id(), w, h);
+        const auto triangle2 = readR32ui(t.gbufferTriangle.id(), w, h);
+        for (size_t p = 0; p < triangle.size(); ++p) {
+            ASSERT_EQ(triangle2[p], triangle[p]) << "frame " << frame << " pixel " << p;
+            ASSERT_EQ(position2[p], position[p]) << "frame " << frame << " pixel " << p;
+            ASSERT_NEAR(normal2[p].w, normal[p].w, 1e-4f * std::abs(normal[p].w) + 1e-6f);
+            ASSERT_LT(glm::length(glm::vec3(normal2[p]) - glm::vec3(normal[p])), 1e-3f) << "frame " << frame << " pixel " << p;
+            ASSERT_LT(glm::length(albedo2[p] - albedo[p]), 1.5f / 255.0f) << "frame " << frame << " pixel " << p;
+            hitPixels += triangle[p] != CHCRT_NO_HIT_ID;
+        }
+    }
+    EXPECT_GT(hitPixels, uint64_t(w) * h);
+    EXPECT_GT(tracer.cache().stats().evictions, 0u);
+}
+
+// A renderer WITHOUT the scene (geometry-free proxy) and out-of-core primary visibility
+// (Renderer::setOutOfCorePrimary): its shadow rays are bit for bit those of the in-core traced G-buffer (same
+// positions and geometric normals), so their hits equal in-core pure BVH tracing exactly; AO rays depend on
+// the interpolated normals (equal up to float rounding), so almost all AO answers agree.
+TEST_F(OutOfCoreTracerTest, ProxyRendererWithOutOfCorePrimaryTracesTheInCoreSecondaryRays) {
+    test::ScratchDir dir;
+    const auto file = dir.file("city.chs");
+    test::prepareSmall("city:60k", file, 1000);
+    const outofcore::LoadedPreparedScene loaded = outofcore::loadPreparedScene(file);
+    const outofcore::LoadedPreparedScene proxy = outofcore::loadPreparedSceneProxy(file);
+    ASSERT_EQ(proxy.scene.triangles.size(), 1u);
+    ASSERT_EQ(proxy.scene.bounds().lower, loaded.scene.bounds().lower);
+    ASSERT_EQ(proxy.scene.bounds().upper, loaded.scene.bounds().upper);
+    RenderSettings settings;
+    settings.width = 80;
+    settings.height = 60;
+    settings.primaryVisibility = PrimaryVisibility::Traced;
+    Renderer inCore(loaded.scene, loaded.bvh, loaded.light, settings);
+    Renderer outOfCore(proxy.scene, proxy.bvh, proxy.light, settings);
+    outofcore::OutOfCoreOptions options;
+    {
+        const outofcore::ChsFile chs(file);
+        options.gpuCacheBytes = sceneGpuBytes(chs) / 15;
+    }
+    outofcore::OutOfCoreTracer tracer(file, options, ChcrtOptions{});
+    outofcore::PrimaryResolve* resolve = &tracer.primaryResolve();
+    outOfCore.setOutOfCorePrimary([resolve](const Camera& camera, const FrameTargets& targets, float nearPlane) {
+        resolve->resolve(camera, targets, nearPlane);
+        return resolve->geometricNormalTexture();
+    });
+    outOfCore.useTracer(&tracer);
+    ProceduralSpec spec;
+    ASSERT_TRUE(parseProceduralSpec(loaded.source, spec));
+    const CameraPath path = proceduralNearPath(spec);
+    uint64_t aoRays = 0, aoDiffering = 0, shadowRays = 0;
+    for (int frame = 0; frame < 3; ++frame) {
+        const Camera camera = path.cameraAtFrame(frame);
+        FrameStats stats;
+        inCore.renderGBuffer(camera, stats);
+        outOfCore.renderGBuffer(camera, stats);
+        EXPECT_EQ(resolve->lastStats().unresolvedPixels, 0u);
+        for (RayType type : {RayType::Shadow, RayType::Ao}) {
+            inCore.generateRayPass(camera, type, 0, stats);
+            inCore.traceRayPass(camera, type, 0, stats);
+            const std::vector<Ray> raysIn = inCore.readRays(0);
+            const std::vector<Hit> hitsIn = inCore.readHits(0);
+            outOfCore.generateRayPass(camera, type, 0, stats);
+            outOfCore.traceRayPass(camera, type, 0, stats);
+            const std::vector<Ray> raysOut = outOfCore.readRays(0);
+            const HitComparison result = compareHitsExactly(raysIn, outOfCore.readHits(0), hitsIn, true);
+            if (type == RayType::Shadow) {
+                for (size_t p = 0; p < raysIn.size(); ++p) {
+                    ASSERT_EQ(raysOut[p].origin, raysIn[p].origin) << "pixel " << p;
+                    ASSERT_EQ(raysOut[p].direction, raysIn[p].direction) << "pixel " << p;
+                }
+                EXPECT_EQ(result.differing, 0u) << "frame " << frame;
+                shadowRays += result.activeRays;
+            } else {
+                aoRays += result.activeRays;
+                aoDiffering += result.differing;
+            }
+        }
+        EXPECT_EQ(stats.cappedRays, 0u);
+    }
+    EXPECT_GT(shadowRays, 1000u);
+    EXPECT_GT(aoRays, 1000u);
+    EXPECT_LE(aoDiffering, aoRays / 100);
+    EXPECT_GT(tracer.cache().stats().evictions, 0u);
+}
+
+} // namespace
+} // namespace chcrt
