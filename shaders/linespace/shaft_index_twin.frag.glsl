@@ -2,9 +2,10 @@
 // Twin test of shaders/shared/linespace_layout.h (tests/linespace/shaft_index_twin_test.cpp): evaluates the
 // GLSL build of the shaft index (CALCPATCH/CALCSHAFT) and the sparse lookup (Algorithm 2) for one case per
 // pixel; the test compares with the C++ build of the same text.
-// Host defines: none. Per case, 5 RGBA32F texels: origin, direction, boxMin, boxMax, and
+// Host defines: CHCRT_LS_TWIN_FAST (shafts from linespace/shaft_index_fast.glsl instead). Per case, 5 RGBA32F texels: origin, direction, boxMin, boxMax, and
 // (n, bitset word, word offset, shaft) as uint bit patterns.
 #include "shared/linespace_layout.h"
+#include "linespace/shaft_index_fast.glsl"
 
 layout(binding = 0) uniform samplerBuffer cases;
 uniform int width;
@@ -27,7 +28,13 @@ void main() {
     uint n = extra.x;
     vec3 invDir = safeInverseDirection(direction);
     outPatches = lsEntryExitPatches(origin, direction, invDir, boxMin, boxMax, n);
+#ifdef CHCRT_LS_TWIN_FAST
+    // The traversal's variant (linespace/shaft_index_fast.glsl) must give the same shafts.
+    outShafts = uvec4(lsShaftIndexFast(origin, direction, invDir, boxMin, boxMax, n, false),
+                      lsShaftIndexFast(origin, direction, invDir, boxMin, boxMax, n, true),
+#else
     outShafts = uvec4(lsShaftIndex(origin, direction, invDir, boxMin, boxMax, n, false),
                       lsShaftIndex(origin, direction, invDir, boxMin, boxMax, n, true),
+#endif
                       lsSparseSlot(extra.y, extra.z, extra.w), 0u);
 }

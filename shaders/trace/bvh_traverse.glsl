@@ -4,6 +4,9 @@
 // (layout: shared/bvh_layout.h). The C++ twin is renderer/bvh/cpu_tracer.cpp.
 //
 // Host defines: TRACE_ANY_HIT (1: return the first hit in [tmin, tmax], for shadow and AO rays).
+// CHCRT_LS_MODE (default 0 = off): a nonzero mode replaces traverseBvh by the Line Space traversal of
+// linespace/linespace_traverse.glsl (exact empty-space skipping, shadow termination, representative candidates;
+// defines and bindings from linespace/linespace_gpu.h). Off, this file is the pure tracer, unchanged.
 //
 // Determinism: a hit is accepted when tmin <= t <= best t, and on equal t the lower original triangle id
 // wins; nodes are pruned only when their entry distance is beyond pruneLimit(best t) (shared/intersect.h), so a
@@ -63,6 +66,9 @@ bool intersectLeaf(uint first, uint count, vec3 origin, vec3 direction, float tm
     return false;
 }
 
+#if defined(CHCRT_LS_MODE) && CHCRT_LS_MODE != 0
+#include "linespace/linespace_traverse.glsl"
+#else
 // Traverses the subtree rooted at `root` (its box is tested first). `best` carries the closest hit so far
 // (initialise with makeMiss(tmax)), so several subtrees can be traced one after another into one result.
 void traverseBvh(uint root, vec3 origin, vec3 direction, float tmin, inout TraceHit best, inout TraceCost cost) {
@@ -134,3 +140,4 @@ void traverseBvh(uint root, vec3 origin, vec3 direction, float tmin, inout Trace
         }
     }
 }
+#endif

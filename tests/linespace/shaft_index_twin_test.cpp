@@ -81,7 +81,7 @@ std::vector<glm::uvec4> readTextureRgba32ui(GLuint texture, int width, int heigh
     return texels;
 }
 
-TEST_F(GlTest, ShaftIndexGlslMatchesCppTwin) {
+void checkShaftIndexTwin(const std::vector<ShaderDefine>& defines) {
     const std::vector<Case> cases = makeCases();
     std::vector<glm::vec4> texels;
     for (const Case& c : cases) {
@@ -97,7 +97,8 @@ TEST_F(GlTest, ShaftIndexGlslMatchesCppTwin) {
     const GLuint targets[2] = {patchesOut.id(), shaftsOut.id()};
     GlFramebuffer framebuffer = createFramebuffer(targets, 2);
     ShaderProgram program({{GL_VERTEX_SHADER, "common/fullscreen.vert.glsl"},
-                           {GL_FRAGMENT_SHADER, "linespace/shaft_index_twin.frag.glsl"}});
+                           {GL_FRAGMENT_SHADER, "linespace/shaft_index_twin.frag.glsl"}},
+                          defines);
     program.set("width", kWidth);
     program.set("caseCount", kCases);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer.id());
@@ -140,6 +141,11 @@ TEST_F(GlTest, ShaftIndexGlslMatchesCppTwin) {
     EXPECT_GT(slotsFilled, kCases / 8);
     EXPECT_EQ(mismatches, 0);
 }
+
+TEST_F(GlTest, ShaftIndexGlslMatchesCppTwin) { checkShaftIndexTwin({}); }
+
+// The traversal's shaft index (linespace/shaft_index_fast.glsl) is the same function, bit for bit.
+TEST_F(GlTest, FastShaftIndexGlslMatchesCppTwin) { checkShaftIndexTwin({{"CHCRT_LS_TWIN_FAST", ""}}); }
 
 // The texture-buffer lookups of shaders/linespace/linespace_lookup.glsl against the C++ pools of a built set.
 TEST_F(GlTest, LineSpaceLookupGlslMatchesCpp) {

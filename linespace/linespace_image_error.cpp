@@ -1,0 +1,54 @@
+#include "linespace/linespace_image_error.h"
+
+#include "renderer/core/image_io.h"
+
+#include <cmath>
+#include <limits>
+
+namespace chcrt::ls {
+namespace {
+
+// compareImages reports PSNR with peak 1; back to MSE so frames can be averaged before taking the log.
+double mseFromPsnr(double psnrDb) { return std::isinf(psnrDb) ? 0.0 : std::pow(10.0, -psnrDb / 10.0); }
+double psnrFromMse(double mse) {
+    return mse > 0.0 ? -10.0 * std::log10(mse) : std::numeric_limits<double>::infinity();
+}
+
+} // namespace
+
+ImageError measureImageError(Renderer& renderer, Tracer& method, const CameraPath& path, const std::vector<int>& frames) {
+    ImageError e;
+    double finalMse = 0.0, indirectMse = 0.0;
+    uint64_t over = 0;
+    for (int frame : frames) {
+        const Camera camera = path.cameraAtFrame(frame);
+        renderer.useTracer(nullptr);
+        renderer.renderFrame(camera);
+        const ImageRgba32f exactFinal = renderer.readDisplayImage();
+        const ImageRgba32f exactIndirect = renderer.readIndirectImage();
+        renderer.useTracer(&method);
+        renderer.renderFrame(camera);
+        const ImageRgba32f approxFinal = renderer.readDisplayImage();
+        const ImageRgba32f approxIndirect = renderer.readIndirectImage();
+        renderer.useTracer(nullptr);
+        const ImageDifference f = compareImages(exactFinal, approxFinal, 2.0f / 255.0f);
+        const ImageDifference i = compareImages(exactIndirect, approxIndirect);
+        e.finalMae += f.meanAbsoluteError;
+        finalMse += mseFromPsnr(f.psnrDb);
+        over += f.differingPixels;
+        e.indirectMae += i.meanAbsoluteError;
+        indirectMse += mseFromPsnr(i.psnrDb);
+        e.pixels += uint64_t(exactFinal.width) * uint64_t(exactFinal.height);
+        ++e.frames;
+    }
+    if (e.frames > 0) {
+        e.finalMae /= e.frames;
+        e.indirectMae /= e.frames;
+        e.finalPsnrDb = psnrFromMse(finalMse / e.frames);
+        e.indirectPsnrDb = psnrFromMse(indirectMse / e.frames);
+        e.finalOver2Of255 = e.pixels > 0 ? double(over) / double(e.pixels) : 0.0;
+    }
+    return e;
+}
+
+} // namespace chcrt::ls

@@ -1,0 +1,27 @@
+#pragma once
+// Image error of an approximate tracing method against exact (pure BVH) tracing, as the Line Space issue asks:
+// mean absolute error and PSNR of the final shaded image and of the indirect-only image, and the fraction of
+// pixels whose final value differs by more than 2/255. Frames are rendered whole with Renderer::renderFrame
+// (G-buffer, every effect of the renderer's settings, composition) once per tracer and compared.
+#include "renderer/render/renderer.h"
+#include "renderer/scene/camera_path.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace chcrt::ls {
+
+struct ImageError {
+    int frames = 0;
+    uint64_t pixels = 0;
+    double finalMae = 0.0;          // display image (tone-mapped, linear [0, 1]), RGB, mean over frames
+    double finalPsnrDb = 0.0;       // from the mean MSE over frames; +inf when identical
+    double finalOver2Of255 = 0.0;   // fraction of pixels with a channel differing by > 2/255
+    double indirectMae = 0.0;       // indirect-only image (linear HDR, clamped to [0, 1]); 0 without diffuse
+    double indirectPsnrDb = 0.0;
+};
+
+// Renders each frame with pure BVH tracing and with `method` and compares. Leaves pure BVH tracing active.
+ImageError measureImageError(Renderer& renderer, Tracer& method, const CameraPath& path, const std::vector<int>& frames);
+
+} // namespace chcrt::ls

@@ -1,0 +1,256 @@
+// Line Space use inside BVH traversal (shaders/trace/bvh_traverse.glsl includes this when CHCRT_LS_MODE is not
+// CHCRT_LS_MODE_OFF). A Line Space node is a BVH node of the cut chosen by depth D and triangle threshold T
+// (linespace/linespace_build.h); traversal asks lsVisitNode() what to do when the ray reaches one.
+//
+// Host defines (linespace/linespace_gpu.h LineSpaceGpu::defines()):
+//   CHCRT_LS_MODE                      CHCRT_LS_MODE_EXACT | _SHADOW | _CANDIDATE (linespace_bindings.h)
+//   CHCRT_LS_N                         patches per face edge, e.g. 6u
+//   CHCRT_LS_BINARY_WORDS_PER_SPACE    lsShaftCount(N, true) / 32 rounded up, e.g. 608u
+//   CHCRT_LS_CANDIDATE_WORDS_PER_SPACE lsShaftCount(N, false) / 32 rounded up (candidate mode)
+//   CHCRT_LS_COS_MAX_ANGLE             cos of the normal-angle threshold (candidate mode), e.g. 0.866
+//   CHCRT_LS_CANDIDATE_START_EXACT     1: the node a candidate ray starts in is traversed exactly (default 0)
+// Needs bvhTriangles and TraceHit from bvh_traverse.glsl (include it from there, after both).
+#include "linespace/linespace_bindings.h"
+#include "shared/linespace_layout.h"
+#include "linespace/shaft_index_fast.glsl"
+
+#ifndef CHCRT_LS_CANDIDATE_START_EXACT
+#define CHCRT_LS_CANDIDATE_START_EXACT 0
+#endif
+
+layout(binding = CHCRT_UNIT_LS_SPACE_OF_NODE) uniform usamplerBuffer lsSpaceOfNode;
+layout(binding = CHCRT_UNIT_LS_BINARY_WORDS) uniform usamplerBuffer lsBinaryWords;
+#if CHCRT_LS_MODE == CHCRT_LS_MODE_CANDIDATE
+layout(binding = CHCRT_UNIT_LS_CANDIDATE_WORDS) uniform usamplerBuffer lsCandidateWords;
+layout(binding = CHCRT_UNIT_LS_CANDIDATE_OFFSETS) uniform usamplerBuffer lsCandidateOffsets;
+layout(binding = CHCRT_UNIT_LS_CANDIDATE_DATA) uniform usamplerBuffer lsCandidateData;
+layout(binding = CHCRT_UNIT_LS_VERTEX_NORMALS) uniform usamplerBuffer lsVertexNormals;
+#endif
+
+// The Line Space of BVH node `node`, or CHCRT_LS_NO_SPACE when the node is not on the cut.
+uint lsSpaceOf(uint node) {
+    return texelFetch(lsSpaceOfNode, int(node)).x;
+}
+
+// Binary bit of the ray's shaft in Line Space `space` (box = the node's bounds). A line that misses the box
+// (impossible after a box hit, kept for safety) counts as filled: skipping must stay conservative.
+bool lsBinaryBit(uint space, vec3 origin, vec3 direction, vec3 invDir, vec3 boxMin, vec3 boxMax) {
+    uint shaft = lsShaftIndexFast(origin, direction, invDir, boxMin, boxMax, CHCRT_LS_N, true);
+    if (shaft == CHCRT_LS_NO_SHAFT) {
+        return true;
+    }
+    uint word = texelFetch(lsBinaryWords, int(space * CHCRT_LS_BINARY_WORDS_PER_SPACE + shaft / 32u)).x;
+    return ((word >> (shaft & 31u)) & 1u) != 0u;
+}
+
+#if CHCRT_LS_MODE == CHCRT_LS_MODE_CANDIDATE
+vec3 lsDecodeNormal(uint encoded) {
+    // Octahedral encoding in two snorm16 (linespace_gpu.cpp encodeOctahedral).
+    vec2 e = unpackSnorm2x16(encoded);
+    vec3 n = vec3(e, 1.0f - abs(e.x) - abs(e.y));
+    if (n.z < 0.0f) {
+        n.xy = (1.0f - abs(n.yx)) * vec2(n.x >= 0.0f ? 1.0f : -1.0f, n.y >= 0.0f ? 1.0f : -1.0f);
+    }
+    return normalize(n);
+}
+
+// RC Algorithm 1 at one Line Space node: the candidate of the ray's (non-symmetric) shaft is intersected as an
+// infinite plane within [max(tmin, tEntry), min(best.t, tExit)]; the hit is discarded when the normal
+// interpolated with the (extrapolated) barycentrics deviates from the triangle's mean normal by more than the
+// threshold angle (§3.1, edge detection). Twin of linespace/candidate_linespace.cpp intersectCandidatePlane.
+bool lsCandidateHit(uint space, vec3 origin, vec3 direction, vec3 invDir, vec3 boxMin, vec3 boxMax, vec2 entryExit,
+                    float tmin, inout TraceHit best) {
+    uint shaft = lsShaftIndexFast(origin, direction, invDir, boxMin, boxMax, CHCRT_LS_N, false);
+    if (shaft == CHCRT_LS_NO_SHAFT) {
+        return false;
+    }
+    int w = int(space * CHCRT_LS_CANDIDATE_WORDS_PER_SPACE + shaft / 32u);
+    uint slot = lsSparseSlot(texelFetch(lsCandidateWords, w).x, texelFetch(lsCandidateOffsets, w).x, shaft);
+    if (slot == CHCRT_LS_EMPTY_SLOT) {
+        return false;
+    }
+    uint triangle = texelFetch(lsCandidateData, int(slot)).x;
+    int texel = int(triangle) * CHCRT_TRI_TEXELS_PER_TRIANGLE;
+    vec4 v0 = texelFetch(bvhTriangles, texel);
+    vec3 v1 = texelFetch(bvhTriangles, texel + 1).xyz;
+    vec3 v2 = texelFetch(bvhTriangles, texel + 2).xyz;
+    vec3 e1 = v1 - v0.xyz;
+    vec3 e2 = v2 - v0.xyz;
+    vec3 p = cross(direction, e2);
+    float det = dotOrdered(e1, p);
+    if (det == 0.0f) {
+        return false;
+    }
+    float invDet = 1.0f / det;
+    vec3 s = origin - v0.xyz;
+    vec3 q = cross(s, e1);
+    float u = dotOrdered(s, p) * invDet;
+    float v = dotOrdered(direction, q) * invDet;
+    float t = dotOrdered(e2, q) * invDet;
+    uint id = floatBitsToUint(v0.w);
+    if (!(t >= max(tmin, entryExit.x) && t <= min(best.t, entryExit.y)) || (t == best.t && id >= best.triangleId)) {
+        return false;
+    }
+    uvec4 normals = texelFetch(lsVertexNormals, int(triangle));
+    vec3 interpolated = (1.0f - u - v) * lsDecodeNormal(normals.x) + u * lsDecodeNormal(normals.y) +
+                        v * lsDecodeNormal(normals.z);
+    vec3 mean = lsDecodeNormal(normals.w);
+    float len = length(interpolated);
+    if (!(len > 0.0f) || dot(interpolated, mean) < CHCRT_LS_COS_MAX_ANGLE * len) {
+        return false;
+    }
+    best.t = t;
+    best.triangleId = id;
+    best.barycentrics = vec2(u, v);
+    return true;
+}
+#endif
+
+// What the traversal does at Line Space node `space` (bounds boxMin/boxMax, `isLeaf`, entry/exit of the ray's
+// line in entryExit) that the ray [tmin, best.t] hits. Returns true when the node must be traversed exactly;
+// sets `stop` when the ray is finished (shadow termination, or an any-hit candidate).
+bool lsVisitNode(uint space, vec3 boxMin, vec3 boxMax, bool isLeaf, vec2 entryExit, vec3 origin, vec3 direction,
+                 vec3 invDir, float tmin, inout TraceHit best, inout bool stop) {
+#if CHCRT_LS_MODE == CHCRT_LS_MODE_EXACT
+    // The ray lies in the shaft of its line; an empty shaft holds no geometry of the subtree (conservative
+    // build), so skipping is exact, also for rays starting inside the node.
+    return lsBinaryBit(space, origin, direction, invDir, boxMin, boxMax);
+#elif CHCRT_LS_MODE == CHCRT_LS_MODE_SHADOW
+    if (!lsBinaryBit(space, origin, direction, invDir, boxMin, boxMax)) {
+        return false; // empty: exact skip
+    }
+    // SS §4.1: the shaft of the node the ray starts in says nothing about the ray (its geometry may lie behind
+    // the origin): traverse that node exactly. Leaves (< T triangles) are cheaper to test than to guess.
+    if (entryExit.x <= tmin || isLeaf) {
+        return true;
+    }
+    best.t = max(entryExit.x, tmin);
+    best.triangleId = CHCRT_LS_OCCLUDED_ID;
+    best.barycentrics = vec2(0.0f);
+    stop = true;
+    return false;
+#else // CHCRT_LS_MODE_CANDIDATE
+    // RC §3.2: Line Space nodes act as leaves for indirect rays, also the one the ray starts in (its own surface
+    // is excluded by tmin and the plane's t). CHCRT_LS_CANDIDATE_START_EXACT = 1 traverses that node exactly
+    // instead (SS §4.1 applied to candidates: fewer self-occlusion errors, slower). Small leaves (< T triangles)
+    // are cheaper to test exactly than to approximate.
+#if CHCRT_LS_CANDIDATE_START_EXACT
+    if (entryExit.x <= tmin) {
+        return true;
+    }
+#endif
+    if (isLeaf) {
+        return true;
+    }
+    if (lsCandidateHit(space, origin, direction, invDir, boxMin, boxMax, entryExit, tmin, best)) {
+#if TRACE_ANY_HIT
+        stop = true;
+#endif
+    }
+    return false;
+#endif
+}
+
+// Stack entries of nodes below the Line Space cut carry this bit (node indices stay below 2^31).
+#define CHCRT_LS_BELOW_CUT_BIT 0x80000000u
+
+// traverseBvh of shaders/trace/bvh_traverse.glsl with Line Space nodes. The while-while structure of the pure
+// tracer is kept, and a Line Space node ends the inner (descending) loop like a leaf does: its shaft is handled
+// in one place after the loop, where the rays of a SIMD group that reached such nodes do it together (Aila and
+// Laine's reason for the while-while loop; handling both children in the inner loop measured 1.7x slower for
+// primary rays, docs/benchmarks.md). Same determinism rules as the pure tracer: nodes are pruned only beyond
+// pruneLimit(best t), ties go to the lower original id. Above the cut, each node entered fetches its space.
+void traverseBvh(uint root, vec3 origin, vec3 direction, float tmin, inout TraceHit best, inout TraceCost cost) {
+    vec3 invDir = safeInverseDirection(direction);
+    vec4 root0 = texelFetch(bvhNodes, int(root) * CHCRT_BVH_TEXELS_PER_NODE);
+    vec4 root1 = texelFetch(bvhNodes, int(root) * CHCRT_BVH_TEXELS_PER_NODE + 1);
+    if (!rayHitsAabb(intersectRayAabb(origin, invDir, root0.xyz, root1.xyz), tmin, pruneLimit(best.t))) {
+        return;
+    }
+    uint nodeFirst = floatBitsToUint(root0.w);
+    uint nodeCount = floatBitsToUint(root1.w);
+    uint currentNode = root;
+    uint currentSpace = lsSpaceOf(root);
+    bool aboveCut = currentSpace == CHCRT_LS_NO_SPACE;
+    uint stackNode[CHCRT_MAX_BVH_DEPTH];
+    float stackEntry[CHCRT_MAX_BVH_DEPTH];
+    int stackSize = 0;
+    bool traversing = true;
+
+    while (traversing && cost.iterations < CHCRT_TRACE_ITERATION_CAP) {
+        // Inner loop: descend until a leaf or a Line Space node is reached or nothing is left.
+        while (nodeCount == 0u && currentSpace == CHCRT_LS_NO_SPACE && cost.iterations < CHCRT_TRACE_ITERATION_CAP) {
+            ++cost.iterations;
+            ++cost.innerNodes;
+            int texel = int(nodeFirst) * CHCRT_BVH_TEXELS_PER_NODE;
+            vec4 a0 = texelFetch(bvhNodes, texel);
+            vec4 a1 = texelFetch(bvhNodes, texel + 1);
+            vec4 b0 = texelFetch(bvhNodes, texel + 2);
+            vec4 b1 = texelFetch(bvhNodes, texel + 3);
+            vec2 entryExitA = intersectRayAabb(origin, invDir, a0.xyz, a1.xyz);
+            vec2 entryExitB = intersectRayAabb(origin, invDir, b0.xyz, b1.xyz);
+            float limit = pruneLimit(best.t);
+            bool hitA = rayHitsAabb(entryExitA, tmin, limit);
+            bool hitB = rayHitsAabb(entryExitB, tmin, limit);
+            if (hitA && hitB) {
+                bool aFirst = entryExitA.x <= entryExitB.x;
+                stackNode[stackSize] = (aFirst ? nodeFirst + 1u : nodeFirst) | (aboveCut ? 0u : CHCRT_LS_BELOW_CUT_BIT);
+                stackEntry[stackSize] = aFirst ? entryExitB.x : entryExitA.x;
+                ++stackSize;
+                currentNode = aFirst ? nodeFirst : nodeFirst + 1u;
+                nodeFirst = floatBitsToUint(aFirst ? a0.w : b0.w);
+                nodeCount = floatBitsToUint(aFirst ? a1.w : b1.w);
+            } else if (hitA || hitB) {
+                currentNode = hitA ? nodeFirst : nodeFirst + 1u;
+                nodeFirst = floatBitsToUint(hitA ? a0.w : b0.w);
+                nodeCount = floatBitsToUint(hitA ? a1.w : b1.w);
+            } else {
+                traversing = false;
+                break;
+            }
+            if (aboveCut) {
+                currentSpace = lsSpaceOf(currentNode);
+            }
+        }
+        if (traversing && currentSpace != CHCRT_LS_NO_SPACE) {
+            // A Line Space node (RC §3.2, SS §4.1): skip it, end the ray, or traverse it exactly below the cut.
+            int texel = int(currentNode) * CHCRT_BVH_TEXELS_PER_NODE;
+            vec3 boxMin = texelFetch(bvhNodes, texel).xyz;
+            vec3 boxMax = texelFetch(bvhNodes, texel + 1).xyz;
+            bool stop = false;
+            bool descend = lsVisitNode(currentSpace, boxMin, boxMax, nodeCount != 0u,
+                                       intersectRayAabb(origin, invDir, boxMin, boxMax), origin, direction, invDir,
+                                       tmin, best, stop);
+            if (stop) {
+                return;
+            }
+            currentSpace = CHCRT_LS_NO_SPACE;
+            if (descend) {
+                aboveCut = false;
+                continue; // back into the inner loop with this node's children (or to its leaf)
+            }
+            nodeCount = 0u; // nothing to test here: pop
+        } else if (traversing && nodeCount != 0u) {
+            ++cost.leaves;
+            if (intersectLeaf(nodeFirst, nodeCount, origin, direction, tmin, best, cost)) {
+                return;
+            }
+        }
+        // Pop the next node whose entry is not beyond the closest hit found so far.
+        traversing = false;
+        while (stackSize > 0 && cost.iterations < CHCRT_TRACE_ITERATION_CAP) {
+            ++cost.iterations;
+            --stackSize;
+            if (stackEntry[stackSize] <= pruneLimit(best.t)) {
+                currentNode = stackNode[stackSize] & ~CHCRT_LS_BELOW_CUT_BIT;
+                aboveCut = (stackNode[stackSize] & CHCRT_LS_BELOW_CUT_BIT) == 0u;
+                int popped = int(currentNode) * CHCRT_BVH_TEXELS_PER_NODE;
+                nodeFirst = floatBitsToUint(texelFetch(bvhNodes, popped).w);
+                nodeCount = floatBitsToUint(texelFetch(bvhNodes, popped + 1).w);
+                currentSpace = aboveCut ? lsSpaceOf(currentNode) : CHCRT_LS_NO_SPACE;
+                traversing = true;
+                break;
+            }
+        }
+    }
+}

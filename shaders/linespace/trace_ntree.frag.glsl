@@ -1,0 +1,34 @@
+#version 450 core
+// Shadow rays over the N-tree with binary Line Spaces (method `ntree+ls`, SS Algorithm 1): one full-screen
+// fragment pass, the output layout of trace/trace_bvh.frag.glsl. Only any-hit rays come here; the other ray
+// types of the method use the pure BVH pass. Host defines: those of linespace/ntree_traverse.glsl.
+#include "shared/render_layout.h"
+#define TRACE_ANY_HIT 1
+#include "trace/bvh_traverse.glsl"
+#include "linespace/ntree_traverse.glsl"
+
+layout(binding = CHCRT_UNIT_RAY_ORIGIN) uniform sampler2D rayOrigins;
+layout(binding = CHCRT_UNIT_RAY_DIRECTION) uniform sampler2D rayDirections;
+
+layout(binding = CHCRT_ATOMIC_BINDING_CAPPED_RAYS, offset = 0) uniform atomic_uint cappedRays;
+
+layout(location = CHCRT_TRACE_OUT_HIT) out uvec4 outHit;
+layout(location = CHCRT_TRACE_OUT_COST) out uvec4 outCost;
+
+void main() {
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    vec4 originTmin = texelFetch(rayOrigins, pixel, 0);
+    vec4 directionTmax = texelFetch(rayDirections, pixel, 0);
+    TraceHit best = makeMiss(directionTmax.w);
+    TraceCost cost = TraceCost(0u, 0u, 0u, 0u);
+    if (directionTmax.w > originTmin.w) {
+        ntreeOccluded(originTmin.xyz, directionTmax.xyz, originTmin.w, directionTmax.w, best, cost);
+    }
+    bool capped = cost.iterations >= CHCRT_TRACE_ITERATION_CAP;
+    if (capped) {
+        atomicCounterIncrement(cappedRays);
+    }
+    float t = best.triangleId == CHCRT_NO_HIT_ID ? CHCRT_NO_HIT_T : best.t;
+    outHit = uvec4(floatBitsToUint(t), best.triangleId, floatBitsToUint(best.barycentrics));
+    outCost = uvec4(cost.innerNodes, cost.leaves, cost.triangles, capped ? 1u : 0u);
+}
