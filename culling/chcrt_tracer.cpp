@@ -1,12 +1,17 @@
 #include "culling/chcrt_tracer.h"
 
+#include "culling/bvh_subtree_source.h"
 #include "renderer/core/error.h"
+#include "renderer/render/bvh_tracer.h"
 #include "shaders/culling/culling_layout.h"
 #include "shaders/shared/render_layout.h"
 
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
+#include <cstring>
+#include <tuple>
 
 namespace chcrt {
 namespace {
@@ -38,13 +43,71 @@ void validate(const ChcrtOptions& o) {
     if (o.flushThreshold < 0) throw InputError("chcrt: flush threshold must not be negative");
     if (o.requeryInterval < 1 || o.requeryInterval > 255) throw InputError("chcrt: re-query interval must be in [1, 255]");
     if (!(o.pairs.tq > 0.0f)) throw InputError("chcrt: t_q must be positive");
+    if (o.multiQueryPairs > CHCRT_CULLING_MAX_QUERY_BOXES / 2) {
+        throw InputError("chcrt: at most " + std::to_string(CHCRT_CULLING_MAX_QUERY_BOXES / 2) + " pairs per multi-query");
+    }
+    if (o.adaptiveProbeInterval < 1) throw InputError("chcrt: adaptive probe interval must be at least 1");
+}
+
+GLuint floatBitsOf(float value) {
+    GLuint bits;
+    std::memcpy(&bits, &value, sizeof(bits));
+    return bits;
+}
+
+const char* debugDefine(ChcrtDebugImage kind) {
+    switch (kind) {
+    case ChcrtDebugImage::Overdraw: return "CHCRT_CULLING_DEBUG_OVERDRAW";
+    case ChcrtDebugImage::Subtrees: return "CHCRT_CULLING_DEBUG_SUBTREES";
+    case ChcrtDebugImage::Batches: return "CHCRT_CULLING_DEBUG_BATCHES";
+    default: return "CHCRT_CULLING_DEBUG_NONE";
+    }
 }
 
 } // namespace
 
+ChcrtDebugImage parseChcrtDebugImage(const std::string& name) {
+    if (name == "overdraw") return ChcrtDebugImage::Overdraw;
+    if (name == "subtrees") return ChcrtDebugImage::Subtrees;
+    if (name == "batches") return ChcrtDebugImage::Batches;
+    throw InputError("unknown debug image '" + name + "' (available: overdraw, subtrees, batches)");
+}
+
+std::vector<float> colorizeChcrtDebugImage(ChcrtDebugImage kind, const std::vector<uint32_t>& values, int width,
+                                           int height) {
+    std::vector<float> rgb(size_t(width) * height * 3, 0.0f);
+    uint32_t maxValue = 0;
+    for (uint32_t v : values) maxValue = std::max(maxValue, v);
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            const uint32_t v = values[size_t(height - 1 - y) * width + x]; // GL rows are bottom to top
+            float* out = &rgb[(size_t(y) * width + x) * 3];
+            if (v == 0) continue;
+            if (kind == ChcrtDebugImage::Subtrees) {
+                uint32_t h = v * 0x9E3779B1u;
+                h ^= h >> 15;
+                h *= 0x85EBCA77u;
+                h ^= h >> 13;
+                for (int c = 0; c < 3; ++c) out[c] = 0.25f + 0.75f * float((h >> (8 * c)) & 255u) / 255.0f;
+            } else {
+                // Heat ramp: blue -> green -> yellow -> red as the count approaches the image's maximum.
+                const float s = float(v) / float(std::max(maxValue, 1u));
+                out[0] = std::clamp(2.0f * s - 0.5f, 0.0f, 1.0f);
+                out[1] = std::clamp(2.0f * s, 0.0f, 1.0f) * (s < 0.75f ? 1.0f : 4.0f * (1.0f - s));
+                out[2] = std::clamp(1.0f - 2.0f * s, 0.0f, 1.0f);
+            }
+        }
+    }
+    return rgb;
+}
+
 ChcrtStats& ChcrtStats::operator+=(const ChcrtStats& o) {
     traces += o.traces;
+    fallbackTraces += o.fallbackTraces;
     queries += o.queries;
+    queriesSingle += o.queriesSingle;
+    queriesMulti += o.queriesMulti;
+    queriesMultiFailed += o.queriesMultiFailed;
     queriesInvisible += o.queriesInvisible;
     queriesLazy += o.queriesLazy;
     queriesTraversal += o.queriesTraversal;
@@ -54,33 +117,96 @@ ChcrtStats& ChcrtStats::operator+=(const ChcrtStats& o) {
     pairsPulledUp += o.pairsPulledUp;
     subtreesScheduled += o.subtreesScheduled;
     shaderCalls += o.shaderCalls;
+    barriers += o.barriers;
+    residencyRounds += o.residencyRounds;
+    raysTraced += o.raysTraced;
     phase1Ms += o.phase1Ms;
     phase2Ms += o.phase2Ms;
     phase3Ms += o.phase3Ms;
-    barriers += o.barriers;
+    fallbackMs += o.fallbackMs;
     return *this;
 }
 
 ChcrtTracer::ChcrtTracer(const Bvh& bvh, const ChcrtOptions& options, std::string name)
-    : name_(std::move(name)), options_((validate(options), options)), partition_(bvh, options.partition) {
-    boxMin_.resize(bvh.nodes.size());
-    boxMax_.resize(bvh.nodes.size());
-    for (size_t i = 0; i < bvh.nodes.size(); ++i) {
-        boxMin_[i] = bvh.nodes[i].boundsMin;
-        boxMax_[i] = bvh.nodes[i].boundsMax;
+    : name_(std::move(name)), options_((validate(options), options)),
+      hierarchy_(buildCullingHierarchy(bvh, options.partition)) {
+    ownedSource_ = std::make_unique<BvhSubtreeSource>(hierarchy_);
+    source_ = ownedSource_.get();
+    if (options_.adaptive) {
+        ownedFullTracer_ = std::make_unique<BvhTracer>();
+        fullTracer_ = ownedFullTracer_.get();
     }
-    initProgram_ = makeProgram("culling/chcrt_init.frag.glsl", false);
+    compilePrograms();
+}
+
+ChcrtTracer::ChcrtTracer(CullingHierarchy hierarchy, SubtreeSource& source, Tracer* fullTracer,
+                         const ChcrtOptions& options, std::string name)
+    : name_(std::move(name)), options_((validate(options), options)), hierarchy_(std::move(hierarchy)),
+      source_(&source), fullTracer_(fullTracer) {
+    if (hierarchy_.nodes.empty() || hierarchy_.subtrees.empty()) throw InputError("chcrt: empty culling hierarchy");
+    compilePrograms();
+}
+
+void ChcrtTracer::compilePrograms() {
+    // A subtree of height h pushes at most h entries (one per level below its root).
+    const uint32_t stack = std::min<uint32_t>(hierarchy_.maxSubtreeHeight + 1, CHCRT_MAX_BVH_DEPTH);
+    const std::vector<ShaderDefine> subtreeDefines = {{"CHCRT_SUBTREE_STACK", std::to_string(stack)},
+                                                      {"CHCRT_CULLING_LEAF_CACHE", options_.leafCache ? "1" : "0"}};
     for (int anyHit = 0; anyHit < 2; ++anyHit) {
         queryPrograms_[anyHit] = makeProgram("culling/chcrt_query.frag.glsl", anyHit != 0);
-        // A subtree of height h pushes at most h entries (one per level below its root).
-        const uint32_t stack = std::min<uint32_t>(partition_.maxRootHeight() + 1, CHCRT_MAX_BVH_DEPTH);
-        const std::vector<ShaderDefine> defines = {{"CHCRT_SUBTREE_STACK", std::to_string(stack)}};
-        subtreePrograms_[anyHit] = makeProgram("culling/chcrt_subtrees.frag.glsl", anyHit != 0, defines);
+        subtreePrograms_[anyHit] = makeProgram("culling/chcrt_subtrees.frag.glsl", anyHit != 0, subtreeDefines);
+        std::vector<ShaderDefine> singleDefines = subtreeDefines;
+        singleDefines.push_back({"CHCRT_CULLING_SINGLE_SUBTREE", "1"});
+        singleSubtreePrograms_[anyHit] = makeProgram("culling/chcrt_subtrees.frag.glsl", anyHit != 0, singleDefines);
+        if (debugKind_ != ChcrtDebugImage::None) {
+            const ShaderDefine debug{debugDefine(debugKind_), "1"};
+            std::vector<ShaderDefine> debugDefines = subtreeDefines;
+            debugDefines.push_back(debug);
+            debugQueryPrograms_[anyHit] = makeProgram("culling/chcrt_query.frag.glsl", anyHit != 0, {debug});
+            debugSubtreePrograms_[anyHit] = makeProgram("culling/chcrt_subtrees.frag.glsl", anyHit != 0, debugDefines);
+        }
     }
+    debugCompiled_ = debugKind_;
 }
 
 ChcrtTracer::~ChcrtTracer() {
     if (!queryPool_.empty()) glDeleteQueries(GLsizei(queryPool_.size()), queryPool_.data());
+}
+
+void ChcrtTracer::setDebugImage(ChcrtDebugImage kind) {
+    debugKind_ = kind;
+    if (kind != ChcrtDebugImage::None && kind != debugCompiled_) compilePrograms();
+}
+
+void ChcrtTracer::ensureDebugTexture(int width, int height) {
+    if (debugTexture_.id() != 0 && debugWidth_ == width && debugHeight_ == height) return;
+    debugTexture_ = createTexture2D(width, height, GL_R32UI);
+    debugWidth_ = width;
+    debugHeight_ = height;
+    clearDebugImage();
+}
+
+void ChcrtTracer::clearDebugImage() {
+    if (debugTexture_.id() == 0) return;
+    const GLuint zero = 0;
+    glClearTexImage(debugTexture_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+}
+
+std::vector<uint32_t> ChcrtTracer::readDebugImage() const {
+    std::vector<uint32_t> values(size_t(debugWidth_) * debugHeight_, 0u);
+    if (debugTexture_.id() == 0) return values;
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+    glGetTextureImage(debugTexture_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, GLsizei(values.size() * 4),
+                      values.data());
+    return values;
+}
+
+const ShaderProgram& ChcrtTracer::queryProgram(bool anyHit) const {
+    return debugKind_ != ChcrtDebugImage::None ? debugQueryPrograms_[anyHit] : queryPrograms_[anyHit];
+}
+
+const ShaderProgram& ChcrtTracer::subtreeProgram(bool anyHit) const {
+    return debugKind_ != ChcrtDebugImage::None ? debugSubtreePrograms_[anyHit] : subtreePrograms_[anyHit];
 }
 
 VisibilityState& ChcrtTracer::stateFor(const TraceRequest& request, int width, int height) {
@@ -117,36 +243,83 @@ void ChcrtTracer::setMode(Mode mode, bool anyHit) {
         // §4.1: depth(entry) <= depth(nearest t so far) passes; queries never write depth.
         glDepthFunc(GL_LEQUAL);
         glDepthMask(GL_FALSE);
-        queryPrograms_[anyHit].use();
+        queryProgram(anyHit).use();
     } else {
         // Subtree passes write depth(new nearest t), which only decreases.
         glDepthFunc(GL_ALWAYS);
         glDepthMask(GL_TRUE);
-        subtreePrograms_[anyHit].use();
+        subtreeProgram(anyHit).use();
     }
+}
+
+int ChcrtTracer::setQueryBoxes(const ShaderProgram& program, const uint32_t* nodes, int count) const {
+    // §5.1 tighter bounds: the children's boxes are inside the node's box, and traversal enters the node only to
+    // test them, so a ray that can reach a hit under the node passes one of them: still conservative.
+    std::array<glm::vec4, CHCRT_CULLING_MAX_QUERY_BOXES> mins{}, maxs{};
+    int boxes = 0;
+    for (int i = 0; i < count; ++i) {
+        const CullingHierarchy::Node& node = hierarchy_.nodes[nodes[i]];
+        if (options_.tighterBounds) {
+            for (uint32_t c = 0; c < node.tightCount; ++c) {
+                mins[size_t(boxes)] = glm::vec4(node.tightMin[c], 0.0f);
+                maxs[size_t(boxes++)] = glm::vec4(node.tightMax[c], 0.0f);
+            }
+        } else {
+            mins[size_t(boxes)] = glm::vec4(node.boxMin, 0.0f);
+            maxs[size_t(boxes++)] = glm::vec4(node.boxMax, 0.0f);
+        }
+    }
+    program.setArray("boxMin", mins.data(), boxes);
+    program.setArray("boxMax", maxs.data(), boxes);
+    program.set("boxCount", boxes);
+    return boxes;
+}
+
+void ChcrtTracer::beginQueryDraw(const Tile& tile, bool anyHit) {
+    setMode(Mode::Query, anyHit);
+    if (anyHit) readPixelsOf(tile); // any-hit queries read the hit buffer (finished rays never pass)
+    glViewport(tile.x, tile.y, tile.width, tile.height);
 }
 
 void ChcrtTracer::issueQuery(int32_t pairIndex, const VisibilityState& state, bool lazy, bool anyHit) {
     const QueryPair& pair = state.pair(pairIndex);
-    setMode(Mode::Query, anyHit);
-    if (anyHit) readPixelsOf(pair.tile); // any-hit queries read the hit buffer (finished rays never pass)
-    const ShaderProgram& program = queryPrograms_[anyHit];
-    program.set("boxMin", boxMin_[pair.bvhNode]);
-    program.set("boxMax", boxMax_[pair.bvhNode]);
-    glViewport(pair.tile.x, pair.tile.y, pair.tile.width, pair.tile.height);
+    beginQueryDraw(pair.tile, anyHit);
+    const uint32_t node = pair.bvhNode;
+    setQueryBoxes(queryProgram(anyHit), &node, 1);
     const GLuint query = acquireQuery();
     glBeginQuery(GL_SAMPLES_PASSED, query);
     drawFullscreenTriangle();
     glEndQuery(GL_SAMPLES_PASSED);
     queue_.push_back(PendingQuery{pairIndex, query, lazy});
     ++last_.queries;
+    ++last_.queriesSingle;
+}
+
+void ChcrtTracer::issueMultiQuery(const std::vector<int32_t>& pairs, const VisibilityState& state, bool anyHit) {
+    // §5.1 multi-query: one pass over the tile tests the boxes of several previously invisible pairs; a ray
+    // passes when it could hit any of them. No passing ray: all stay invisible in one pass.
+    const Tile tile = state.pair(pairs.front()).tile;
+    beginQueryDraw(tile, anyHit);
+    std::array<uint32_t, CHCRT_CULLING_MAX_QUERY_BOXES> nodes{};
+    for (size_t i = 0; i < pairs.size(); ++i) nodes[i] = state.pair(pairs[i]).bvhNode;
+    setQueryBoxes(queryProgram(anyHit), nodes.data(), int(pairs.size()));
+    const GLuint query = acquireQuery();
+    glBeginQuery(GL_SAMPLES_PASSED, query);
+    drawFullscreenTriangle();
+    glEndQuery(GL_SAMPLES_PASSED);
+    PendingQuery pending{-1, query, false, uint32_t(multiGroups_.size()), uint32_t(pairs.size())};
+    multiGroups_.insert(multiGroups_.end(), pairs.begin(), pairs.end());
+    queue_.push_back(pending);
+    ++last_.queries;
+    ++last_.queriesMulti;
 }
 
 void ChcrtTracer::schedule(const VisibilityState& state, int32_t pairIndex, std::vector<Scheduled>& out) const {
     const QueryPair& pair = state.pair(pairIndex);
-    const glm::vec3 nearest = glm::clamp(eye_, boxMin_[pair.bvhNode], boxMax_[pair.bvhNode]);
+    const CullingHierarchy::Node& node = hierarchy_.nodes[pair.bvhNode];
+    const glm::vec3 nearest = glm::clamp(eye_, node.boxMin, node.boxMax);
     const glm::vec3 d = nearest - eye_;
-    out.push_back(Scheduled{pair.tile, pair.bvhNode, d.x * d.x + d.y * d.y + d.z * d.z});
+    out.push_back(Scheduled{pair.tile, node.subtree, d.x * d.x + d.y * d.y + d.z * d.z, SubtreeSource::kNotResident});
 }
 
 void ChcrtTracer::readPixelsOf(const Tile& tile) {
@@ -174,8 +347,37 @@ void ChcrtTracer::intersect(std::vector<Scheduled>& work, bool anyHit) {
         if (a.tile.width != b.tile.width) return a.tile.width < b.tile.width;
         if (a.tile.height != b.tile.height) return a.tile.height < b.tile.height;
         if (a.distance != b.distance) return a.distance < b.distance;
-        return a.node < b.node;
+        return a.subtree < b.subtree;
     });
+    // §5.4: resident subtrees first (keeping the per-tile order among them), then the rest in later rounds.
+    // The hit rule makes the result independent of the order in which subtrees are intersected.
+    std::vector<uint32_t> ids, roots;
+    std::vector<Scheduled> resident, rest;
+    while (!work.empty()) {
+        ids.clear();
+        for (const Scheduled& s : work) ids.push_back(s.subtree);
+        std::sort(ids.begin(), ids.end());
+        ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+        roots.assign(ids.size(), SubtreeSource::kNotResident);
+        source_->acquire(ids, roots);
+        ++last_.residencyRounds;
+        resident.clear();
+        rest.clear();
+        for (Scheduled s : work) {
+            s.gpuRoot = roots[size_t(std::lower_bound(ids.begin(), ids.end(), s.subtree) - ids.begin())];
+            (s.gpuRoot == SubtreeSource::kNotResident ? rest : resident).push_back(s);
+        }
+        if (resident.empty()) {
+            throw InputError("chcrt: the subtree source could not make any of " + std::to_string(ids.size()) +
+                             " scheduled subtrees resident (GPU subtree budget too small for one subtree)");
+        }
+        drawBatches(resident, anyHit);
+        work.swap(rest);
+    }
+    work.clear();
+}
+
+void ChcrtTracer::drawBatches(const std::vector<Scheduled>& work, bool anyHit) {
     // Tiles with more subtrees than a batch holds take several calls; issuing them round by round (the first
     // batch of every tile, then the second, ...) keeps consecutive draws on different tiles (no barrier).
     std::vector<std::pair<size_t, size_t>> tileRanges; // [begin, end) per tile
@@ -186,8 +388,12 @@ void ChcrtTracer::intersect(std::vector<Scheduled>& work, bool anyHit) {
         i = end;
     }
     setMode(Mode::Intersect, anyHit);
-    const ShaderProgram& program = subtreePrograms_[anyHit];
-    std::array<glm::uvec4, CHCRT_CULLING_MAX_BATCH / 4> roots{};
+    const ShaderProgram& batchProgram = subtreeProgram(anyHit);
+    // Batches of one subtree use the variant without the batch loop (not with debug images).
+    const ShaderProgram& singleProgram =
+        debugKind_ == ChcrtDebugImage::None ? singleSubtreePrograms_[anyHit] : batchProgram;
+    const ShaderProgram* current = &batchProgram;
+    std::array<glm::uvec4, CHCRT_CULLING_MAX_BATCH / 4> roots{}, ids{};
     const size_t batch = size_t(options_.batchSize);
     for (size_t round = 0;; ++round) {
         bool any = false;
@@ -197,10 +403,20 @@ void ChcrtTracer::intersect(std::vector<Scheduled>& work, bool anyHit) {
             any = true;
             const size_t end = std::min(tileEnd, begin + batch);
             roots.fill(glm::uvec4(0u));
-            for (size_t k = begin; k < end; ++k) roots[(k - begin) / 4][int((k - begin) % 4)] = work[k].node;
+            ids.fill(glm::uvec4(0u));
+            for (size_t k = begin; k < end; ++k) {
+                roots[(k - begin) / 4][int((k - begin) % 4)] = work[k].gpuRoot;
+                ids[(k - begin) / 4][int((k - begin) % 4)] = work[k].subtree;
+            }
             const Tile& tile = work[begin].tile;
             readPixelsOf(tile);
+            const ShaderProgram& program = end - begin == 1 ? singleProgram : batchProgram;
+            if (&program != current) {
+                program.use();
+                current = &program;
+            }
             program.setArray("subtreeRoots", roots.data(), int(roots.size()));
+            if (debugKind_ == ChcrtDebugImage::Subtrees) program.setArray("subtreeIds", ids.data(), int(ids.size()));
             program.set("subtreeCount", int(end - begin));
             glViewport(tile.x, tile.y, tile.width, tile.height);
             drawFullscreenTriangle();
@@ -210,12 +426,22 @@ void ChcrtTracer::intersect(std::vector<Scheduled>& work, bool anyHit) {
         }
         if (!any) break;
     }
-    work.clear();
+    if (current != &batchProgram) batchProgram.use(); // setMode's program stays current
 }
 
 void ChcrtTracer::processResult(VisibilityState& state, const PendingQuery& pending, GLuint samples,
                                 std::vector<Scheduled>& newlyVisible, bool anyHit) {
     const bool visible = samples > options_.visibleThreshold;
+    if (pending.pair < 0) {
+        // A multi-query: every pair it covered stays invisible, or (some ray passed) each is queried on its own,
+        // as we do not know which became visible (§5.1).
+        if (!visible) return;
+        ++last_.queriesMultiFailed;
+        for (uint32_t i = 0; i < pending.groupCount; ++i) {
+            issueQuery(multiGroups_[pending.groupBegin + i], state, false, anyHit);
+        }
+        return;
+    }
     QueryPair& pair = state.pair(pending.pair);
     if (pending.lazy) {
         // Already intersected in Phase 1; an invisible result only moves the pair to the invisible front.
@@ -226,7 +452,7 @@ void ChcrtTracer::processResult(VisibilityState& state, const PendingQuery& pend
         pair.visible = false;
         return;
     }
-    const PairSplit split = decideSplit(pair.tile, pair.bvhNode, partition_, state.width(), state.height(),
+    const PairSplit split = decideSplit(pair.tile, pair.bvhNode, hierarchy_, state.width(), state.height(),
                                         options_.pairs);
     if (split == PairSplit::None) {
         // Termination reached (§5.2): the pair joins the visible front and its subtree is intersected.
@@ -240,7 +466,7 @@ void ChcrtTracer::processResult(VisibilityState& state, const PendingQuery& pend
     std::array<uint32_t, 4> nodes;
     int count = 0;
     if (split == PairSplit::Object) {
-        const uint32_t left = partition_.childOf(pair.bvhNode);
+        const uint32_t left = hierarchy_.nodes[pair.bvhNode].firstChild;
         tiles = {pair.tile, pair.tile, Tile{}, Tile{}};
         nodes = {left, left + 1, 0, 0};
         count = 2;
@@ -260,27 +486,79 @@ void ChcrtTracer::trace(const TraceRequest& request, const RayTextures& rays, Hi
                         int height, TraceStats& stats) {
     last_ = ChcrtStats{};
     last_.traces = 1;
+    last_.raysTraced = uint64_t(width) * uint64_t(height);
+    // Adaptive fallback: per ray set, the cheaper of the two measured ways; the loser is re-measured after
+    // adaptiveProbeInterval traces (culling: doubling while it keeps losing) so that changing views are noticed.
+    const bool canFallBack = options_.adaptive && fullTracer_ != nullptr && debugKind_ == ChcrtDebugImage::None;
+    AdaptiveState& a = adaptive_[rayStateKey(request)];
+    const uint32_t base = options_.adaptiveProbeInterval;
+    if (a.interval == 0) a.interval = base;
+    bool cull = true;
+    if (canFallBack && a.cullMs >= 0.0) {
+        if (a.fullMs < 0.0) cull = false;
+        else if (a.cullMs > a.fullMs) cull = a.sinceProbe + 1 >= a.interval;
+        else cull = a.sinceFull + 1 < base; // a noisy low culling time must not lock culling in for long
+    }
+    const auto start = Clock::now();
+    if (cull) {
+        const bool warm = traceCulled(request, rays, hits, width, height);
+        const double ms = millisecondsSince(start); // traceCulled ends with glFinish
+        if (warm) a.cullMs = a.cullMs < 0.0 ? ms : 0.5 * (a.cullMs + ms);
+        // Back-off: a probe that still loses doubles the interval (fewer costly probes in views where culling
+        // does not pay); a win restores it.
+        if (canFallBack && a.fullMs >= 0.0) a.interval = a.cullMs > a.fullMs ? std::min(2 * a.interval, 8 * base) : base;
+        a.sinceProbe = 0;
+        ++a.sinceFull;
+        stats.passes += 1 + last_.shaderCalls + last_.queries;
+    } else {
+        fullTracer_->trace(request, rays, hits, width, height, stats);
+        glFinish();
+        const double ms = millisecondsSince(start);
+        if (a.fullWarm) a.fullMs = a.fullMs < 0.0 ? ms : 0.5 * (a.fullMs + ms);
+        a.fullWarm = true;
+        a.sinceFull = 0;
+        ++a.sinceProbe;
+        last_.fallbackTraces = 1;
+        last_.fallbackMs = ms;
+    }
+    total_ += last_;
+}
+
+bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width,
+                              int height) {
     queriesInUse_ = 0;
     queue_.clear();
+    multiGroups_.clear();
     eye_ = request.camera.eye;
     const bool anyHit = request.anyHit;
     VisibilityState& state = stateFor(request, width, height);
+    const bool warm = state.frame() > 0;
+    if (debugKind_ != ChcrtDebugImage::None) {
+        ensureDebugTexture(width, height);
+        glBindImageTexture(CHCRT_CULLING_IMAGE_DEBUG, debugTexture_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+    }
 
-    // Initialise: all misses, depth = depth(tmax).
+    // Initialise: all misses, depth 1 (= no hit yet; queries test a ray's own tmax in the shader). Clears, not a
+    // full-screen pass: on llvmpipe an initialising pass cost ~25% of a whole trace (culling/README.md).
     auto start = Clock::now();
-    glBindFramebuffer(GL_FRAMEBUFFER, framebufferFor(hits));
+    const GLuint framebuffer = framebufferFor(hits);
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
     glViewport(0, 0, width, height);
     glDisable(GL_BLEND);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_ALWAYS);
     glDepthMask(GL_TRUE);
+    const GLuint miss[4] = {floatBitsOf(CHCRT_NO_HIT_T), CHCRT_NO_HIT_ID, 0u, 0u};
+    glClearTexImage(hits.hit.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, miss);
+    const GLfloat farDepth = 1.0f;
+    glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &farDepth);
     glBindTextureUnit(CHCRT_UNIT_RAY_ORIGIN, rays.origin.id());
     glBindTextureUnit(CHCRT_UNIT_RAY_DIRECTION, rays.direction.id());
     glBindImageTexture(CHCRT_CULLING_IMAGE_HIT, hits.hit.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32UI);
-    initProgram_.use();
     mode_ = Mode::None;
-    drawFullscreenTriangle();
-    dirtyTiles_.assign(1, Tile{0, 0, width, height});
+    // The clear is a texture update; shader image loads after it need this barrier (once per trace).
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    dirtyTiles_.clear();
 
     // Phase 1 (Algorithm 1, lines 1-4): intersect the previously visible leaves, initialising depth.
     std::vector<int32_t> visibleLeaves, invisibleLeaves;
@@ -291,11 +569,28 @@ void ChcrtTracer::trace(const TraceRequest& request, const RayTextures& rays, Hi
     glFinish(); // phase timing (the queries of Phase 2 depend on this depth anyway)
     last_.phase1Ms = millisecondsSince(start);
 
-    // Phase 2 (lines 5-11): query the invisible front; re-query visible leaves lazily every n frames.
+    // Phase 2 (lines 5-11): query the invisible front (multi-queries over pairs of one tile, §5.1); re-query
+    // visible leaves lazily every n frames.
     start = Clock::now();
-    for (int32_t p : invisibleLeaves) {
-        issueQuery(p, state, false, anyHit);
-        ++last_.queriesInvisible;
+    last_.queriesInvisible = invisibleLeaves.size();
+    if (options_.multiQueryPairs > 1) {
+        std::stable_sort(invisibleLeaves.begin(), invisibleLeaves.end(), [&](int32_t a, int32_t b) {
+            const Tile &ta = state.pair(a).tile, &tb = state.pair(b).tile;
+            return std::tie(ta.y, ta.x, ta.width, ta.height) < std::tie(tb.y, tb.x, tb.width, tb.height);
+        });
+        std::vector<int32_t> group;
+        for (size_t i = 0; i < invisibleLeaves.size();) {
+            group.clear();
+            const Tile tile = state.pair(invisibleLeaves[i]).tile;
+            while (i < invisibleLeaves.size() && state.pair(invisibleLeaves[i]).tile == tile &&
+                   int(group.size()) < options_.multiQueryPairs) {
+                group.push_back(invisibleLeaves[i++]);
+            }
+            if (group.size() == 1) issueQuery(group.front(), state, false, anyHit);
+            else issueMultiQuery(group, state, anyHit);
+        }
+    } else {
+        for (int32_t p : invisibleLeaves) issueQuery(p, state, false, anyHit);
     }
     const uint64_t n = options_.requeryInterval;
     for (int32_t p : visibleLeaves) {
@@ -334,8 +629,7 @@ void ChcrtTracer::trace(const TraceRequest& request, const RayTextures& rays, Hi
     glFinish();
     last_.phase3Ms = millisecondsSince(start);
     mode_ = Mode::None;
-    stats.passes += 1 + last_.shaderCalls + last_.queries;
-    total_ += last_;
+    return warm;
 }
 
 } // namespace chcrt

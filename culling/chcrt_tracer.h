@@ -2,13 +2,15 @@
 // CHC+RT (coherent hierarchical culling for ray tracing) as a Tracer: generalized occlusion queries over
 // query pairs (screen tile × BVH node, §4.1-4.4) decide which termination subtrees (§5.2) each tile's rays
 // must traverse; visibility fronts kept per ray set across frames (§4.5, §5.1, Algorithm 1) hide most of the
-// query latency. The conservative variant returns exactly the hits of pure BVH tracing (same subtree
-// traversal code and hit rule; queries never cull a box a ray could hit at its current nearest t), up to the
-// rule's own order dependence when a hit lies one ulp outside its boxes (culling/README.md, known edge case).
-// Not implemented yet: multi-queries and tighter bounds (§5.1), the leaf cache (§5.2), out-of-core caching
-// (§5.4), debug images. See culling/README.md.
+// query latency. Multi-queries and tighter bounds (§5.1) reduce query overdraw. The tracer sees the scene only
+// through a CullingHierarchy (upper BVH, culling_hierarchy.h) and a SubtreeSource (where subtrees live on the
+// GPU, §5.4), so an out-of-core cache can plug in. The conservative variant returns exactly the hits of pure
+// BVH tracing (same subtree traversal code and hit rule; queries never cull a box a ray could hit at its
+// current nearest t). An adaptive fallback traces a ray set with one pure full-screen pass when culling did
+// not pay in recent frames (culling/README.md).
+#include "culling/culling_hierarchy.h"
 #include "culling/query_pair_hierarchy.h"
-#include "culling/subtree_partition.h"
+#include "culling/subtree_source.h"
 #include "culling/visibility_state.h"
 #include "renderer/gl/gl_objects.h"
 #include "renderer/gl/shader.h"
@@ -31,13 +33,26 @@ struct ChcrtOptions {
     bool temporalCoherence = true;   // false: every trace starts from the root pair (§4.3-4.4 only)
     uint32_t visibleThreshold = 0;   // §7 aggressive culling: visible only when more rays pass (0 = exact)
     uint32_t seed = 1;               // of the randomized re-query phases
+    bool tighterBounds = true;       // §5.1: query the node's two children's boxes instead of its own box
+    int multiQueryPairs = 4;         // §5.1: previously invisible pairs of one tile per query (<= 1: off)
+    bool leafCache = true;           // §5.2: 2-entry leaf cache in the subtree traversal (delayed leaf tests)
+    // Adaptive fallback (culling/README.md): per ray set, trace with one pure full-screen pass when the
+    // measured culling time exceeded the measured pure time; culling is re-probed after `adaptiveProbeInterval`
+    // traces of that ray set, the interval doubling (up to 8×) while probes keep losing. Needs a full-tree tracer
+    // (in core: the BVH); ignored without one.
+    bool adaptive = true;
+    uint32_t adaptiveProbeInterval = 8;
 };
 
 // Counters of one trace (lastStats) or summed over traces (totalStats).
 struct ChcrtStats {
     uint64_t traces = 0;
-    uint64_t queries = 0;            // occlusion queries issued (all phases)
-    uint64_t queriesInvisible = 0;   // Phase 2: previously invisible pairs
+    uint64_t fallbackTraces = 0;     // traces done by the adaptive fallback (one pure pass, no culling)
+    uint64_t queries = 0;            // occlusion queries issued (all phases) = single + multi
+    uint64_t queriesSingle = 0;      // queries of one pair
+    uint64_t queriesMulti = 0;       // §5.1 multi-queries (several invisible pairs of one tile)
+    uint64_t queriesMultiFailed = 0; // multi-queries that found rays (their pairs are re-queried singly)
+    uint64_t queriesInvisible = 0;   // Phase 2: previously invisible pairs (single or inside multi-queries)
     uint64_t queriesLazy = 0;        // Phase 2: lazy re-queries of previously visible leaves
     uint64_t queriesTraversal = 0;   // Phase 3: children of pairs that turned visible
     uint64_t pairsVisible = 0;       // visible front after the trace
@@ -47,17 +62,39 @@ struct ChcrtStats {
     uint64_t subtreesScheduled = 0;  // (tile, subtree) intersections
     uint64_t shaderCalls = 0;        // subtree-intersection draws (by-tile batches)
     uint64_t barriers = 0;           // image memory barriers between passes over the same pixels
+    uint64_t residencyRounds = 0;    // SubtreeSource::acquire calls (more than batches when subtrees did not fit)
+    uint64_t raysTraced = 0;         // ray texels of the traced ray sets (width × height per trace)
     double phase1Ms = 0;             // intersect previously visible leaves (incl. the init pass)
     double phase2Ms = 0;             // issue queries of the previous fronts
     double phase3Ms = 0;             // fetch results, traverse, intersect newly visible, pull-up
+    double fallbackMs = 0;           // adaptive fallback traces
+    double totalMs() const { return phase1Ms + phase2Ms + phase3Ms + fallbackMs; }
     ChcrtStats& operator+=(const ChcrtStats& o);
 };
 
+// Debug images (Figures 4 and 5 of the paper), accumulated over traces until clearDebugImage().
+enum class ChcrtDebugImage : uint8_t {
+    None,
+    Overdraw, // query fragments per pixel (Figure 4 left)
+    Subtrees, // 1 + id of the termination subtree that produced the pixel's latest hit change, 0 = none (Figure 5 left)
+    Batches,  // subtrees traversed per pixel: the sum of the sizes of the batches that covered it (Figure 5 right)
+};
+// "overdraw" | "subtrees" | "batches" (InputError otherwise).
+ChcrtDebugImage parseChcrtDebugImage(const std::string& name);
+// Colours a debug image (R32UI values, rows bottom to top as GL stores them) as display RGB in [0, 1], rows top to
+// bottom: counts as a heat ramp scaled to the maximum, subtree ids as hashed colours; 0 is black.
+std::vector<float> colorizeChcrtDebugImage(ChcrtDebugImage kind, const std::vector<uint32_t>& values, int width,
+                                           int height);
+
 class ChcrtTracer final : public Tracer {
 public:
-    // Requires a current GL context. Copies what it needs of the BVH (node boxes, the termination cut).
-    // Throws InputError for invalid options.
+    // In core: builds the culling hierarchy of `bvh` and uses the BVH itself as the subtree source and as the
+    // adaptive fallback's full tree. Requires a current GL context. Throws InputError for invalid options.
     ChcrtTracer(const Bvh& bvh, const ChcrtOptions& options = {}, std::string name = "chcrt");
+    // Any source (e.g. out of core, §5.4). `fullTracer` (may be null: no adaptive fallback) traces a whole ray
+    // set without culling; it is not owned. `options.partition` is ignored (the hierarchy carries its cut).
+    ChcrtTracer(CullingHierarchy hierarchy, SubtreeSource& source, Tracer* fullTracer, const ChcrtOptions& options,
+                std::string name = "chcrt");
     ~ChcrtTracer() override;
 
     std::string name() const override { return name_; }
@@ -65,50 +102,91 @@ public:
                TraceStats& stats) override;
 
     const ChcrtOptions& options() const { return options_; }
-    const SubtreePartition& partition() const { return partition_; }
+    const CullingHierarchy& hierarchy() const { return hierarchy_; }
     const ChcrtStats& lastStats() const { return last_; }
     const ChcrtStats& totalStats() const { return total_; }
     void resetStats() { total_ = ChcrtStats{}; }
-    // Forgets every ray set's visibility fronts (next traces start from the root pair).
-    void resetVisibility() { states_.clear(); }
+    // Forgets every ray set's visibility fronts and adaptive measurements.
+    void resetVisibility() { states_.clear(); adaptive_.clear(); }
     size_t rayStateCount() const { return states_.size(); }
+
+    // Debug images: selecting one compiles the instrumented shader variants on first use; traces then add to
+    // an R32UI texture of the traced size (GL window orientation) until clearDebugImage() (the viewer and
+    // `chcrt render --debug-image` clear it per frame). Adaptive fallback traces add nothing.
+    void setDebugImage(ChcrtDebugImage kind);
+    ChcrtDebugImage debugImageKind() const { return debugKind_; }
+    void clearDebugImage();
+    GLuint debugTexture() const { return debugTexture_.id(); } // 0 before the first trace with a debug image
+    int debugWidth() const { return debugWidth_; }
+    int debugHeight() const { return debugHeight_; }
+    std::vector<uint32_t> readDebugImage() const;
 
 private:
     struct PendingQuery {
-        int32_t pair;
+        int32_t pair;       // single query: the pair; multi-query: -1
         GLuint query;
-        bool lazy; // re-query of a visible leaf (already intersected this frame)
+        bool lazy;          // re-query of a visible leaf (already intersected this frame)
+        uint32_t groupBegin = 0, groupCount = 0; // multi-query: pairs in multiGroups_
     };
     struct Scheduled {
         Tile tile;
-        uint32_t node;
-        float distance; // to the camera, for approximate front-to-back order in a batch
+        uint32_t subtree;
+        float distance;   // to the camera, for approximate front-to-back order in a batch
+        uint32_t gpuRoot; // from the SubtreeSource, per residency round
+    };
+    struct AdaptiveState {
+        double cullMs = -1.0, fullMs = -1.0; // smoothed measured trace times (-1: not measured yet)
+        uint32_t sinceProbe = 0;             // traces since culling was last run
+        uint32_t sinceFull = 0;              // traces since the pure pass was last measured
+        bool fullWarm = false;               // the first pure pass is not measured (first use compiles/caches)
+        uint32_t interval = 0;               // current probe interval (0: options.adaptiveProbeInterval)
     };
     enum class Mode { None, Query, Intersect };
 
+    void compilePrograms();
+    const ShaderProgram& queryProgram(bool anyHit) const;
+    const ShaderProgram& subtreeProgram(bool anyHit) const;
     VisibilityState& stateFor(const TraceRequest& request, int width, int height);
     GLuint framebufferFor(const HitTargets& hits);
     void setMode(Mode mode, bool anyHit);
+    int setQueryBoxes(const ShaderProgram& program, const uint32_t* nodes, int count) const;
     void issueQuery(int32_t pair, const VisibilityState& state, bool lazy, bool anyHit);
+    void issueMultiQuery(const std::vector<int32_t>& pairs, const VisibilityState& state, bool anyHit);
+    void beginQueryDraw(const Tile& tile, bool anyHit);
     GLuint acquireQuery();
     void schedule(const VisibilityState& state, int32_t pair, std::vector<Scheduled>& out) const;
     void intersect(std::vector<Scheduled>& work, bool anyHit);
+    void drawBatches(const std::vector<Scheduled>& work, bool anyHit);
     void readPixelsOf(const Tile& tile); // barrier when `tile` overlaps pixels stored since the last one
     void processResult(VisibilityState& state, const PendingQuery& pending, GLuint samples,
                        std::vector<Scheduled>& newlyVisible, bool anyHit);
+    // Returns false when the ray set had no fronts yet (a cold trace, not representative of culling's cost).
+    bool traceCulled(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width, int height);
+    void ensureDebugTexture(int width, int height);
 
     std::string name_;
     ChcrtOptions options_;
-    SubtreePartition partition_;
-    std::vector<glm::vec3> boxMin_, boxMax_;
-    ShaderProgram initProgram_;
+    CullingHierarchy hierarchy_;
+    std::unique_ptr<SubtreeSource> ownedSource_;
+    SubtreeSource* source_ = nullptr;
+    std::unique_ptr<Tracer> ownedFullTracer_;
+    Tracer* fullTracer_ = nullptr;
     ShaderProgram queryPrograms_[2];   // [anyHit]
     ShaderProgram subtreePrograms_[2]; // [anyHit]
+    ShaderProgram singleSubtreePrograms_[2]; // [anyHit], for batches of one subtree (no batch loop)
+    ShaderProgram debugQueryPrograms_[2];   // instrumented variants for the selected debug image
+    ShaderProgram debugSubtreePrograms_[2];
+    ChcrtDebugImage debugKind_ = ChcrtDebugImage::None;
+    ChcrtDebugImage debugCompiled_ = ChcrtDebugImage::None;
+    GlTexture debugTexture_;
+    int debugWidth_ = 0, debugHeight_ = 0;
     std::map<GLuint, GlFramebuffer> framebuffers_; // by depth texture id
     std::map<uint64_t, std::unique_ptr<VisibilityState>> states_;
+    std::map<uint64_t, AdaptiveState> adaptive_;
     std::vector<GLuint> queryPool_;
     size_t queriesInUse_ = 0;
     std::deque<PendingQuery> queue_;
+    std::vector<int32_t> multiGroups_;
     std::vector<Tile> dirtyTiles_; // tiles whose hit-image stores no barrier has published yet
     Mode mode_ = Mode::None;
     glm::vec3 eye_{0.0f};

@@ -21,6 +21,19 @@ PairSplit decideSplit(const Tile& tile, uint32_t node, const SubtreePartition& p
                : PairSplit::Screen;
 }
 
+PairSplit decideSplit(const Tile& tile, uint32_t node, const CullingHierarchy& hierarchy, int screenWidth,
+                      int screenHeight, const QueryPairOptions& options) {
+    const bool screenSplittable = tile.width > options.minTileSize || tile.height > options.minTileSize;
+    const bool objectSplittable = !hierarchy.nodes[node].isTerminal();
+    if (!screenSplittable && !objectSplittable) return PairSplit::None;
+    if (!screenSplittable) return PairSplit::Object;
+    if (!objectSplittable) return PairSplit::Screen;
+    return preferObjectSplit(hierarchy.surfaceArea(node), hierarchy.surfaceArea(0), tile.area(),
+                             int64_t(screenWidth) * screenHeight, options.tq)
+               ? PairSplit::Object
+               : PairSplit::Screen;
+}
+
 int splitTile(const Tile& tile, int minTileSize, std::array<Tile, 4>& children) {
     const bool splitX = tile.width > minTileSize && tile.width >= 2;
     const bool splitY = tile.height > minTileSize && tile.height >= 2;

@@ -3,6 +3,7 @@
 // one ray per pixel) and the BVH above the termination cut (subtree_partition.h). This file holds its pure
 // geometry and decisions: tiles, the split heuristic and the termination test. The stored hierarchy with
 // visibility is visibility_state.h; the GL passes and Algorithm 1 are chcrt_tracer.h.
+#include "culling/culling_hierarchy.h"
 #include "culling/subtree_partition.h"
 
 #include <array>
@@ -30,6 +31,10 @@ enum class PairSplit : uint8_t { None, Object, Screen };
 // How to subdivide the pair (tile, node): None when it is terminal (tile at the minimum size and node a
 // termination root), otherwise the heuristic's domain, or the other one when that domain cannot split.
 PairSplit decideSplit(const Tile& tile, uint32_t node, const SubtreePartition& partition, int screenWidth,
+                      int screenHeight, const QueryPairOptions& options);
+
+// The same on the culling hierarchy (culling_hierarchy.h; `node` indexes its nodes), as the tracer uses it.
+PairSplit decideSplit(const Tile& tile, uint32_t node, const CullingHierarchy& hierarchy, int screenWidth,
                       int screenHeight, const QueryPairOptions& options);
 
 // The heuristic alone (§4.4), for tests: true = object space.

@@ -4,8 +4,12 @@
 // the nearest hit stored so far (image load/store on the hit buffer) and traverses every subtree whose box it
 // meets with the project's exact hit rule (trace/bvh_traverse.glsl), so the final hits are those of pure BVH
 // tracing. Changed rays store their hit and write depthFromDistance(t) for later occlusion queries.
-// Host defines: TRACE_ANY_HIT (0 | 1), CHCRT_SUBTREE_STACK (traversal stack entries: the partition's maximum
-// subtree height + 1, §5.2; on llvmpipe 25 vs 64 entries measured no difference, see culling/README.md).
+// Host defines: TRACE_ANY_HIT (0 | 1), CHCRT_CULLING_SINGLE_SUBTREE (0 | 1: the variant for batches of one),
+// CHCRT_CULLING_LEAF_CACHE (0 | 1: §5.2 2-entry leaf cache,
+// subtree_traverse_cached.glsl), CHCRT_SUBTREE_STACK (traversal stack entries: the partition's maximum
+// subtree height + 1, §5.2; on llvmpipe 25 vs 64 entries measured no difference, see culling/README.md),
+// CHCRT_CULLING_DEBUG_SUBTREES / CHCRT_CULLING_DEBUG_BATCHES (debug image: 1 + id of the subtree that changed
+// the pixel's hit last, Figure 5 left / subtrees traversed per pixel, Figure 5 right).
 #include "shared/render_layout.h"
 #include "shared/bvh_layout.h"
 #include "culling/culling_layout.h"
@@ -15,6 +19,9 @@
 #define CHCRT_MAX_BVH_DEPTH CHCRT_SUBTREE_STACK
 #endif
 #include "trace/bvh_traverse.glsl"
+#if CHCRT_CULLING_LEAF_CACHE
+#include "culling/subtree_traverse_cached.glsl"
+#endif
 
 layout(binding = CHCRT_UNIT_RAY_ORIGIN) uniform sampler2D rayOrigins;
 layout(binding = CHCRT_UNIT_RAY_DIRECTION) uniform sampler2D rayDirections;
@@ -23,6 +30,12 @@ layout(binding = CHCRT_ATOMIC_BINDING_CAPPED_RAYS, offset = 0) uniform atomic_ui
 
 uniform uvec4 subtreeRoots[CHCRT_CULLING_MAX_BATCH / 4];
 uniform int subtreeCount;
+#if defined(CHCRT_CULLING_DEBUG_SUBTREES) || defined(CHCRT_CULLING_DEBUG_BATCHES)
+layout(binding = CHCRT_CULLING_IMAGE_DEBUG, r32ui) uniform coherent uimage2D debugImage;
+#endif
+#ifdef CHCRT_CULLING_DEBUG_SUBTREES
+uniform uvec4 subtreeIds[CHCRT_CULLING_MAX_BATCH / 4]; // culling-hierarchy subtree index per slot
+#endif
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
@@ -31,6 +44,9 @@ void main() {
     if (!(directionTmax.w > originTmin.w)) {
         discard;
     }
+#ifdef CHCRT_CULLING_DEBUG_BATCHES
+    imageAtomicAdd(debugImage, pixel, uint(subtreeCount));
+#endif
     uvec4 stored = imageLoad(hitImage, pixel);
 #if TRACE_ANY_HIT
     if (stored.y != CHCRT_NO_HIT_ID) {
@@ -46,11 +62,34 @@ void main() {
     uint previousId = best.triangleId;
     float previousT = best.t;
     TraceCost cost = TraceCost(0u, 0u, 0u, 0u);
-    // subtreeCount <= CHCRT_CULLING_MAX_BATCH; the iterations still count towards the cap (PLATFORM.md).
-    for (int i = 0; i < subtreeCount && i < CHCRT_CULLING_MAX_BATCH && cost.iterations < CHCRT_TRACE_ITERATION_CAP;
+#ifdef CHCRT_CULLING_DEBUG_SUBTREES
+    uint changedBy = 0u;
+#endif
+#if CHCRT_CULLING_SINGLE_SUBTREE
+    // Batches of one subtree (e.g. the whole BVH is one termination subtree): a constant trip count lets the
+    // compiler drop the batch loop around the traversal (culling/README.md, performance).
+    const int batchCount = 1;
+#else
+    int batchCount = subtreeCount;
+#endif
+    // batchCount <= CHCRT_CULLING_MAX_BATCH; the iterations still count towards the cap (PLATFORM.md).
+    for (int i = 0; i < batchCount && i < CHCRT_CULLING_MAX_BATCH && cost.iterations < CHCRT_TRACE_ITERATION_CAP;
          ++i) {
         ++cost.iterations;
+#ifdef CHCRT_CULLING_DEBUG_SUBTREES
+        uint idBefore = best.triangleId;
+        float tBefore = best.t;
+#endif
+#if CHCRT_CULLING_LEAF_CACHE
+        traverseSubtreeCached(subtreeRoots[i >> 2][i & 3], originTmin.xyz, directionTmax.xyz, originTmin.w, best, cost);
+#else
         traverseBvh(subtreeRoots[i >> 2][i & 3], originTmin.xyz, directionTmax.xyz, originTmin.w, best, cost);
+#endif
+#ifdef CHCRT_CULLING_DEBUG_SUBTREES
+        if (best.triangleId != idBefore || best.t != tBefore) {
+            changedBy = subtreeIds[i >> 2][i & 3] + 1u;
+        }
+#endif
 #if TRACE_ANY_HIT
         if (best.triangleId != CHCRT_NO_HIT_ID) {
             break;
@@ -63,6 +102,9 @@ void main() {
     if (best.triangleId == previousId && best.t == previousT) {
         discard; // nothing nearer in these subtrees: hit and depth stay
     }
+#ifdef CHCRT_CULLING_DEBUG_SUBTREES
+    imageStore(debugImage, pixel, uvec4(changedBy));
+#endif
     imageStore(hitImage, pixel, uvec4(floatBitsToUint(best.t), best.triangleId, floatBitsToUint(best.barycentrics)));
     gl_FragDepth = depthFromDistance(pruneLimit(best.t)); // boxes up to pruneLimit(t) stay visible, as in traversal
 }

@@ -7,6 +7,13 @@
 // read and update it with image load/store, separated by glMemoryBarrier (see culling/README.md).
 #define CHCRT_CULLING_IMAGE_HIT 0
 
+// Image unit of the optional debug image (R32UI: query overdraw, subtree ids or subtrees per pixel; see
+// ChcrtDebugImage in culling/chcrt_tracer.h). Only the instrumented shader variants use it.
+#define CHCRT_CULLING_IMAGE_DEBUG 1
+
+// Boxes per occlusion query: §5.1 multi-queries of up to 8 pairs with tighter bounds (2 child boxes each).
+#define CHCRT_CULLING_MAX_QUERY_BOXES 16
+
 // CHC+RT §5.2 by-tile batching: at most this many subtree roots per shader call.
 #define CHCRT_CULLING_MAX_BATCH 24
 

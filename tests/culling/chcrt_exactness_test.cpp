@@ -14,6 +14,10 @@ struct ExactnessCase {
     const char* scene;
     uint32_t maxSubtreeHeight;
     int minTileSize;
+    bool tighterBounds = true; // §5.1
+    int multiQueryPairs = 4;   // §5.1 (1 = off)
+    bool adaptive = false;     // the adaptive fallback switches between culling and pure passes per ray set
+    bool leafCache = true;     // §5.2
 };
 
 class ChcrtExactnessTest : public RenderTest, public ::testing::WithParamInterface<ExactnessCase> {};
@@ -33,6 +37,10 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
     ChcrtOptions options;
     options.partition.maxSubtreeHeight = c.maxSubtreeHeight;
     options.pairs.minTileSize = c.minTileSize;
+    options.tighterBounds = c.tighterBounds;
+    options.multiQueryPairs = c.multiQueryPairs;
+    options.adaptive = c.adaptive;
+    options.leafCache = c.leafCache;
     ChcrtTracer chcrt(bvh_, options);
     const CameraPath path = proceduralNearPath(spec_);
 
@@ -67,9 +75,17 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
     // The comparison is only meaningful if culling happened: pairs were found invisible, and temporal
     // coherence reused the visible front (Phase 1 work after the first frame).
     const ChcrtStats& total = chcrt.totalStats();
-    EXPECT_GT(total.queries, 0u);
-    EXPECT_GT(total.pairsInvisible, 0u);
-    EXPECT_GT(total.subtreesScheduled, total.pairsNewlyVisible);
+    EXPECT_EQ(total.queries, total.queriesSingle + total.queriesMulti);
+    if (c.multiQueryPairs <= 1) {
+        EXPECT_EQ(total.queriesMulti, 0u);
+    }
+    EXPECT_EQ(total.traces, 6u * 4u * 2u);
+    if (!c.adaptive) {
+        EXPECT_EQ(total.fallbackTraces, 0u);
+        EXPECT_GT(total.queries, 0u);
+        EXPECT_GT(total.pairsInvisible, 0u);
+        EXPECT_GT(total.subtreesScheduled, total.pairsNewlyVisible);
+    }
     // per sample index for AO and diffuse, one state each for primary and shadow (§5.3)
     EXPECT_EQ(chcrt.rayStateCount(), 2u + 2u + 2u);
     std::printf("[ stats    ] %s: %llu traces, %llu queries (%llu invisible, %llu lazy, %llu traversal), "
@@ -93,6 +109,10 @@ TEST_P(ChcrtExactnessTest, ShadedFrameEqualsPureBvhFrame) {
     ChcrtOptions options;
     options.partition.maxSubtreeHeight = c.maxSubtreeHeight;
     options.pairs.minTileSize = c.minTileSize;
+    options.tighterBounds = c.tighterBounds;
+    options.multiQueryPairs = c.multiQueryPairs;
+    options.adaptive = c.adaptive;
+    options.leafCache = c.leafCache;
     ChcrtTracer chcrt(bvh_, options);
     const CameraPath path = proceduralNearPath(spec_);
     for (int frame : {0, 1}) {
@@ -122,6 +142,7 @@ TEST_F(RenderTest, AggressiveCullingLosesHitsThatTheComparisonDetects) {
     options.partition.maxSubtreeHeight = 8;
     options.pairs.minTileSize = 16;
     options.visibleThreshold = 40;
+    options.adaptive = false;
     ChcrtTracer aggressive(bvh_, options, "chcrt-aggressive");
     const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
     FrameStats stats;
@@ -155,6 +176,7 @@ TEST_F(RenderTest, WithoutTemporalCoherenceEveryTraceStartsFromTheRootPair) {
     options.partition.maxSubtreeHeight = 8;
     options.pairs.minTileSize = 16;
     options.temporalCoherence = false;
+    options.adaptive = false;
     ChcrtTracer chcrt(bvh_, options);
     renderer.useTracer(&chcrt);
     const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
@@ -174,14 +196,22 @@ std::string caseName(const ::testing::TestParamInfo<ExactnessCase>& info) {
     std::string scene = info.param.scene;
     for (char& ch : scene)
         if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
-    return scene + "_h" + std::to_string(info.param.maxSubtreeHeight) + "_tile" + std::to_string(info.param.minTileSize);
+    return scene + "_h" + std::to_string(info.param.maxSubtreeHeight) + "_tile" + std::to_string(info.param.minTileSize) +
+           (info.param.tighterBounds ? "" : "_loose") + "_multi" + std::to_string(info.param.multiQueryPairs) +
+           (info.param.adaptive ? "_adaptive" : "") + (info.param.leafCache ? "" : "_nocache");
 }
 
 // Subtree height 8, well below the BVH depth at 60k triangles, so that object-space splits happen; tiles small enough for
 // several screen-space levels at 96×72.
 INSTANTIATE_TEST_SUITE_P(ProceduralScenes, ChcrtExactnessTest,
                          ::testing::Values(ExactnessCase{"city:60k", 8, 16}, ExactnessCase{"interior:60k", 8, 16},
-                                           ExactnessCase{"plant:60k", 8, 16}, ExactnessCase{"city:60k", 24, 32}),
+                                           ExactnessCase{"plant:60k", 8, 16}, ExactnessCase{"city:60k", 24, 32},
+                                           // §5.1 options off, and multi-queries of 8 pairs
+                                           ExactnessCase{"city:60k", 8, 16, false, 1, false, false},
+                                           ExactnessCase{"plant:60k", 24, 32, true, 4, false, false},
+                                           ExactnessCase{"interior:60k", 8, 16, true, 8},
+                                           // adaptive fallback on: culled and pure traces mix per ray set
+                                           ExactnessCase{"plant:60k", 8, 16, true, 4, true}),
                          caseName);
 
 } // namespace
