@@ -3,6 +3,7 @@
 #include "app/report.h"
 #include "app/session.h"
 #include "renderer/gl/context.h"
+#include "renderer/outofcore/chs_file.h"
 
 #include <cstdio>
 
@@ -20,7 +21,23 @@ int runInfo(const InfoOptions& options) {
     nlohmann::json j = {{"gl", {{"context", context->description()}, {"vendor", info.vendor},
                                 {"renderer", info.renderer}, {"version", info.version},
                                 {"max_texture_buffer_size", info.maxTextureBufferSize}}}};
-    if (!options.noScene) {
+    if (!options.noScene && outofcore::isPreparedScenePath(o.scene)) {
+        const outofcore::ChsFile file(o.scene);
+        const outofcore::ChsHeader& h = file.header();
+        const outofcore::ChsFileSummary f = outofcore::summarize(file);
+        std::printf("Prepared scene %s (version %u, from %s)\n  triangles    %llu in %u subtrees (limits %u triangles, "
+                    "height %u), %u parts\n  subtrees     triangles min %u / mean %.0f / max %u, nodes max %u, height max %u\n"
+                    "  upper part   %u nodes\n  file         %.1f MB (subtrees %.1f MB, metadata %.2f MB)\n",
+                    o.scene.c_str(), h.version, file.source().c_str(), (unsigned long long)h.triangleCount, h.subtreeCount,
+                    h.subtreeTriangleLimit, h.subtreeHeightLimit, h.chunkCount, f.minTriangles, f.meanTriangles,
+                    h.maxSubtreeTriangles, h.maxSubtreeNodes, f.maxHeight, h.upperNodeCount, double(h.fileBytes) / 1e6,
+                    double(f.subtreeBytes) / 1e6, double(h.metaBytes) / 1e6);
+        j["prepared"] = {{"file", o.scene}, {"source", file.source()}, {"triangles", h.triangleCount},
+                         {"subtrees", h.subtreeCount}, {"upper_nodes", h.upperNodeCount}, {"parts", h.chunkCount},
+                         {"file_bytes", h.fileBytes}, {"max_subtree_triangles", h.maxSubtreeTriangles},
+                         {"max_subtree_nodes", h.maxSubtreeNodes}};
+    }
+    if (!options.noScene && !outofcore::isPreparedScenePath(o.scene)) { // a .chs may not fit in core
         const SceneSession s = openSceneSession(o);
         const Aabb b = s.scene.bounds();
         std::printf("Scene %s\n  triangles    %llu (%llu unique; %u meshes, %u instances; %llu degenerate dropped)\n",

@@ -9,6 +9,7 @@
 #include "app/report.h"
 #include "app/session.h"
 #include "renderer/core/error.h"
+#include "renderer/outofcore/out_of_core_tracer.h"
 #include "renderer/reference/embree_tracer.h"
 #include "renderer/render/hit_comparison.h"
 
@@ -42,10 +43,13 @@ int runVerify(const VerifyOptions& options) {
     for (const std::string& name : splitList(options.rayTypes)) rayTypes.push_back(parseRayType(name));
     const RenderSettings settings = toRenderSettings(o, 1);
     SceneSession session = openSceneSession(o);
+    if (!session.sceneInCore) {
+        throw InputError("verify compares with in-core tracing: " + o.scene + " was not loaded in core (--load-in-core on)");
+    }
     const std::vector<int> frames = selectFrames(o, session.path, "spread:5");
     GpuSession gpu = openGpuSession(o, session, settings);
     Renderer& renderer = *gpu.renderer;
-    const std::unique_ptr<Tracer> method = makeTracer(options.method, session, gpu);
+    const std::unique_ptr<Tracer> method = makeTracer(options.method, session, gpu, /*alwaysCull=*/true);
     std::unique_ptr<EmbreeTracer> embree;
     if (againstEmbree) embree = std::make_unique<EmbreeTracer>(session.scene);
     HitTolerance tolerance;
@@ -112,6 +116,15 @@ int runVerify(const VerifyOptions& options) {
     session.progress->end();
     if (totalCapped > 0) {
         std::printf("  FAIL: %llu rays reached the shader loop cap\n", (unsigned long long)totalCapped);
+    }
+    if (auto* ooc = dynamic_cast<outofcore::OutOfCoreTracer*>(method.get())) {
+        const outofcore::GpuCacheStats& c = ooc->cache().stats();
+        std::printf("  out of core: %u GPU cache slots (%.1f of %.1f MB allocated, %s), %llu hits, %llu misses, %llu "
+                    "evictions, %.1f MB uploaded\n",
+                    c.slots, double(c.allocatedBytes) / double(1u << 20), double(ooc->options().gpuCacheBytes) / double(1u << 20),
+                    outofcore::toString(ooc->options().policy), (unsigned long long)c.hits, (unsigned long long)c.misses,
+                    (unsigned long long)c.evictions,
+                    double(c.uploadedNodeBytes + c.uploadedTriangleBytes) / double(1u << 20));
     }
     const bool pass = totalDiffering <= options.maxDiffering && totalCapped == 0;
     std::printf("%s: %llu differing pixel(s)\n", pass ? "PASS" : "FAIL", (unsigned long long)totalDiffering);

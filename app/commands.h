@@ -15,6 +15,8 @@ struct RenderOptions {
     CommonOptions common;
     std::string output;
     bool demo = false;
+    std::string method = "bvh";  // GPU tracing method (app/methods.h)
+    std::string debugImage;      // CHC+RT debug image instead of the shaded frame: overdraw|subtrees|batches
 };
 int runRender(const RenderOptions& options);
 
@@ -42,6 +44,18 @@ struct InfoOptions {
     bool noScene = false;
 };
 int runInfo(const InfoOptions& options);
+
+// `chcrt prepare`: writes a prepared scene (.chs) for out-of-core rendering (app/command_prepare.cpp).
+struct PrepareCommandOptions {
+    std::string scene;
+    std::string output;
+    uint64_t memoryMb = 2048;
+    uint32_t subtreeTriangles = 1u << 16;
+    uint32_t subtreeHeight = 24;
+    std::string grid; // "NxM" copies
+    bool quiet = false;
+};
+int runPrepare(const PrepareCommandOptions& options);
 
 // `chcrt view`: the interactive walkthrough viewer (app/viewer/). Without CHCRT_BUILD_VIEWER it reports that
 // the viewer was not built and returns kExitBadInput.

@@ -41,10 +41,14 @@ int run(int argc, char** argv) {
     CLI::App* renderCommand = cli.add_subcommand("render", "Render frames of a walkthrough to images");
     addCommonOptions(*renderCommand, render.common, true);
     renderCommand->add_option("-o,--output", render.output, "Output image; #### becomes the frame number")->required();
+    renderCommand->add_option("--method", render.method, "Tracing method (bvh, chcrt, ...; see bench)")->capture_default_str();
+    renderCommand->add_option("--debug-image", render.debugImage,
+                              "CHC+RT debug image instead of the shaded frame: overdraw, subtrees or batches "
+                              "(chcrt methods only)");
 
     BenchOptions bench;
     CLI::App* benchCommand = cli.add_subcommand("bench", "Compare tracing methods on the same rays (table, JSON, CSV)");
-    addCommonOptions(*benchCommand, bench.common, false);
+    addCommonOptions(*benchCommand, bench.common, true); // --effects: frames of the image-error comparison
     benchCommand->add_option("--method", bench.methods, "Methods, comma-separated: bvh, chcrt, chcrt-aggressive, embree")->capture_default_str();
     benchCommand->add_option("--ray-type", bench.rayTypes, "Ray types, comma-separated: primary, shadow, ao, diffuse")
         ->capture_default_str();
@@ -69,6 +73,21 @@ int run(int argc, char** argv) {
     CLI::App* infoCommand = cli.add_subcommand("info", "Print the OpenGL renderer, its limits and scene statistics");
     addCommonOptions(*infoCommand, info.common, false);
     infoCommand->add_flag("--no-scene", info.noScene, "Only the OpenGL information");
+
+    PrepareCommandOptions prepare;
+    CLI::App* prepareCommand = cli.add_subcommand(
+        "prepare", "Write a prepared scene (.chs: BVH cut into termination subtrees) for out-of-core rendering");
+    prepareCommand->add_option("--scene", prepare.scene, "Generator spec (city:140m), grid:NxM:<scene>, or scene file")
+        ->required();
+    prepareCommand->add_option("-o,--output", prepare.output, "Output file (.chs)")->required();
+    prepareCommand->add_option("--memory-mb", prepare.memoryMb, "Peak memory budget of the preparation")
+        ->capture_default_str();
+    prepareCommand->add_option("--subtree-triangles", prepare.subtreeTriangles, "Termination subtree triangle limit")
+        ->capture_default_str();
+    prepareCommand->add_option("--subtree-height", prepare.subtreeHeight, "Termination subtree height limit")
+        ->capture_default_str();
+    prepareCommand->add_option("--grid", prepare.grid, "NxM copies of the scene (like the paper's Powerplant x 16)");
+    prepareCommand->add_flag("-q,--quiet", prepare.quiet, "No progress bar");
 
     ViewOptions view;
     view.common.width = 1280;
@@ -109,6 +128,7 @@ int run(int argc, char** argv) {
     if (*verifyCommand) return runVerify(verify);
     if (*infoCommand) return runInfo(info);
     if (*viewCommand) return runView(view);
+    if (*prepareCommand) return runPrepare(prepare);
     return kExitBadInput;
 }
 

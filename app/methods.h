@@ -22,5 +22,9 @@ const MethodInfo& findGpuMethod(const std::string& name); // throws InputError l
 // Creates the tracer of a GPU method for a session (requires the session's GL context to be current).
 // Returns nullptr for "bvh": the renderer's own pure BVH tracer.
 std::unique_ptr<Tracer> makeTracer(const std::string& name, const SceneSession& session, const GpuSession& gpu);
+// `alwaysCull`: CHC+RT methods without the adaptive fallback to a pure pass, bvh+ls-exact without its fallback
+// to pure BVH traversal (verify checks the culling / the Line Space path itself).
+std::unique_ptr<Tracer> makeTracer(const std::string& name, const SceneSession& session, const GpuSession& gpu,
+                                   bool alwaysCull);
 
 } // namespace chcrt::app

@@ -28,6 +28,10 @@ void addCommonOptions(CLI::App& c, CommonOptions& o, bool withEffects) {
         ->capture_default_str();
     c.add_option("--ao-length", o.aoLength, "AO ray length as a fraction of the scene diagonal")->capture_default_str();
     c.add_option("--spp", o.spp, "Samples per pixel per effect (= ray passes)");
+    c.add_option("--primary", o.primary,
+                 "Primary visibility: raster (rasterised G-buffer) or traced (primary rays traced with the "
+                 "method's tracer, resolved into the G-buffer)")
+        ->capture_default_str();
     if (withEffects) {
         c.add_option("--effects", o.effects, "Secondary effects: any of shadow,ao,diffuse, or all / none")
             ->capture_default_str();
@@ -36,9 +40,42 @@ void addCommonOptions(CLI::App& c, CommonOptions& o, bool withEffects) {
     c.add_option("--gl", o.gl, "OpenGL context: egl (headless, default) or osmesa")->capture_default_str();
     c.add_flag("--gl-debug", o.glDebug, "Print KHR_debug messages from the driver");
     c.add_option("--stats-json", o.statsJson, "Write per-frame statistics as JSON to this file");
+    c.add_option("--chcrt-threshold", o.chcrtThreshold,
+                 "CHC+RT: a pair is visible only when more rays pass its query (0 = exact; chcrt-aggressive: 20)");
+    c.add_option("--chcrt-min-tile", o.chcrtMinTile, "CHC+RT: minimum screen tile edge in pixels (default 64)");
+    c.add_option("--chcrt-height", o.chcrtHeight, "CHC+RT: maximum termination-subtree height (default 24)");
+    c.add_option("--chcrt-multi-query", o.chcrtMultiQuery,
+                 "CHC+RT: previously invisible pairs per multi-query (default 4, 1 = off)");
+    c.add_option("--chcrt-tighter-bounds", o.chcrtTighterBounds, "CHC+RT: query the children's boxes (on|off, default on)");
+    c.add_option("--chcrt-leaf-cache", o.chcrtLeafCache, "CHC+RT: 2-entry leaf cache in subtree traversal (on|off, default on)");
     c.add_flag("-q,--quiet", o.quiet, "No progress bars");
     c.add_option("--bvh-leaf-size", o.bvhLeafSize, "Maximum triangles per BVH leaf")->capture_default_str();
     c.add_option("--bvh-bins", o.bvhBins, "SAH bins per axis")->capture_default_str();
+    c.add_option("--ls-n", o.lsN, "Line Space patches per face edge N (methods bvh+ls*)")->capture_default_str();
+    c.add_option("--ls-depth", o.lsDepth, "Line Space BVH depth D")->capture_default_str();
+    c.add_option("--ls-t", o.lsT, "Line Space triangle threshold T")->capture_default_str();
+    c.add_option("--ls-angle", o.lsAngle, "Candidate normal-angle threshold in degrees")->capture_default_str();
+    c.add_option("--ls-ntree", o.lsNtree, "N-tree with binary Line Spaces N:d for method ntree+ls (default 6:3)");
+    c.add_option("--ls-ntree-level", o.lsNtreeLevel,
+                 "ntree+ls: N-tree level whose occupied shafts count as occluded (default d-1 as SS; >= d: exact)");
+    c.add_option("--ls-ntree-start", o.lsNtreeStart,
+                 "ntree+ls: the node a shadow ray starts or ends in: skip (SS 4.1) or exact (triangle tests)")
+        ->capture_default_str();
+    c.add_option("--ls-modes", o.lsModes,
+                 "Line Space mode per ray type, e.g. primary=exact,shadow=shadow,ao=candidate,diffuse=candidate,"
+                 "bounce=shadow (modes: off, exact, shadow, candidate, candidate-exact-start)");
+    c.add_option("--ls-cache", o.lsCache, "Line Space cache directory (empty: no cache)")->capture_default_str();
+    c.add_flag("--out-of-core", o.outOfCore,
+               "Prepared scenes (.chs): chcrt methods trace through a GPU subtree cache fed from the file "
+               "(CHC+RT §5.4) instead of the in-core BVH");
+    c.add_option("--gpu-cache-mb", o.gpuCacheMb, "Out of core: GPU subtree cache budget in MiB")->capture_default_str();
+    c.add_option("--host-cache-mb", o.hostCacheMb, "Out of core: host subtree cache budget in MiB")->capture_default_str();
+    c.add_option("--cache-policy", o.cachePolicy, "Out of core: GPU cache replacement, round-robin or lru")
+        ->capture_default_str();
+    c.add_option("--load-in-core", o.loadInCore,
+                 "Out of core: also load the scene in core for pure-BVH references and id-indexed shading: on, off, "
+                 "or auto (on when it takes less than a quarter of the RAM)")
+        ->capture_default_str();
 }
 
 RenderSettings toRenderSettings(const CommonOptions& o, int defaultSpp) {
@@ -52,6 +89,7 @@ RenderSettings toRenderSettings(const CommonOptions& o, int defaultSpp) {
     s.rotationDegrees = o.rotation;
     s.aoLengthFraction = o.aoLength;
     s.exposure = o.exposure;
+    s.primaryVisibility = parsePrimaryVisibility(o.primary);
     validateSettings(s);
     return s;
 }

@@ -22,6 +22,7 @@ struct CommonOptions {
     int height = 512;
     int spp = -1;                   // -1: the command's default
     std::string effects = "shadow,ao,diffuse";
+    std::string primary = "raster"; // --primary raster|traced (RenderSettings::primaryVisibility)
     uint32_t seed = 1;
     float rotation = 36.0f;
     float aoLength = 0.02f;
@@ -32,6 +33,29 @@ struct CommonOptions {
     bool quiet = false;
     uint32_t bvhLeafSize = 4;
     uint32_t bvhBins = 16;
+    // CHC+RT parameters of the chcrt methods (culling/README.md); negative / empty = the method's default.
+    int chcrtThreshold = -1;        // --chcrt-threshold: §7 aggressive visibility threshold in rays
+    int chcrtMinTile = -1;          // --chcrt-min-tile: §5.2 minimum tile edge in pixels
+    int chcrtHeight = -1;           // --chcrt-height: §5.2 maximum termination-subtree height
+    int chcrtMultiQuery = -1;       // --chcrt-multi-query: §5.1 pairs per multi-query (1 = off)
+    std::string chcrtTighterBounds; // --chcrt-tighter-bounds on|off (§5.1)
+    std::string chcrtLeafCache;     // --chcrt-leaf-cache on|off (§5.2)
+    // Line Space methods (bvh+ls-exact, bvh+ls; linespace/README.md)
+    uint32_t lsN = 6;             // --ls-n: patches per face edge
+    uint32_t lsDepth = 9;         // --ls-depth: D
+    uint32_t lsT = 8;             // --ls-t: T
+    float lsAngle = 30.0f;        // --ls-angle: normal-angle threshold of candidates, degrees
+    std::string lsNtree;          // --ls-ntree N:d of method ntree+ls (default 6:3)
+    int lsNtreeLevel = -1;        // --ls-ntree-level: level whose occupied shafts terminate (-1 = d-1, >= d exact)
+    std::string lsNtreeStart = "skip"; // --ls-ntree-start skip (SS §4.1) | exact: node a shadow ray starts/ends in
+    std::string lsModes;          // --ls-modes type=mode,... on top of the method's defaults
+    std::string lsCache = "out/cache/linespace"; // --ls-cache: "" disables caching
+    // Out-of-core CHC+RT of a prepared scene (.chs; renderer/outofcore/README.md, docs/outofcore.md).
+    bool outOfCore = false;         // --out-of-core: chcrt methods trace through the GPU subtree cache
+    int gpuCacheMb = 1024;          // --gpu-cache-mb
+    int hostCacheMb = 2048;         // --host-cache-mb
+    std::string cachePolicy = "lru"; // --cache-policy round-robin|lru
+    std::string loadInCore = "auto"; // --load-in-core auto|on|off: also load an --out-of-core scene in core (references)
 };
 
 // Adds the shared options to a subcommand. `withEffects`: the command renders shaded images.

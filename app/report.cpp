@@ -139,4 +139,37 @@ std::string formatCount(uint64_t value) {
     return std::to_string(value);
 }
 
+nlohmann::json chcrtStatsJson(const ChcrtStats& s, double frames) {
+    const double f = frames > 0 ? frames : 1.0;
+    nlohmann::json sums = {{"traces", s.traces},
+                           {"fallback_traces", s.fallbackTraces},
+                           {"queries", s.queries},
+                           {"queries_single", s.queriesSingle},
+                           {"queries_multi", s.queriesMulti},
+                           {"queries_multi_failed", s.queriesMultiFailed},
+                           {"queries_invisible", s.queriesInvisible},
+                           {"queries_lazy", s.queriesLazy},
+                           {"queries_traversal", s.queriesTraversal},
+                           {"pairs_visible", s.pairsVisible},
+                           {"pairs_invisible", s.pairsInvisible},
+                           {"pairs_newly_visible", s.pairsNewlyVisible},
+                           {"pairs_pulled_up", s.pairsPulledUp},
+                           {"subtrees_scheduled", s.subtreesScheduled},
+                           {"shader_calls", s.shaderCalls},
+                           {"barriers", s.barriers},
+                           {"residency_rounds", s.residencyRounds},
+                           {"rays_traced", s.raysTraced},
+                           {"phase1_ms", s.phase1Ms},
+                           {"phase2_ms", s.phase2Ms},
+                           {"phase3_ms", s.phase3Ms},
+                           {"fallback_ms", s.fallbackMs}};
+    nlohmann::json perFrame = nlohmann::json::object();
+    for (auto it = sums.begin(); it != sums.end(); ++it) perFrame[it.key()] = it.value().get<double>() / f;
+    const double ms = s.totalMs();
+    return {{"frames", frames},
+            {"sum", sums},
+            {"per_frame", perFrame},
+            {"mrays_per_s", ms > 0 ? double(s.raysTraced) / (ms * 1000.0) : 0.0}};
+}
+
 } // namespace chcrt::app

@@ -1,6 +1,7 @@
 #pragma once
 // Output helpers of the commands: JSON/CSV/markdown files written atomically (temp file + rename, so a failure
 // never leaves a partial file), statistics as JSON, and fixed-width tables for the terminal.
+#include "culling/chcrt_tracer.h"
 #include "renderer/bvh/bvh.h"
 #include "renderer/render/renderer.h"
 #include "renderer/scene/scene.h"
@@ -31,5 +32,9 @@ struct Table {
 
 std::string formatFixed(double value, int decimals);
 std::string formatCount(uint64_t value); // 1234567 -> "1.23M"
+
+// CHC+RT counters (culling/chcrt_tracer.h) summed over `frames` frames: sums, per-frame means and Mrays/s over
+// the tracer's own wall time ("chcrt" object of bench rows and render frames).
+nlohmann::json chcrtStatsJson(const ChcrtStats& stats, double frames);
 
 } // namespace chcrt::app

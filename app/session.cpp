@@ -2,11 +2,14 @@
 
 #include "renderer/core/error.h"
 #include "renderer/core/frame_range.h"
+#include "renderer/outofcore/chs_file.h"
 #include "renderer/scene/scene_loader.h"
 
 #include <algorithm>
 #include <charconv>
 #include <chrono>
+#include <cstdio>
+#include <unistd.h>
 
 namespace chcrt::app {
 namespace {
@@ -66,14 +69,39 @@ int parseFrameCountSuffix(const std::string& text, size_t prefixLength) {
     return value;
 }
 
+// Whether a prepared scene is loaded in core: always without --out-of-core; with it by --load-in-core (auto: when
+// the estimated footprint is below a quarter of the physical memory).
+bool loadPreparedInCore(const CommonOptions& o) {
+    if (!o.outOfCore) return true;
+    if (o.loadInCore == "on") return true;
+    if (o.loadInCore == "off") return false;
+    if (o.loadInCore != "auto") throw InputError("--load-in-core must be auto, on or off, not '" + o.loadInCore + "'");
+    const uint64_t triangles = outofcore::ChsFile(o.scene).header().triangleCount;
+    const uint64_t ram = uint64_t(sysconf(_SC_PHYS_PAGES)) * uint64_t(sysconf(_SC_PAGE_SIZE));
+    return outofcore::estimatedInCoreBytes(triangles) < ram / 4;
+}
+
 } // namespace
 
 SceneSession openSceneSession(const CommonOptions& o) {
     SceneSession s;
+    s.options = o;
     s.progress = makeTerminalProgress(!o.quiet);
     const auto start = Clock::now();
     ProceduralSpec spec;
-    if (parseProceduralSpec(o.scene, spec)) {
+    const bool prepared = outofcore::isPreparedScenePath(o.scene);
+    if (prepared) { // a prepared scene loaded in core: its BVH comes from the file (renderer/outofcore/)
+        s.sceneInCore = loadPreparedInCore(o);
+        s.progress->begin(std::string(s.sceneInCore ? "Loading " : "Opening (out of core) ") + o.scene, 0);
+        outofcore::LoadedPreparedScene loaded = s.sceneInCore ? outofcore::loadPreparedScene(o.scene)
+                                                              : outofcore::loadPreparedSceneProxy(o.scene);
+        s.progress->end();
+        s.fileTriangles = outofcore::ChsFile(o.scene).header().triangleCount;
+        s.scene = std::move(loaded.scene);
+        s.bvh = std::move(loaded.bvh);
+        s.light = loaded.light;
+        if (parseProceduralSpec(loaded.source, spec)) s.procedural = spec;
+    } else if (parseProceduralSpec(o.scene, spec)) {
         s.progress->begin("Generating " + toString(spec), 0);
         s.scene = generateProceduralScene(spec);
         s.progress->end();
@@ -86,7 +114,7 @@ SceneSession openSceneSession(const CommonOptions& o) {
     validateScene(s.scene);
     s.sceneSeconds = secondsSince(start);
     s.path = resolveCameraPath(o, s);
-    s.bvh = buildBvh(s.scene, toBvhOptions(o), *s.progress);
+    if (!prepared) s.bvh = buildBvh(s.scene, toBvhOptions(o), *s.progress);
     return s;
 }
 
@@ -117,7 +145,17 @@ GpuSession openGpuSession(const CommonOptions& o, const SceneSession& s, const R
     const auto start = Clock::now();
     GpuSession g;
     g.context = createHeadlessContext(parseGlBackend(o.gl), o.glDebug);
-    g.renderer = std::make_unique<Renderer>(s.scene, s.bvh, s.light, settings);
+    RenderSettings effective = settings;
+    if (!s.sceneInCore) {
+        // Not in core (docs/outofcore.md): primary visibility from out-of-core primary rays; the diffuse effect
+        // shades bounce hits through per-triangle buffers of the whole scene, which do not exist here.
+        effective.primaryVisibility = PrimaryVisibility::Traced;
+        if (effective.effects.diffuse && !o.quiet) {
+            std::fprintf(stderr, "chcrt: note: the diffuse effect needs the scene in core; rendering without it\n");
+        }
+        effective.effects.diffuse = false;
+    }
+    g.renderer = std::make_unique<Renderer>(s.scene, s.bvh, s.light, effective);
     g.setupSeconds = secondsSince(start);
     return g;
 }

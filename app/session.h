@@ -24,6 +24,11 @@ struct SceneSession {
     Bvh bvh;
     double sceneSeconds = 0; // load or generation
     std::unique_ptr<Progress> progress;
+    CommonOptions options; // as opened (methods read their parameters, e.g. --ls-*)
+    // False for an --out-of-core scene that was not loaded: `scene` and `bvh` are a geometry-free proxy
+    // (outofcore::loadPreparedSceneProxy) and every hit comes from the out-of-core tracer.
+    bool sceneInCore = true;
+    uint64_t fileTriangles = 0; // triangles of a prepared scene's file
 };
 
 // Loads/generates the scene, resolves the camera path and builds the BVH (with progress bars on a TTY).
