@@ -259,7 +259,7 @@ int runBench(const BenchOptions& options) {
                     {"binary_filled", st.binaryShafts ? double(st.binaryFilled) / double(st.binaryShafts) : 0.0},
                     {"linespace_mb", double(st.lineSpaceBytes) / 1e6}, {"node_pool_mb", double(st.nodeBytes) / 1e6},
                     {"gpu_bytes", nt->gpuBytes()}, {"shadow_level", nt->options().shadowLevel},
-                    {"start_exact", nt->options().startExact}};
+                    {"start_exact", nt->options().startExact}, {"near_edges", nt->options().nearEdges}};
             }
             if (auto* ooc = dynamic_cast<outofcore::OutOfCoreTracer*>(m == "bvh" ? nullptr : tracers[m].get())) {
                 nlohmann::json j = outOfCoreStatsJson(r.outOfCore, double(options.runs) * double(frames.size()), *ooc);

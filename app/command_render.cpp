@@ -109,8 +109,8 @@ int runRender(const RenderOptions& options) {
     std::printf("  scene %.2f s, GL setup %.2f s on %s\n", session.sceneSeconds, gpu.setupSeconds,
                 info.renderer.c_str());
     std::printf("  %zu frame(s) %dx%d, %d spp, effects %s, primary visibility %s, path %s\n", frames.size(),
-                settings.width, settings.height, settings.samplesPerPixel, toString(settings.effects).c_str(),
-                toString(settings.primaryVisibility), session.path.name.c_str());
+                settings.width, settings.height, settings.samplesPerPixel, toString(renderer.settings().effects).c_str(),
+                toString(renderer.settings().primaryVisibility), session.path.name.c_str()); // as rendered (out of core may change them)
     std::printf("  per frame: %.1f ms total = G-buffer %.1f + ray generation %.1f + tracing %.1f + shading %.1f\n",
                 sum.totalMs / n, sum.gbufferMs / n, sum.raygenMs / n, sum.traceMs() / n, sum.shadeMs / n);
     for (RayType type : {RayType::Primary, RayType::Shadow, RayType::Ao, RayType::Diffuse}) { // primary: --primary traced

@@ -1,5 +1,10 @@
 #include "app/outofcore_report.h"
 
+#include "renderer/outofcore/primary_resolve.h"
+
+#include <cstdio>
+#include <cstdlib>
+
 namespace chcrt::app {
 
 nlohmann::json outOfCoreStatsJson(const outofcore::OutOfCoreStats& s, double frames,
@@ -30,20 +35,11 @@ nlohmann::json outOfCoreStatsJson(const outofcore::OutOfCoreStats& s, double fra
             {"file_subtrees", tracer.file().subtrees().size()}};
 }
 
-} // namespace chcrt::app
-
-#include "renderer/outofcore/primary_resolve.h"
-
-#include <cstdio>
-#include <cstdlib>
-
-namespace chcrt::app {
-
 void installOutOfCorePrimary(Renderer& renderer, outofcore::OutOfCoreTracer& tracer) {
     outofcore::PrimaryResolve* resolve = &tracer.primaryResolve(); // now: turns on subtree recording
     renderer.setOutOfCorePrimary([resolve](const Camera& camera, const FrameTargets& targets, float nearPlane) {
         resolve->resolve(camera, targets, nearPlane);
-        if (std::getenv("CHCRT_DEBUG_RESOLVE")) {
+        if (std::getenv("CHCRT_DEBUG_RESOLVE")) { // docs/outofcore.md: per-frame cost of the host lookup
             const outofcore::PrimaryResolveStats& r = resolve->lastStats();
             std::fprintf(stderr, "resolve: %llu hit pixels, %llu subtrees, %llu unresolved, %.1f ms on the host\n",
                          (unsigned long long)r.hitPixels, (unsigned long long)r.subtreesRead,

@@ -12,10 +12,6 @@ namespace chcrt::app {
 nlohmann::json outOfCoreStatsJson(const outofcore::OutOfCoreStats& stats, double frames,
                                   const outofcore::OutOfCoreTracer& tracer);
 
-} // namespace chcrt::app
-
-namespace chcrt::app {
-
 // A scene that is not in core (docs/outofcore.md): the renderer's traced G-buffer is resolved through
 // `tracer`'s recorded subtrees (outofcore::PrimaryResolve) and secondary rays read per-pixel geometric normals.
 // The renderer must use traced primary visibility, and `tracer` must trace the G-buffer's primary rays (it must

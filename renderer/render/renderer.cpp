@@ -90,6 +90,16 @@ Renderer::Renderer(const Scene& scene, const Bvh& bvh, const AreaLight& light, c
 
 Renderer::~Renderer() = default;
 
+void Renderer::setOutOfCorePrimary(OutOfCorePrimaryResolve resolve) {
+    outOfCorePrimary_ = std::move(resolve);
+    pixelGeometricNormals_ = 0;
+    if (!outOfCorePrimary_ || pixelNormalRaygenPrograms_[0].id() != 0) return;
+    for (int type = 0; type < int(pixelNormalRaygenPrograms_.size()); ++type) {
+        pixelNormalRaygenPrograms_[type] = makeFullscreenProgram(
+            "rays/raygen.frag.glsl", {{"RAY_TYPE", std::to_string(type)}, {"CHCRT_PIXEL_GEOMETRIC_NORMALS", "1"}});
+    }
+}
+
 void Renderer::setSettings(const RenderSettings& settings) {
     validateSettings(settings);
     if (!targets_ || settings.width != settings_.width || settings.height != settings_.height) {
@@ -174,6 +184,13 @@ void Renderer::traceGBuffer(const Camera& camera, FrameStats& stats) {
     trace(camera, RayType::Primary, false, 0, 0, 0, stats);
     const auto start = Clock::now();
     const FrameTargets& t = *targets_;
+    if (outOfCorePrimary_) {
+        pixelGeometricNormals_ = outOfCorePrimary_(camera, t, nearPlaneFor(sceneBounds_));
+        glFinish();
+        stats.gbufferMs += millisecondsSince(start);
+        if (passCallback_) passCallback_();
+        return;
+    }
     const CameraFrame frame = makeCameraFrame(camera, t.width, t.height);
     const ShaderProgram& program = gbufferFromHitsProgram_;
     program.use();
@@ -252,7 +269,8 @@ void Renderer::generateRays(const Camera& camera, int rayProgram, int sampleInde
     const auto start = Clock::now();
     const FrameTargets& t = *targets_;
     const CameraFrame frame = makeCameraFrame(camera, t.width, t.height);
-    const ShaderProgram& program = raygenPrograms_[rayProgram];
+    const bool pixelNormals = outOfCorePrimary_ && pixelGeometricNormals_ != 0;
+    const ShaderProgram& program = pixelNormals ? pixelNormalRaygenPrograms_[rayProgram] : raygenPrograms_[rayProgram];
     program.use();
     // Halton index 0 is (0, 0): start at 1. The bounce shadow rays use a later, independent part of the sequence.
     program.set("haltonSample", halton2D(uint32_t(sampleIndex) + 1u));
@@ -278,6 +296,7 @@ void Renderer::generateRays(const Camera& camera, int rayProgram, int sampleInde
     glBindTextureUnit(CHCRT_UNIT_GBUFFER_POSITION, t.gbufferPosition.id());
     glBindTextureUnit(CHCRT_UNIT_GBUFFER_NORMAL, t.gbufferNormal.id());
     glBindTextureUnit(CHCRT_UNIT_GBUFFER_TRIANGLE, t.gbufferTriangle.id());
+    if (pixelNormals) glBindTextureUnit(CHCRT_UNIT_PIXEL_GEOMETRIC_NORMAL, pixelGeometricNormals_);
     // Bounce shadow rays read the diffuse rays (set 0) and their hits (hit set 0).
     glBindTextureUnit(CHCRT_UNIT_RAY_ORIGIN, t.rays[0].origin.id());
     glBindTextureUnit(CHCRT_UNIT_RAY_DIRECTION, t.rays[0].direction.id());

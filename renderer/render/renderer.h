@@ -84,6 +84,14 @@ public:
 
     float sceneDiagonal() const { return sceneDiagonal_; }
 
+    // Out of core (renderer/outofcore/primary_resolve.h): with traced primary visibility, `resolve` writes the
+    // G-buffer from the primary hits (ray set 0, hit set 0) and returns a texture (RGBA32F, frame size) of the
+    // pixels' geometric normals, which secondary ray generation then reads instead of the per-triangle buffers
+    // indexed by original id (those cannot hold a scene that is not in core). An empty function restores the
+    // in-core passes. The diffuse effect still shades bounce hits by id: not for scenes that are not in core.
+    using OutOfCorePrimaryResolve = std::function<GLuint(const Camera&, const FrameTargets&, float nearPlane)>;
+    void setOutOfCorePrimary(OutOfCorePrimaryResolve resolve);
+
 private:
     void rasterizeGBuffer(const Camera& camera, FrameStats& stats);
     void traceGBuffer(const Camera& camera, FrameStats& stats);
@@ -106,6 +114,9 @@ private:
     ShaderProgram gbufferProgram_;
     ShaderProgram gbufferFromHitsProgram_; // traced primary visibility
     std::array<ShaderProgram, 5> raygenPrograms_; // indexed by CHCRT_RAY_*
+    std::array<ShaderProgram, 5> pixelNormalRaygenPrograms_; // out of core: geometric normals per pixel
+    OutOfCorePrimaryResolve outOfCorePrimary_;
+    GLuint pixelGeometricNormals_ = 0; // from the last out-of-core resolve
     ShaderProgram accumulateShadow_, accumulateAo_, accumulateDiffuse_;
     ShaderProgram composeProgram_;
     GlBuffer cappedRayCounter_;

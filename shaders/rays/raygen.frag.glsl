@@ -10,6 +10,12 @@
 layout(binding = CHCRT_UNIT_GBUFFER_POSITION) uniform sampler2D gbufferPosition;
 layout(binding = CHCRT_UNIT_GBUFFER_NORMAL) uniform sampler2D gbufferNormal;
 layout(binding = CHCRT_UNIT_GBUFFER_TRIANGLE) uniform usampler2D gbufferTriangle;
+#ifndef CHCRT_PIXEL_GEOMETRIC_NORMALS
+#define CHCRT_PIXEL_GEOMETRIC_NORMALS 0
+#endif
+#if CHCRT_PIXEL_GEOMETRIC_NORMALS
+layout(binding = CHCRT_UNIT_PIXEL_GEOMETRIC_NORMAL) uniform sampler2D pixelGeometricNormals;
+#endif
 layout(binding = CHCRT_UNIT_RAY_ORIGIN) uniform sampler2D previousRayOrigin;       // bounce shadow rays only
 layout(binding = CHCRT_UNIT_RAY_DIRECTION) uniform sampler2D previousRayDirection; // bounce shadow rays only
 layout(binding = CHCRT_UNIT_BOUNCE_HIT) uniform usampler2D bounceHit;              // bounce shadow rays only
@@ -93,7 +99,12 @@ void main() {
     }
     vec3 position = texelFetch(gbufferPosition, ivec2(pixel), 0).xyz;
     vec3 shadingNormal = texelFetch(gbufferNormal, ivec2(pixel), 0).xyz;
+#if CHCRT_PIXEL_GEOMETRIC_NORMALS
+    // Out of core (renderer/outofcore/primary_resolve.h): no per-triangle buffer covers the scene.
+    vec3 geometricNormal = texelFetch(pixelGeometricNormals, ivec2(pixel), 0).xyz;
+#else
     vec3 geometricNormal = hitGeometricNormal(texelFetch(gbufferTriangle, ivec2(pixel), 0).x);
+#endif
     if (dot(geometricNormal, cameraPosition - position) < 0.0f) {
         geometricNormal = -geometricNormal;
     }

@@ -23,6 +23,7 @@
 #define CHCRT_UNIT_BOUNCE_HIT 15     // usampler2D RGBA32UI: the diffuse pass's hit buffer (for its shadow rays)
 // Units 16-21: Line Space (shaders/linespace/linespace_bindings.h).
 #define CHCRT_UNIT_TRI_NORMALS 22    // usamplerBuffer, RGBA16UI ((n * 0.5 + 0.5) * 65535), per original id
+#define CHCRT_UNIT_PIXEL_GEOMETRIC_NORMAL 23 // sampler2D RGBA32F: out of core, the G-buffer pixels' geometric normals
 
 // --- Per-triangle attributes by original id (for shading hits): 3 texels = 48 bytes ----------------------
 //   texel 0: geometric normal.xyz (unit), material id   texel 1: uv0.xy, uv1.xy
