@@ -21,6 +21,9 @@ const std::vector<MethodInfo>& gpuMethods() {
         {"bvh+ls-exact", true, "BVH with exact empty-space skipping at binary Line Space nodes (--ls-*)"},
         {"bvh+ls", false, "BVH + Line Space: shadow termination at occupied shafts, representative candidates for "
                           "AO/diffuse (approximate; --ls-modes)"},
+        {"chcrt+ls-exact", true, "CHC+RT with exact empty-space skipping at Line Space nodes inside its subtrees (--ls-*)"},
+        {"chcrt+ls", false, "CHC+RT with Line Spaces in its subtrees: any-hit rays (shadow, AO) end at occupied shafts "
+                            "(SS 4.1), closest-hit rays skip empty ones (approximate)"},
         {"ntree+ls", false, "shadow rays over an N-tree with binary Line Spaces, occluded at occupied shafts of level "
                             "d-1 (soft-shadow paper; approximate; --ls-ntree N:d); other rays: pure BVH"},
     };
@@ -92,15 +95,17 @@ std::unique_ptr<Tracer> makeNTreeTracer(const std::string& name, const SceneSess
         throw InputError("--ls-ntree-start must be exact or skip, not '" + o.lsNtreeStart + "'");
     }
     shadow.startExact = o.lsNtreeStart == "exact";
+    if (!(o.lsNtreeNear >= 0.0f && o.lsNtreeNear <= 1000.0f)) throw InputError("--ls-ntree-near must be in 0..1000");
+    shadow.nearEdges = o.lsNtreeNear;
     const ls::NTree tree = ls::buildNTree(session.bvh, params, *session.progress);
     auto gpu = std::make_shared<ls::NTreeGpu>(tree);
     auto tracer = std::make_unique<ls::NTreeTracer>(name, gpu, shadow);
     tracer->buildStats = tree.stats;
     tracer->paramsText = params.toString();
     if (!o.quiet) {
-        std::fprintf(stderr, "%s: %s: %s; GPU %.2f MB; shadow level %u, start node %s\n", name.c_str(),
+        std::fprintf(stderr, "%s: %s: %s; GPU %.2f MB; shadow level %u, start node %s, near %.2f\n", name.c_str(),
                      params.toString().c_str(), tree.stats.summary().c_str(), double(gpu->gpuBytes()) / 1e6,
-                     shadow.shadowLevel, o.lsNtreeStart.c_str());
+                     shadow.shadowLevel, o.lsNtreeStart.c_str(), double(shadow.nearEdges));
     }
     return tracer;
 }
@@ -144,6 +149,31 @@ std::unique_ptr<Tracer> makeChcrtTracer(const std::string& name, const SceneSess
     onOff(o.chcrtLeafCache, "--chcrt-leaf-cache", options.leafCache);
     if (name != "chcrt-aggressive" && options.visibleThreshold > 0) {
         throw InputError("--chcrt-threshold > 0 makes culling approximate: use --method chcrt-aggressive");
+    }
+    if (name == "chcrt+ls" || name == "chcrt+ls-exact") {
+        if (o.outOfCore) throw InputError("--out-of-core: " + name + " needs the whole BVH's Line Spaces; use chcrt");
+        if (!(o.lsAngle >= 0.0f && o.lsAngle <= 180.0f)) throw InputError("--ls-angle must be between 0 and 180");
+        ls::LineSpaceParams params;
+        params.n = o.lsN;
+        params.depth = o.lsDepth;
+        params.triangleThreshold = o.lsT;
+        params.candidates = false;
+        ls::CacheOutcome outcome = ls::CacheOutcome::Built;
+        const ls::LineSpaces spaces = ls::loadOrBuildLineSpaces(session.bvh, params, o.lsCache, *session.progress, &outcome);
+        auto gpu = std::make_shared<ls::LineSpaceGpu>(spaces, session.bvh, session.scene);
+        // The subtree shader is compiled per any-hit, not per ray type: any-hit rays (shadow, AO) get shadow
+        // termination (SS 4.1) in chcrt+ls, closest-hit rays (primary, diffuse) exact skipping.
+        const ls::LineSpaceMode anyHitMode = name == "chcrt+ls" ? ls::LineSpaceMode::Shadow : ls::LineSpaceMode::Exact;
+        const float angle = o.lsAngle;
+        options.subtreeDefines = [gpu, anyHitMode, angle](bool anyHit) {
+            return gpu->defines(anyHit ? anyHitMode : ls::LineSpaceMode::Exact, angle);
+        };
+        options.bindSubtreeResources = [gpu] { gpu->bind(); };
+        options.adaptive = false; // the fallback's pure pass has no Line Spaces
+        if (!o.quiet) {
+            std::fprintf(stderr, "%s: Line Spaces %s (%s): %s\n", name.c_str(), ls::toString(outcome),
+                         params.toString().c_str(), spaces.stats.summary().c_str());
+        }
     }
     if (o.outOfCore) return std::make_unique<outofcore::OutOfCoreTracer>(o.scene, outOfCoreOptions(o), options, name);
     return std::make_unique<ChcrtTracer>(session.bvh, options, name);

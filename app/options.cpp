@@ -58,6 +58,10 @@ void addCommonOptions(CLI::App& c, CommonOptions& o, bool withEffects) {
     c.add_option("--ls-ntree", o.lsNtree, "N-tree with binary Line Spaces N:d for method ntree+ls (default 6:3)");
     c.add_option("--ls-ntree-level", o.lsNtreeLevel,
                  "ntree+ls: N-tree level whose occupied shafts count as occluded (default d-1 as SS; >= d: exact)");
+    c.add_option("--ls-ntree-near", o.lsNtreeNear,
+                 "ntree+ls: shadow-level nodes entered within this many node edges of the ray origin are handled "
+                 "like the start node (0 = SS 4.1)")
+        ->capture_default_str();
     c.add_option("--ls-ntree-start", o.lsNtreeStart,
                  "ntree+ls: the node a shadow ray starts or ends in: skip (SS 4.1) or exact (triangle tests)")
         ->capture_default_str();

@@ -47,6 +47,7 @@ struct CommonOptions {
     float lsAngle = 30.0f;        // --ls-angle: normal-angle threshold of candidates, degrees
     std::string lsNtree;          // --ls-ntree N:d of method ntree+ls (default 6:3)
     int lsNtreeLevel = -1;        // --ls-ntree-level: level whose occupied shafts terminate (-1 = d-1, >= d exact)
+    float lsNtreeNear = 0.0f;     // --ls-ntree-near: nodes this many node edges from the origin count as the start
     std::string lsNtreeStart = "skip"; // --ls-ntree-start skip (SS §4.1) | exact: node a shadow ray starts/ends in
     std::string lsModes;          // --ls-modes type=mode,... on top of the method's defaults
     std::string lsCache = "out/cache/linespace"; // --ls-cache: "" disables caching

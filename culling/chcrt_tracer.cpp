@@ -150,9 +150,12 @@ ChcrtTracer::ChcrtTracer(CullingHierarchy hierarchy, SubtreeSource& source, Trac
 void ChcrtTracer::compilePrograms() {
     // A subtree of height h pushes at most h entries (one per level below its root).
     const uint32_t stack = std::min<uint32_t>(hierarchy_.maxSubtreeHeight + 1, CHCRT_MAX_BVH_DEPTH);
-    const std::vector<ShaderDefine> subtreeDefines = {{"CHCRT_SUBTREE_STACK", std::to_string(stack)},
-                                                      {"CHCRT_CULLING_LEAF_CACHE", options_.leafCache ? "1" : "0"}};
     for (int anyHit = 0; anyHit < 2; ++anyHit) {
+        std::vector<ShaderDefine> subtreeDefines = {{"CHCRT_SUBTREE_STACK", std::to_string(stack)},
+                                                    {"CHCRT_CULLING_LEAF_CACHE", options_.leafCache ? "1" : "0"}};
+        if (options_.subtreeDefines) {
+            for (ShaderDefine& d : options_.subtreeDefines(anyHit != 0)) subtreeDefines.push_back(std::move(d));
+        }
         queryPrograms_[anyHit] = makeProgram("culling/chcrt_query.frag.glsl", anyHit != 0);
         subtreePrograms_[anyHit] = makeProgram("culling/chcrt_subtrees.frag.glsl", anyHit != 0, subtreeDefines);
         std::vector<ShaderDefine> singleDefines = subtreeDefines;
@@ -388,6 +391,7 @@ void ChcrtTracer::drawBatches(const std::vector<Scheduled>& work, bool anyHit) {
         i = end;
     }
     setMode(Mode::Intersect, anyHit);
+    if (options_.bindSubtreeResources) options_.bindSubtreeResources();
     const ShaderProgram& batchProgram = subtreeProgram(anyHit);
     // Batches of one subtree use the variant without the batch loop (not with debug images).
     const ShaderProgram& singleProgram =

@@ -17,6 +17,7 @@
 #include "renderer/render/tracer.h"
 
 #include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -42,6 +43,11 @@ struct ChcrtOptions {
     // (in core: the BVH); ignored without one.
     bool adaptive = true;
     uint32_t adaptiveProbeInterval = 8;
+    // Extra defines of the subtree-intersection shader per any-hit (e.g. Line Space traversal, methods
+    // chcrt+ls*: linespace/README.md) and the binding of what they read, called before subtree draws. Empty =
+    // pure subtree traversal. The leaf-cache variant is not used when CHCRT_LS_MODE is set (the shader says why).
+    std::function<std::vector<ShaderDefine>(bool anyHit)> subtreeDefines;
+    std::function<void()> bindSubtreeResources;
 };
 
 // Counters of one trace (lastStats) or summed over traces (totalStats).

@@ -8,8 +8,8 @@
 // shaft/box test with the builders' dilation: conservative with respect to the geometry.
 //
 // Triangles are assigned to every cell they overlap (exact triangle/box test), so a cell is non-empty iff
-// geometry passes through it. Not implemented here: traversal (the GLSL integration comes next) and
-// representative candidates on the N-tree.
+// geometry passes through it. Traversal: ntree_gpu.h (pools) and shaders/linespace/ntree_traverse.glsl (method
+// ntree+ls). Not implemented: representative candidates on the N-tree.
 #include "renderer/bvh/bvh.h"
 #include "renderer/core/progress.h"
 

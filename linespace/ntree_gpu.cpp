@@ -3,6 +3,7 @@
 #include "linespace/shaft_index.h"
 #include "shaders/linespace/ntree_layout.h"
 
+#include <cstdio>
 #include <string>
 
 namespace chcrt::ls {
@@ -69,10 +70,13 @@ void NTreeGpu::bind() const {
 }
 
 std::vector<ShaderDefine> NTreeGpu::defines(const NTreeShadowOptions& options) const {
+    char nearText[32];
+    std::snprintf(nearText, sizeof(nearText), "%.6ff", double(options.nearEdges));
     return {{"CHCRT_NT_N", std::to_string(n_) + "u"},
             {"CHCRT_NT_BINARY_WORDS_PER_SPACE", std::to_string(lsWordCount(n_, true)) + "u"},
             {"CHCRT_NT_SHADOW_LEVEL", std::to_string(options.shadowLevel)},
-            {"CHCRT_NT_START_EXACT", options.startExact ? "1" : "0"}};
+            {"CHCRT_NT_START_EXACT", options.startExact ? "1" : "0"},
+            {"CHCRT_NT_NEAR", nearText}};
 }
 
 } // namespace chcrt::ls

@@ -17,6 +17,9 @@ namespace chcrt::ls {
 struct NTreeShadowOptions {
     uint32_t shadowLevel = 0;
     bool startExact = false;
+    // Shadow-level nodes the ray enters within `nearEdges` node edges of its origin are handled like the start
+    // node (our addition: self-occlusion by the surface the ray leaves; 0 = the paper).
+    float nearEdges = 0.0f;
 };
 
 // The GPU pools in CPU memory (exposed for tests and byte counts).

@@ -19,6 +19,12 @@
 #define CHCRT_MAX_BVH_DEPTH CHCRT_SUBTREE_STACK
 #endif
 #include "trace/bvh_traverse.glsl"
+// With Line Space traversal (CHCRT_LS_MODE, linespace/README.md) traverseBvh is the Line Space one; the leaf-cache
+// traversal has no Line Space form, so it is not used then.
+#if defined(CHCRT_LS_MODE) && CHCRT_LS_MODE != 0
+#undef CHCRT_CULLING_LEAF_CACHE
+#define CHCRT_CULLING_LEAF_CACHE 0
+#endif
 #if CHCRT_CULLING_LEAF_CACHE
 #include "culling/subtree_traverse_cached.glsl"
 #endif

@@ -20,13 +20,18 @@
 //   CHCRT_NT_BINARY_WORDS_PER_SPACE  lsWordCount(N, true), e.g. 608u
 //   CHCRT_NT_SHADOW_LEVEL            level whose occupied shafts terminate (paper: d - 1)
 //   CHCRT_NT_START_EXACT             0 | 1, see above
+//   CHCRT_NT_NEAR                    float: shadow-level nodes entered closer than NEAR node edges to the origin
+//                                    are handled like the start node (default 0.0f = the paper)
 // Needs bvhTriangles, TraceHit, TraceCost and intersectRayTriangle from trace/bvh_traverse.glsl (include it first).
 #include "linespace/linespace_bindings.h"
 #include "linespace/ntree_layout.h"
 #include "linespace/shaft_index_fast.glsl"
 
 #ifndef CHCRT_NT_START_EXACT
-#define CHCRT_NT_START_EXACT 1
+#define CHCRT_NT_START_EXACT 0
+#endif
+#ifndef CHCRT_NT_NEAR
+#define CHCRT_NT_NEAR 0.0f
 #endif
 
 layout(binding = CHCRT_UNIT_NT_NODES) uniform samplerBuffer ntNodes;
@@ -89,7 +94,9 @@ int ntDecide(uint node, int level, vec3 origin, vec3 direction, vec3 invDir, flo
         return CHCRT_NT_SKIP;
     }
     if (level == CHCRT_NT_SHADOW_LEVEL) {
-        if (entryExit.x > tmin && entryExit.y < tmax) {
+        // CHCRT_NT_NEAR: nodes entered within this many node edges of the origin count as the start node too
+        // (our addition against self-occlusion by the surface the ray leaves; 0 = the paper).
+        if (entryExit.x > tmin + CHCRT_NT_NEAR * record.w && entryExit.y < tmax) {
             return CHCRT_NT_OCCLUDED;
         }
         return CHCRT_NT_START_EXACT != 0 ? CHCRT_NT_DESCEND : CHCRT_NT_SKIP; // SS §4.1: says nothing here

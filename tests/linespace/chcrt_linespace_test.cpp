@@ -8,6 +8,7 @@
 #include "culling/chcrt_tracer.h"
 #include "linespace/linespace_build.h"
 #include "linespace/linespace_gpu.h"
+#include "shaders/linespace/linespace_bindings.h"
 #include "renderer/scene/camera_path.h"
 
 #include <cstring>
@@ -26,6 +27,8 @@ protected:
         auto gpu = std::make_shared<ls::LineSpaceGpu>(spaces_, bvh_, scene_);
         ChcrtOptions options;
         options.adaptive = false;
+        options.partition.maxSubtreeHeight = 8; // small subtrees and tiles, as the CHC+RT exactness tests: culling
+        options.pairs.minTileSize = 16;         // happens at 96 x 72
         options.subtreeDefines = [gpu, closest, any](bool anyHit) { return gpu->defines(anyHit ? any : closest, 30.0f); };
         options.bindSubtreeResources = [gpu] { gpu->bind(); };
         return options;
@@ -91,14 +94,16 @@ TEST_F(ChcrtLineSpaceTest, ShadowTerminationInSubtreesOnlyAddsOcclusion) {
     renderer.traceRayPass(camera, RayType::Shadow, 0, stats);
     const std::vector<Hit> hits = renderer.readHits(0);
     renderer.useTracer(nullptr);
-    uint64_t occludedPure = 0, occludedLs = 0;
+    uint64_t occludedPure = 0, occludedLs = 0, terminated = 0;
     for (size_t i = 0; i < hits.size(); ++i) {
         ASSERT_TRUE(!hitOf(reference[i]) || hitOf(hits[i])) << "lost an occluder at pixel " << i;
         occludedPure += hitOf(reference[i]);
         occludedLs += hitOf(hits[i]);
+        terminated += hits[i].triangleId == CHCRT_LS_OCCLUDED_ID;
     }
     EXPECT_GT(occludedPure, 0u);
     EXPECT_GE(occludedLs, occludedPure);
+    EXPECT_GT(terminated, 0u) << "no shaft terminated a ray: the subtrees did not use the Line Spaces";
     EXPECT_EQ(stats.cappedRays, 0u);
 }
 

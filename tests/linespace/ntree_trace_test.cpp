@@ -6,6 +6,7 @@
 //    (SS §4: "a rather conservative estimation of occlusion"): every ray occluded for the BVH stays occluded,
 //    and some rays really end at a shaft;
 //  - skipping the start node (SS §4.1) can only lose occlusion against traversing it exactly;
+//  - treating nodes near the origin like the start node (exactly) lies between the exact and the paper's answer;
 //  - the GPU pools describe the tree: every cell's entry names its subdivided node, its leaf (with the cell's
 //    triangle list) or is empty.
 #include "tests/render/render_fixture.h"
@@ -107,11 +108,14 @@ TEST_P(NTreeTraceTest, ShaftTerminationOnlyAddsOcclusion) {
     paperLevel.startExact = true;
     ls::NTreeShadowOptions skipStart = paperLevel;
     skipStart.startExact = false;
+    ls::NTreeShadowOptions nearExact = paperLevel;
+    nearExact.nearEdges = 1.0f;
     ls::NTreeTracer exactStart("ntree+ls", gpu, paperLevel);
     ls::NTreeTracer paper("ntree+ls", gpu, skipStart);
+    ls::NTreeTracer near("ntree+ls", gpu, nearExact);
     uint64_t terminated = 0, occludedPure = 0, occludedNTree = 0;
     for (int frame : {0, 3}) {
-        const Pass pass = tracePass(renderer, {&exactStart, &paper}, frame, 0);
+        const Pass pass = tracePass(renderer, {&exactStart, &paper, &near}, frame, 0);
         for (size_t i = 0; i < pass.rays.size(); ++i) {
             if (!(pass.rays[i].tmax > pass.rays[i].tmin)) continue;
             const bool pure = occluded(pass.reference[i]);
@@ -119,6 +123,10 @@ TEST_P(NTreeTraceTest, ShaftTerminationOnlyAddsOcclusion) {
             const bool skipping = occluded(pass.hits[1][i]);
             ASSERT_TRUE(!pure || withStart) << "shaft termination lost an occluder at pixel " << i;
             ASSERT_TRUE(!skipping || withStart) << "skipping the start node added occlusion at pixel " << i;
+            // Near nodes traversed exactly instead of terminating: between the exact answer and the paper's.
+            const bool nearOccluded = occluded(pass.hits[2][i]);
+            ASSERT_TRUE(!pure || nearOccluded) << "near-exact traversal lost an occluder at pixel " << i;
+            ASSERT_TRUE(!nearOccluded || withStart) << "near-exact traversal added occlusion at pixel " << i;
             occludedPure += pure;
             occludedNTree += withStart;
             terminated += pass.hits[0][i].triangleId == CHCRT_LS_OCCLUDED_ID;
