@@ -83,10 +83,10 @@ bool loadPreparedInCore(const CommonOptions& o) {
 
 } // namespace
 
-SceneSession openSceneSession(const CommonOptions& o) {
+SceneSession openSceneSession(const CommonOptions& o, std::unique_ptr<Progress> progress) {
     SceneSession s;
     s.options = o;
-    s.progress = makeTerminalProgress(!o.quiet);
+    s.progress = progress ? std::move(progress) : makeTerminalProgress(!o.quiet);
     const auto start = Clock::now();
     ProceduralSpec spec;
     const bool prepared = outofcore::isPreparedScenePath(o.scene);

@@ -32,7 +32,8 @@ struct SceneSession {
 };
 
 // Loads/generates the scene, resolves the camera path and builds the BVH (with progress bars on a TTY).
-SceneSession openSceneSession(const CommonOptions& options);
+// `progress`: where the steps report instead (the viewer's panel); it becomes the session's progress.
+SceneSession openSceneSession(const CommonOptions& options, std::unique_ptr<Progress> progress = nullptr);
 
 // Frames to render: --frames if given, else `defaultFrames` of the path ("all" = every frame, "all:N" = every
 // N-th frame, "spread:N" = N frames evenly spread over the path). Frames past the path's end are an InputError.

@@ -8,7 +8,7 @@ const std::vector<ViewMode>& allViewModes() {
     static const std::vector<ViewMode> modes = {ViewMode::Shaded, ViewMode::Position, ViewMode::Normal,
                                                 ViewMode::Albedo, ViewMode::TriangleId, ViewMode::Depth,
                                                 ViewMode::Cost, ViewMode::Overdraw, ViewMode::Subtrees,
-                                                ViewMode::Batches};
+                                                ViewMode::Batches, ViewMode::Shafts};
     return modes;
 }
 
@@ -24,6 +24,7 @@ const char* toString(ViewMode mode) {
     case ViewMode::Overdraw: return "overdraw";
     case ViewMode::Subtrees: return "subtrees";
     case ViewMode::Batches: return "batches";
+    case ViewMode::Shafts: return "shafts";
     }
     return "?";
 }
@@ -40,6 +41,8 @@ const char* describe(ViewMode mode) {
     case ViewMode::Overdraw: return "CHC+RT: occlusion-query fragments per pixel, heat map (paper Figure 4)";
     case ViewMode::Subtrees: return "CHC+RT: termination subtree that produced each hit, hashed colour (Figure 5)";
     case ViewMode::Batches: return "CHC+RT: subtrees traversed per pixel over all batches, heat map (Figure 5)";
+    case ViewMode::Shafts:
+        return "Line Space of the picked node (click): green = the pixel's ray lies in an empty shaft, red = filled";
     }
     return "";
 }
@@ -54,7 +57,7 @@ ViewMode parseViewMode(const std::string& name) {
 }
 
 bool isGBufferMode(ViewMode mode) {
-    return mode != ViewMode::Shaded && mode != ViewMode::Cost && !isChcrtDebugMode(mode);
+    return mode != ViewMode::Shaded && mode != ViewMode::Cost && mode != ViewMode::Shafts && !isChcrtDebugMode(mode);
 }
 
 bool isChcrtDebugMode(ViewMode mode) {

@@ -2,6 +2,7 @@
 
 #include "app/methods.h"
 #include "app/report.h"
+#include "app/viewer/shaft_view.h"
 #include "app/viewer/view_display.h"
 #include "app/viewer/viewer_script.h"
 #include "app/viewer/viewer_session.h"
@@ -21,6 +22,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <optional>
 #include <cstdio>
 #include <deque>
 #include <filesystem>
@@ -130,6 +133,9 @@ private:
     void recordKeyframe();
     void notice(const std::string& text);
     void writeStatsJson() const;
+    void renderShafts(FrameStats& stats);
+    void updateShaftPick(int w, int h);
+    void sampleLoadProgress();
 
     ViewOptions options_;
     ViewerSettings settings_;
@@ -154,6 +160,16 @@ private:
     Clock::time_point recordStart_;
     int recordedFrameStart_ = 0;
     int screenshotCount_ = 0;
+
+    // Shafts view: the pending pick (internal pixel), the picked node and what it was computed for.
+    std::optional<std::pair<int, int>> pendingPick_;
+    std::optional<ShaftPick> shaftPick_;
+    Camera pickCamera_;
+    int pickWidth_ = 0, pickHeight_ = 0;
+    std::pair<int, int> pickPixel_{0, 0};
+    std::string pickParameters_; // N/D/T and scene the pick was computed with
+    bool leftWasDown_ = false;
+    nlohmann::json loadLog_ = nlohmann::json::array(); // samples of the loading worker's progress
 
     // Input
     std::vector<int> pressedKeys_;
@@ -238,6 +254,7 @@ int Viewer::run() {
         const auto start = Clock::now();
         const double seconds = std::chrono::duration<double>(start - last).count();
         last = start;
+        if (loader_.busy()) sampleLoadProgress();
         const bool loaded = loader_.busy() && loader_.finished();
         if (loaded) finishLoading();
         if (scripted_) {
@@ -286,6 +303,9 @@ void Viewer::finishLoading() {
         return;
     }
     const double loadSeconds = loader_.elapsedSeconds();
+    sampleLoadProgress(); // the worker has finished: complete, 100 %
+    shaftPick_.reset();   // a node of the previous scene: the new one starts with the centre pixel
+    pickParameters_.clear();
     const auto uploadStart = Clock::now();
     // GL upload and shader compilation on the main thread (the context lives here).
     tracer_.reset();
@@ -370,6 +390,17 @@ void Viewer::handleInteractiveInput(double seconds) {
     }
     lastCursorX_ = x;
     lastCursorY_ = y;
+    // Left click in the view: pick the pixel for the shafts view (window coordinates → internal image).
+    const bool leftDown = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+    if (leftDown && !leftWasDown_ && !io.WantCaptureMouse && display_->width() > 0) {
+        int windowWidth = 1, windowHeight = 1;
+        glfwGetWindowSize(window_, &windowWidth, &windowHeight);
+        const int px = std::clamp(int(x / std::max(windowWidth, 1) * display_->width()), 0, display_->width() - 1);
+        const int py = std::clamp(int(y / std::max(windowHeight, 1) * display_->height()), 0, display_->height() - 1);
+        pendingPick_ = std::make_pair(px, py);
+        dirty_ = true;
+    }
+    leftWasDown_ = leftDown;
     if (!io.WantCaptureMouse) input.scrollSteps = scrollSteps_;
     scrollSteps_ = 0;
     if (input.any()) {
@@ -471,6 +502,10 @@ void Viewer::runStepActions(const ScriptStep& step) {
         setCamera(scene_->path.cameraAtFrame(pathFrame_));
     }
     if (step.play) playing_ = *step.play;
+    if (step.pick) {
+        pendingPick_ = *step.pick;
+        dirty_ = true;
+    }
     if (step.scrollSteps != 0) walk_.update(WalkInput{.scrollSteps = step.scrollSteps}, 0.0);
     if (step.action == "reset") handleKey(GLFW_KEY_R);
     else if (step.action == "frameScene") handleKey(GLFW_KEY_F);
@@ -526,6 +561,11 @@ void Viewer::checkExpectations(const nlohmann::json& expect) {
             if (status_.sceneName != value.get<std::string>()) fail("scene = " + status_.sceneName);
         } else if (key == "pathFrame") {
             if (pathFrame_ != value.get<int>()) fail("pathFrame = " + std::to_string(pathFrame_));
+        } else if (key == "shaftNodePicked") {
+            if (shaftPick_.has_value() != value.get<bool>()) fail(std::string("shaftNodePicked = ") + (shaftPick_ ? "true" : "false"));
+        } else if (key == "loadProgress") {
+            const double actual = loader_.progress().fraction();
+            if (std::abs(actual - value.get<double>()) > 1e-9) fail("loadProgress = " + std::to_string(actual));
         } else {
             throw InputError("script: unknown expectation '" + key + "'");
         }
@@ -581,7 +621,11 @@ void Viewer::renderIfNeeded() {
     }
     const ChcrtStats chcrtBefore = chcrt ? chcrt->totalStats() : ChcrtStats{};
     FrameStats stats;
-    if (shaded) {
+    const bool shafts = settings_.viewMode == ViewMode::Shafts;
+    if (shafts) {
+        renderShafts(stats);
+        stats.totalMs = millisecondsSince(start);
+    } else if (shaded) {
         stats = renderer.renderFrame(camera_);
         if (settings_.accumulate) display_->accumulate(renderer.targets());
         else display_->showSingleFrame();
@@ -597,7 +641,9 @@ void Viewer::renderIfNeeded() {
     }
     status_.chcrt.reset();
     if (chcrt) status_.chcrt = chcrtFrameStats(chcrtBefore, chcrt->totalStats());
-    if (debugView) {
+    if (shafts) {
+        // renderShafts has shown its image
+    } else if (debugView) {
         const bool ready = chcrt && chcrt->debugTexture() != 0 && chcrt->debugWidth() == w && chcrt->debugHeight() == h;
         display_->showImage(ready ? colorizeChcrtDebugImage(chcrt->debugImageKind(), chcrt->readDebugImage(), w, h)
                                   : std::vector<float>(size_t(w) * h * 3, 0.0f));
@@ -618,6 +664,14 @@ void Viewer::renderIfNeeded() {
     if (status_.chcrt) {
         entry["chcrt"] = chcrtStatsToJson(*status_.chcrt);
         entry["chcrt"]["always_cull"] = activeAlwaysCull_;
+    }
+    if (shafts && shaftPick_) {
+        const ShaftPick& p = *shaftPick_;
+        entry["shafts"] = {{"pixel", {p.pixelX, p.pixelY}}, {"space", p.space},     {"spaces", p.spaceCount},
+                           {"bvh_node", p.bvhNode},         {"triangles", p.subtreeTriangles},
+                           {"n", p.n}, {"depth", p.depth},  {"t", p.triangleThreshold},
+                           {"shafts", p.shafts},            {"filled", p.filled}, {"fill_rate", p.fillRate()},
+                           {"build_ms", p.buildMs}};
     }
     entry["width"] = w;
     entry["height"] = h;
@@ -735,7 +789,85 @@ void Viewer::notice(const std::string& text) {
 
 void Viewer::writeStatsJson() const {
     if (options_.common.statsJson.empty()) return;
-    writeJsonFile(options_.common.statsJson, nlohmann::json{{"frames", frameLog_}});
+    writeJsonFile(options_.common.statsJson, nlohmann::json{{"frames", frameLog_}, {"loading", loadLog_}});
+}
+
+void Viewer::sampleLoadProgress() {
+    const LoadProgressSnapshot p = loader_.progress();
+    status_.loadingStep = p.label;
+    status_.loadingStepNumber = p.step;
+    status_.loadingFraction = p.fraction();
+    nlohmann::json sample = {{"scene", loader_.scene()}, {"step", p.step},   {"label", p.label},
+                             {"done", p.done},           {"total", p.total}, {"fraction", p.fraction()},
+                             {"complete", p.complete}};
+    if (!loadLog_.empty()) { // one sample per change
+        nlohmann::json last = loadLog_.back();
+        last.erase("seconds");
+        if (last == sample) return;
+    }
+    sample["seconds"] = loader_.elapsedSeconds();
+    loadLog_.push_back(std::move(sample));
+}
+
+// (Re)computes the picked Line Space node: on a new pick (at the current camera), or when N/D/T change (the same
+// pixel of the camera it was picked with). Without any pick the centre pixel is picked.
+void Viewer::updateShaftPick(int w, int h) {
+    const CommonOptions& c = settings_.common;
+    const std::string parameters = std::to_string(c.lsN) + "/" + std::to_string(c.lsDepth) + "/" + std::to_string(c.lsT);
+    if (!pendingPick_ && !shaftPick_ && pickParameters_.empty()) pendingPick_ = std::make_pair(w / 2, h / 2);
+    if (pendingPick_) {
+        pickCamera_ = camera_;
+        pickWidth_ = w;
+        pickHeight_ = h;
+        pickPixel_ = *pendingPick_;
+    } else if (parameters == pickParameters_) {
+        return;
+    }
+    const std::pair<int, int> pixel = pickPixel_;
+    pendingPick_.reset();
+    pickParameters_ = parameters;
+    shaftPick_ = pickLineSpaceNode(scene_->bvh, pickCamera_, pickWidth_, pickHeight_, pixel.first, pixel.second, c.lsN,
+                                   c.lsDepth, c.lsT);
+    status_.shaftInfo.clear();
+    if (!shaftPick_) {
+        status_.shaftInfo.push_back("pixel " + std::to_string(pixel.first) + ", " + std::to_string(pixel.second) +
+                                    ": no hit (click on geometry)");
+        notice(status_.shaftInfo.back());
+        return;
+    }
+    const ShaftPick& p = *shaftPick_;
+    char line[200];
+    std::snprintf(line, sizeof(line), "node %u of %u (BVH node %u, %u triangles), N=%u D=%u T=%u", p.space,
+                  p.spaceCount, p.bvhNode, p.subtreeTriangles, p.n, p.depth, p.triangleThreshold);
+    status_.shaftInfo.push_back(line);
+    std::snprintf(line, sizeof(line), "%llu shafts, %llu filled: fill rate %.1f %%", (unsigned long long)p.shafts,
+                  (unsigned long long)p.filled, 100.0 * p.fillRate());
+    status_.shaftInfo.push_back(line);
+    std::snprintf(line, sizeof(line), "picked pixel %d, %d (triangle %u); built in %.0f ms", p.pixelX, p.pixelY,
+                  p.triangleId, p.buildMs);
+    status_.shaftInfo.push_back(line);
+    std::snprintf(line, sizeof(line), "shafts: node %u, %llu shafts, fill rate %.1f %%", p.space,
+                  (unsigned long long)p.shafts, 100.0 * p.fillRate());
+    notice(line);
+}
+
+// The shafts view: the shaded frame (one frame, no refinement) with the picked node's shafts drawn over it.
+void Viewer::renderShafts(FrameStats& stats) {
+    Renderer& renderer = *gpu_.renderer;
+    const int w = display_->width(), h = display_->height();
+    stats = renderer.renderFrame(camera_);
+    display_->showSingleFrame();
+    ViewerSettings shadedSettings = settings_;
+    shadedSettings.viewMode = ViewMode::Shaded;
+    display_->visualize(renderer.targets(), shadedSettings, scene_->scene.bounds(), renderer.targets().hits[0]);
+    updateShaftPick(w, h);
+    const ImageRgba32f image = display_->readImage();
+    std::vector<float> rgb(size_t(w) * h * 3);
+    for (size_t i = 0; i < size_t(w) * h; ++i) {
+        for (int k = 0; k < 3; ++k) rgb[i * 3 + size_t(k)] = std::clamp(image.pixels[i * 4 + size_t(k)], 0.0f, 1.0f);
+    }
+    if (shaftPick_) drawShafts(*shaftPick_, camera_, w, h, rgb);
+    display_->showImage(rgb);
 }
 
 } // namespace

@@ -90,6 +90,10 @@ struct StepParser {
                 for (const char* k : kPressableKeys) known |= name == k;
                 if (!known) fail("cannot press '" + name + "' (R, F, P, V, C, F9, F12, +, -, TAB)");
                 step.presses.push_back(name);
+            } else if (key == "pick") {
+                const auto v = get<std::vector<int>>(value, "pick");
+                if (v.size() != 2 || v[0] < 0 || v[1] < 0) fail("'pick' must be [x, y], pixels of the internal image");
+                step.pick = std::make_pair(v[0], v[1]);
             } else if (key == "recordStop") {
                 step.recordStop = get<std::string>(value, "recordStop");
             } else if (key == "resize") {

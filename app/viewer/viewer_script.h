@@ -14,11 +14,13 @@
 //    {"press": "F"},                                  a key press as the window gets it (R F P V C F9 F12 + - TAB)
 //    {"recordStop": "walk.json"},                     save the recorded walkthrough
 //    {"resize": [320, 200]},                          window size in screen coordinates
+//    {"pick": [120, 80]},                             pick the pixel (internal image, top-left origin) for the
+//                                                     shafts view, like a left click in the window
 //    {"loadScene": "city:5k"},                        background load; the script waits until it is ready
 //    {"screenshot": "a.png"},                         the current view (internal resolution, no panel)
 //    {"expect": {"cappedRays": 0, "minRaysGenerated": 1, "tracePasses": {"shadow": 1},
 //                "accumulatedFrames": 1, "imageSize": [64, 36], "method": "bvh", "viewMode": "cost",
-//                "primary": "traced"}}]
+//                "primary": "traced", "shaftNodePicked": true, "loadProgress": 1.0}}]
 // An unmet expectation ends the session with exit code 4 (after the remaining steps are skipped).
 #include "app/viewer/walk_controller.h"
 #include "renderer/scene/scene.h"
@@ -44,6 +46,7 @@ struct ScriptStep {
     std::vector<std::string> presses; // key presses handled like the window's (kPressableKeys)
     std::string recordStop;           // file to save the recorded path to
     std::optional<std::pair<int, int>> resize;
+    std::optional<std::pair<int, int>> pick; // pixel of the internal image (rows top to bottom), like a left click
     std::string loadScene;
     std::string screenshot;
     std::optional<nlohmann::json> expect;

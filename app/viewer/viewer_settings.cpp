@@ -60,7 +60,7 @@ std::string commonArguments(const ViewerSettings& s, const Camera& camera, int w
     line += " --width " + std::to_string(width) + " --height " + std::to_string(height);
     line += " --spp " + std::to_string(std::max(c.spp, 1)) + " --seed " + std::to_string(c.seed);
     line += " --rotation " + formatFloat(c.rotation) + " --ao-length " + formatFloat(c.aoLength);
-    if (s.method != kRasterOnlyMethod && c.primary != CommonOptions{}.primary) line += " --primary " + c.primary;
+    if (c.primary != CommonOptions{}.primary) line += " --primary " + c.primary;
     if (c.bvhLeafSize != CommonOptions{}.bvhLeafSize) line += " --bvh-leaf-size " + std::to_string(c.bvhLeafSize);
     if (s.method.rfind("chcrt", 0) == 0) { // the CHC+RT parameters changed in the panel
         const CommonOptions d;
@@ -70,6 +70,15 @@ std::string commonArguments(const ViewerSettings& s, const Camera& camera, int w
         if (c.chcrtMultiQuery != d.chcrtMultiQuery) line += " --chcrt-multi-query " + std::to_string(c.chcrtMultiQuery);
         if (!c.chcrtTighterBounds.empty()) line += " --chcrt-tighter-bounds " + c.chcrtTighterBounds;
         if (!c.chcrtLeafCache.empty()) line += " --chcrt-leaf-cache " + c.chcrtLeafCache;
+    }
+    if (s.method.find("+ls") != std::string::npos) { // Line Space parameters changed in the panel
+        const CommonOptions d;
+        if (c.lsN != d.lsN) line += " --ls-n " + std::to_string(c.lsN);
+        if (c.lsDepth != d.lsDepth) line += " --ls-depth " + std::to_string(c.lsDepth);
+        if (c.lsT != d.lsT) line += " --ls-t " + std::to_string(c.lsT);
+        if (c.lsAngle != d.lsAngle) line += " --ls-angle " + formatFloat(c.lsAngle);
+        if (!c.lsModes.empty()) line += " --ls-modes " + shellWord(c.lsModes);
+        if (!c.lsNtree.empty()) line += " --ls-ntree " + c.lsNtree;
     }
     if (c.bvhBins != CommonOptions{}.bvhBins) line += " --bvh-bins " + std::to_string(c.bvhBins);
     return line;
@@ -94,8 +103,9 @@ RenderSettings toRenderSettings(const ViewerSettings& s, int width, int height, 
     c.height = height;
     RenderSettings r = chcrt::app::toRenderSettings(c, 1);
     if (s.method == kRasterOnlyMethod) {
+        // "raster": no secondary rays. With --primary traced its G-buffer comes from primary rays traced with
+        // pure BVH (the renderer's own tracer), the reference the other methods' traced G-buffers equal.
         r.effects = EffectSet{false, false, false};
-        r.primaryVisibility = PrimaryVisibility::Raster; // "raster" traces no rays at all
     }
     if (accumulatedFrame > 0) {
         r.seed = s.common.seed + uint32_t(accumulatedFrame);
@@ -214,7 +224,9 @@ void copyMethodParameters(const CommonOptions& from, CommonOptions& to) {
 
 std::string renderCommandLine(const ViewerSettings& s, const Camera& camera, int width, int height) {
     const bool raster = s.method == kRasterOnlyMethod;
-    std::string line = "chcrt render " + commonArguments(s, camera, width, height);
+    // The raster method has no tracer of its own: its render line traces (--primary traced) with pure BVH.
+    std::string line = "chcrt render " + commonArguments(s, camera, width, height) + " --method " +
+                       (raster ? std::string("bvh") : s.method);
     line += " --effects " + (raster ? std::string("none") : toString(parseEffects(s.common.effects)));
     line += " --exposure " + formatFloat(s.common.exposure) + " -o view.png";
     return line;

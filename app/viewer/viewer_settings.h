@@ -14,7 +14,8 @@
 
 namespace chcrt::app {
 
-// "raster": G-buffer and unshadowed direct light only (no rays). Every other name is a GPU tracing method of
+// "raster": G-buffer and unshadowed direct light only (no secondary rays; with primary "traced" the G-buffer's
+// primary rays are traced with pure BVH). Every other name is a GPU tracing method of
 // app/methods.h (pure BVH now; CHC+RT and Line Space appear here as they register there).
 inline constexpr const char* kRasterOnlyMethod = "raster";
 std::vector<std::string> viewerMethods();

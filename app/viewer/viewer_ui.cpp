@@ -3,6 +3,8 @@
 #include "renderer/core/error.h"
 
 #include <imgui.h>
+
+#include <cstdio>
 #include <imgui_stdlib.h>
 #include <nlohmann/json.hpp>
 
@@ -29,7 +31,26 @@ ViewerActions ViewerPanel::draw(ViewerSettings& settings, const ViewerStatus& st
     ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(360, 0), ImGuiCond_FirstUseEver);
     ImGui::Begin("chcrt view");
+    if (status.loading) { // first, so that it is visible however small the window
+        // Loading and the BVH build run on a worker thread; the elapsed time and a spinner show it is alive.
+        const char spinner[] = "|/-\\";
+        ImGui::Text("Loading %s %c %.1f s", status.loadingScene.c_str(),
+                    spinner[int(status.loadingSeconds * 8) & 3], status.loadingSeconds);
+        // The worker's Progress: the step (scene loading/generation, BVH build) and its fraction when known.
+        if (!status.loadingStep.empty()) {
+            ImGui::Text("step %d: %s", status.loadingStepNumber, status.loadingStep.c_str());
+            if (status.loadingFraction >= 0) {
+                char text[32];
+                std::snprintf(text, sizeof(text), "%.0f %%", 100.0 * status.loadingFraction);
+                ImGui::ProgressBar(float(status.loadingFraction), ImVec2(-1, 0), text);
+            }
+        }
+    }
     drawStatistics(status);
+    if (settings.viewMode == ViewMode::Shafts && !status.shaftInfo.empty() &&
+        ImGui::CollapsingHeader("Line Space shafts", ImGuiTreeNodeFlags_DefaultOpen)) {
+        for (const std::string& line : status.shaftInfo) ImGui::TextUnformatted(line.c_str());
+    }
     if (ImGui::CollapsingHeader("Rendering", ImGuiTreeNodeFlags_DefaultOpen)) drawSettings(settings, actions);
     if (ImGui::CollapsingHeader("Camera and paths", ImGuiTreeNodeFlags_DefaultOpen)) drawCamera(status, actions);
     if (ImGui::CollapsingHeader("Scene")) {
@@ -39,12 +60,6 @@ ViewerActions ViewerPanel::draw(ViewerSettings& settings, const ViewerStatus& st
         ImGui::BeginDisabled(status.loading);
         if (ImGui::Button("Load")) actions.loadScene = sceneField_;
         ImGui::EndDisabled();
-    }
-    if (status.loading) {
-        // Loading and the BVH build run on a worker thread; the elapsed time and a spinner show it is alive.
-        const char spinner[] = "|/-\\";
-        ImGui::Text("Loading %s %c %.1f s", status.loadingScene.c_str(),
-                    spinner[int(status.loadingSeconds * 8) & 3], status.loadingSeconds);
     }
     if (!status.message.empty()) ImGui::TextWrapped("%s", status.message.c_str());
     ImGui::End();
@@ -106,11 +121,9 @@ void ViewerPanel::drawSettings(ViewerSettings& settings, ViewerActions& actions)
         ImGui::EndCombo();
     }
     // Primary visibility: rasterised G-buffer, or primary rays traced with the method's tracer (CHC+RT §5 "Prim").
-    // The raster-only method traces nothing, so it always rasterises.
-    ImGui::BeginDisabled(settings.method == kRasterOnlyMethod);
+    // The raster-only method traces its primary rays (when chosen) with pure BVH and no secondary rays.
     bool traced = settings.common.primary == "traced";
     if (ImGui::Checkbox("trace primary rays", &traced)) changes["primary"] = traced ? "traced" : "raster";
-    ImGui::EndDisabled();
     if (settings.method.rfind("chcrt", 0) == 0 && ImGui::TreeNode("CHC+RT parameters")) {
         // Each change recreates the tracer (its visibility fronts start again); culling/README.md, CHC+RT §5.
         const CommonOptions& c = settings.common;
@@ -133,7 +146,8 @@ void ViewerPanel::drawSettings(ViewerSettings& settings, ViewerActions& actions)
         }
         ImGui::TreePop();
     }
-    if (settings.method.find("+ls") != std::string::npos && ImGui::TreeNode("Line Space parameters")) {
+    if ((settings.method.find("+ls") != std::string::npos || settings.viewMode == ViewMode::Shafts) &&
+        ImGui::TreeNode("Line Space parameters")) { // N/D/T also drive the shafts view
         // Each change rebuilds (or loads from the cache) the Line Space: the window waits for it.
         const CommonOptions& c = settings.common;
         int n = int(c.lsN), depth = int(c.lsDepth), t = int(c.lsT);

@@ -29,6 +29,11 @@ struct ViewerStatus {
     bool loading = false;
     std::string loadingScene;
     double loadingSeconds = 0;
+    std::string loadingStep;        // the worker's current step (Progress label)
+    int loadingStepNumber = 0;
+    double loadingFraction = -1;    // of the current step, in [0, 1]; negative: unknown amount of work
+    // Shafts view: the picked Line Space node (a line of text each), empty before a pick.
+    std::vector<std::string> shaftInfo;
     Camera camera;
     float speed = 0;
     int pathFrame = 0, pathFrames = 1;

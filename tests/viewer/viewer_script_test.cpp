@@ -40,6 +40,9 @@ TEST(ViewerScript, ParsesEveryStepKind) {
     EXPECT_EQ(steps[10].resize->first, 320);
     EXPECT_EQ(steps[11].loadScene, "city:5k");
     EXPECT_EQ((*steps[12].expect)["cappedRays"], 0);
+    const auto pick = parseViewerScript(R"([{"pick": [12, 34], "frames": 1}])", "pick");
+    ASSERT_TRUE(pick[0].pick.has_value());
+    EXPECT_EQ(*pick[0].pick, std::make_pair(12, 34));
 }
 
 TEST(ViewerScript, RefusesMalformedScriptsNamingTheStep) {
@@ -54,6 +57,8 @@ TEST(ViewerScript, RefusesMalformedScriptsNamingTheStep) {
         "[{\"camera\": {\"eye\": [0,0,0], \"target\": [0,0,0]}}]",
         "[{\"action\": \"explode\"}]",
         "[{\"resize\": [0, 10]}]",
+        "[{\"pick\": [3]}]",                // not a pixel
+        "[{\"pick\": [-1, 2]}]",
         "[{\"set\": 3}]",
         "[{\"frames\": 1},",                // malformed JSON
     };

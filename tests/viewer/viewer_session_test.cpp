@@ -304,7 +304,9 @@ TEST_F(ViewerTest, PrimaryVisibilitySwitchesLiveAndChcrtTracesTheSameImage) {
          "frames": 1, "screenshot": "traced_chcrt_params.png", "expect": {"method": "chcrt", "cappedRays": 0}},
         {"set": {"chcrtThreshold": 5}, "frames": 1, "expect": {"method": "bvh"}},
         {"set": {"chcrtThreshold": -1}},
-        {"set": {"method": "raster"}, "frames": 1, "expect": {"primary": "raster", "tracePasses": {"primary": 0}}}])",
+        {"set": {"method": "raster"}, "frames": 1,
+         "expect": {"primary": "traced", "tracePasses": {"primary": 1, "shadow": 0}, "cappedRays": 0}},
+        {"set": {"primary": "raster"}, "frames": 1, "expect": {"primary": "raster", "tracePasses": {"primary": 0}}}])",
                     "--no-accumulate --stats-json stats.json");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_LT(differingFraction("raster.png", "traced_bvh.png"), 0.03);
@@ -368,6 +370,140 @@ TEST_F(ViewerTest, ReportsFailuresWithExitCodes) {
     r = run("view --scene city:20k -q --script one.json", false);
     EXPECT_EQ(r.exitCode, 3) << r.output;
     EXPECT_NE(r.output.find("window"), std::string::npos) << r.output;
+}
+
+
+// Counts pixels whose colour is clearly green (empty shaft) or red (filled shaft) in a shafts screenshot.
+void countShaftColours(const ImageRgba32f& img, size_t& green, size_t& red) {
+    green = red = 0;
+    for (size_t i = 0; i < img.pixels.size(); i += 4) {
+        const float r = img.pixels[i], g = img.pixels[i + 1];
+        green += g > r + 0.25f;
+        red += r > g + 0.25f;
+    }
+}
+
+// The Line Space shafts view (issue #6): a picked pixel selects the Line Space node holding its primary hit;
+// pixels whose primary ray crosses the node's box are green (empty shaft) or red (filled). The view differs
+// from the shaded one, depends on the pick and on N (the shaft count is 15 N^4), and a pick on the sky picks
+// nothing. The fill rate reported is filled / shafts of the node's binary Line Space.
+TEST_F(ViewerTest, ShaftsViewShowsThePickedLineSpaceNode) {
+    const Result r = view(R"([
+        {"frames": 1, "screenshot": "shaded.png"},
+        {"set": {"viewMode": "shafts", "lsDepth": 5, "lsT": 1}, "pick": [64, 60], "frames": 1, "screenshot": "centre.png",
+         "expect": {"viewMode": "shafts", "shaftNodePicked": true}},
+        {"pick": [8, 30], "frames": 1, "screenshot": "corner.png", "expect": {"shaftNodePicked": true}},
+        {"set": {"lsN": 3}, "frames": 1, "screenshot": "corner_n3.png", "expect": {"shaftNodePicked": true}},
+        {"pick": [64, 0], "frames": 1, "screenshot": "sky.png"}])",
+                          "--no-accumulate --stats-json stats.json");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_GT(differingFraction("shaded.png", "centre.png"), 0.05);
+    EXPECT_GT(differingFraction("centre.png", "corner.png"), 0.01);
+    EXPECT_GT(differingFraction("corner.png", "corner_n3.png"), 0.0);
+    size_t green = 0, red = 0;
+    countShaftColours(image("centre.png"), green, red);
+    EXPECT_GT(green + red, 0u);
+    const nlohmann::json frames = json("stats.json")["frames"];
+    ASSERT_EQ(frames.size(), 5u);
+    const auto& centre = frames[1]["shafts"];
+    const auto& corner = frames[2]["shafts"];
+    const auto& cornerN3 = frames[3]["shafts"];
+    ASSERT_TRUE(centre.is_object()) << frames[1].dump();
+    ASSERT_TRUE(corner.is_object()) << frames[2].dump();
+    ASSERT_TRUE(cornerN3.is_object()) << frames[3].dump();
+    EXPECT_EQ(centre["pixel"], nlohmann::json::array({64, 60})); // the road
+    EXPECT_EQ(corner["pixel"], nlohmann::json::array({8, 30}));  // the building on the left
+    EXPECT_NE(centre["bvh_node"], corner["bvh_node"]);
+    EXPECT_EQ(centre["shafts"], 15 * 6 * 6 * 6 * 6);
+    EXPECT_EQ(cornerN3["shafts"], 15 * 3 * 3 * 3 * 3);
+    EXPECT_EQ(cornerN3["bvh_node"], corner["bvh_node"]); // N changes the shafts, not the node
+    for (const auto* s : {&centre, &corner, &cornerN3}) {
+        EXPECT_LE((*s)["filled"].get<uint64_t>(), (*s)["shafts"].get<uint64_t>());
+        EXPECT_GT((*s)["filled"].get<uint64_t>(), 0u); // the node holds the picked triangle
+        EXPECT_NEAR((*s)["fill_rate"].get<double>(),
+                    double((*s)["filled"].get<uint64_t>()) / double((*s)["shafts"].get<uint64_t>()), 1e-12);
+        EXPECT_LT((*s)["space"].get<uint32_t>(), (*s)["spaces"].get<uint32_t>());
+    }
+    EXPECT_FALSE(frames[4].contains("shafts")) << frames[4].dump(); // the sky: no node
+    EXPECT_EQ(view(R"([{"pick": [1]}])").exitCode, 2);
+}
+
+// Scene loading reports the worker's Progress: the steps (generation, BVH build) and their fractions, which only
+// grow within a step and end at 100 % when the scene is ready.
+TEST_F(ViewerTest, SceneLoadingReportsProgressUpTo100Percent) {
+    const Result r = view(R"([
+        {"frames": 1},
+        {"loadScene": "city:50k", "frames": 1, "expect": {"scene": "city:50k", "loadProgress": 1.0}}])",
+                          "--stats-json stats.json");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const nlohmann::json loading = json("stats.json")["loading"];
+    ASSERT_FALSE(loading.empty());
+    const auto& last = loading.back();
+    EXPECT_EQ(last["scene"], "city:50k");
+    EXPECT_TRUE(last["complete"].get<bool>());
+    EXPECT_EQ(last["fraction"].get<double>(), 1.0);
+    EXPECT_EQ(last["step"], 2); // generation, then the BVH build
+    EXPECT_EQ(last["label"], "Building BVH");
+    EXPECT_EQ(last["done"], last["total"]);
+    double previous = -1;
+    int previousStep = 0;
+    std::string previousScene;
+    for (const auto& sample : loading) {
+        const double f = sample["fraction"].get<double>();
+        EXPECT_TRUE(f == -1.0 || (f >= 0.0 && f <= 1.0)) << sample.dump();
+        if (sample["step"].get<int>() == previousStep && sample["scene"] == previousScene) {
+            EXPECT_GE(f, previous) << sample.dump();
+        }
+        previous = f;
+        previousStep = sample["step"].get<int>();
+        previousScene = sample["scene"].get<std::string>();
+    }
+}
+
+// `chcrt render --method M` renders with any GPU method, primary rays included (--primary traced): exact
+// CHC+RT (adaptive, and always culling) gives the pure-BVH image bit for bit. The viewer's copied command line
+// names the method (the raster method: bvh) and reproduces the view.
+TEST_F(ViewerTest, RenderMethodFlagAndCopiedCommandLine) {
+    const std::string common = "render --scene city:20k --width 96 --height 64 --spp 1 --effects shadow "
+                               "--primary traced -q ";
+    ASSERT_EQ(run(common + "--method bvh -o bvh.png", false).exitCode, 0);
+    for (const char* method : {"chcrt", "chcrt-noadapt"}) {
+        const Result r = run(common + "--method " + method + " -o " + method + ".png", false);
+        ASSERT_EQ(r.exitCode, 0) << r.output;
+        const ImageDifference d = compareImages(image("bvh.png"), image(std::string(method) + ".png"));
+        EXPECT_EQ(d.differingPixels, 0u) << method;
+        EXPECT_EQ(d.maxAbsoluteError, 0.0) << method;
+    }
+    EXPECT_EQ(run(common + "--method nonsense -o x.png", false).exitCode, 2);
+
+    const Result r = view(R"([
+        {"set": {"method": "chcrt", "primary": "traced"}, "frames": 1, "screenshot": "current.png"},
+        {"action": "copyCommandLine"}])",
+                          "--no-accumulate");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const size_t at = r.output.find("chcrt render ");
+    ASSERT_NE(at, std::string::npos) << r.output;
+    const std::string line = r.output.substr(at + 6, r.output.find('\n', at) - at - 6);
+    EXPECT_NE(line.find("--method chcrt"), std::string::npos) << line;
+    EXPECT_NE(line.find("--primary traced"), std::string::npos) << line;
+    const Result reproduced = run(line + " -q");
+    ASSERT_EQ(reproduced.exitCode, 0) << line << "\n" << reproduced.output;
+    EXPECT_LT(differingFraction("current.png", "view.png"), 0.002) << line;
+}
+
+// The raster method with traced primary visibility traces its primary rays with pure BVH (no secondary rays):
+// the same G-buffer as bvh with traced primary visibility, so the normal view is identical.
+TEST_F(ViewerTest, RasterMethodTracesPrimaryRaysWithPureBvh) {
+    const Result r = view(R"([
+        {"set": {"method": "bvh", "primary": "traced", "viewMode": "normal"}, "frames": 1, "screenshot": "bvh.png"},
+        {"set": {"method": "raster"}, "frames": 1, "screenshot": "raster.png",
+         "expect": {"method": "raster", "primary": "traced", "tracePasses": {"primary": 1, "shadow": 0}}},
+        {"set": {"primary": "raster"}, "frames": 1, "screenshot": "rasterised.png",
+         "expect": {"primary": "raster", "tracePasses": {"primary": 0}}}])",
+                          "--no-accumulate");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_EQ(compareImages(image("bvh.png"), image("raster.png")).differingPixels, 0u);
+    EXPECT_LT(differingFraction("raster.png", "rasterised.png"), 0.03);
 }
 
 } // namespace
