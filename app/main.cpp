@@ -97,7 +97,8 @@ int run(int argc, char** argv) {
     CLI::App* viewCommand = cli.add_subcommand("view", "Interactive walkthrough viewer (GLFW window, ImGui panel)");
     addCommonOptions(*viewCommand, view.common, true);
     viewCommand->remove_option(viewCommand->get_option("--gl")); // the viewer's context is its GLFW window
-    viewCommand->add_option("--method", view.method, "Tracing method: raster (no rays) or a GPU method (bvh, ...)")
+    viewCommand->add_option("--method", view.method,
+                            "Tracing method: raster (no secondary rays) or a GPU method (bvh, chcrt, bvh+ls, ...)")
         ->capture_default_str();
     viewCommand->add_option("--view-mode", view.viewMode,
                             "shaded, position, normal, albedo, triangle, depth, cost")->capture_default_str();
