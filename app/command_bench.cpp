@@ -254,7 +254,8 @@ int runBench(const BenchOptions& options) {
             if (auto* nt = dynamic_cast<ls::NTreeTracer*>(m == "bvh" ? nullptr : tracers[m].get())) {
                 const ls::NTreeStats& st = nt->buildStats;
                 rowsJson.back()["ntree"] = {
-                    {"params", nt->paramsText}, {"build_s", st.buildSeconds}, {"nodes", st.nodeCount},
+                    {"params", nt->paramsText}, {"cache", nt->cacheOutcome}, {"build_s", st.buildSeconds},
+                    {"nodes", st.nodeCount},
                     {"spaces", st.subdividedCount},
                     {"binary_filled", st.binaryShafts ? double(st.binaryFilled) / double(st.binaryShafts) : 0.0},
                     {"linespace_mb", double(st.lineSpaceBytes) / 1e6}, {"node_pool_mb", double(st.nodeBytes) / 1e6},

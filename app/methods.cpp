@@ -3,6 +3,7 @@
 #include "culling/chcrt_tracer.h"
 #include "linespace/linespace_cache.h"
 #include "linespace/linespace_tracer.h"
+#include "linespace/ntree_cache.h"
 #include "linespace/ntree_tracer.h"
 #include "renderer/core/error.h"
 #include "renderer/outofcore/chs_file.h"
@@ -85,7 +86,8 @@ std::unique_ptr<Tracer> makeLineSpaceTracer(const std::string& name, const Scene
     return tracer;
 }
 
-// N-tree with binary Line Spaces (soft-shadow paper), built (no cache: 1-200 s), uploaded, and its tracer.
+// N-tree with binary Line Spaces (soft-shadow paper), loaded from --ls-cache or built (5-200 s), uploaded, and its
+// tracer.
 std::unique_ptr<Tracer> makeNTreeTracer(const std::string& name, const SceneSession& session) {
     const CommonOptions& o = session.options;
     ls::NTreeParams params = ls::parseNTreeParams(o.lsNtree.empty() ? "6:3" : o.lsNtree);
@@ -97,15 +99,18 @@ std::unique_ptr<Tracer> makeNTreeTracer(const std::string& name, const SceneSess
     shadow.startExact = o.lsNtreeStart == "exact";
     if (!(o.lsNtreeNear >= 0.0f && o.lsNtreeNear <= 1000.0f)) throw InputError("--ls-ntree-near must be in 0..1000");
     shadow.nearEdges = o.lsNtreeNear;
-    const ls::NTree tree = ls::buildNTree(session.bvh, params, *session.progress);
+    ls::CacheOutcome outcome = ls::CacheOutcome::Built;
+    const ls::NTree tree = ls::loadOrBuildNTree(session.bvh, params, o.lsCache, *session.progress, &outcome);
     auto gpu = std::make_shared<ls::NTreeGpu>(tree);
     auto tracer = std::make_unique<ls::NTreeTracer>(name, gpu, shadow);
     tracer->buildStats = tree.stats;
+    tracer->cacheOutcome = ls::toString(outcome);
     tracer->paramsText = params.toString();
     if (!o.quiet) {
-        std::fprintf(stderr, "%s: %s: %s; GPU %.2f MB; shadow level %u, start node %s, near %.2f\n", name.c_str(),
-                     params.toString().c_str(), tree.stats.summary().c_str(), double(gpu->gpuBytes()) / 1e6,
-                     shadow.shadowLevel, o.lsNtreeStart.c_str(), double(shadow.nearEdges));
+        std::fprintf(stderr, "%s: %s %s: %s; GPU %.2f MB; shadow level %u, start node %s, near %.2f\n", name.c_str(),
+                     params.toString().c_str(), ls::toString(outcome), tree.stats.summary().c_str(),
+                     double(gpu->gpuBytes()) / 1e6, shadow.shadowLevel, o.lsNtreeStart.c_str(),
+                     double(shadow.nearEdges));
     }
     return tracer;
 }

@@ -40,15 +40,15 @@ void fillCandidateFacePair(const Bvh& bvh, uint32_t node, const Aabb& box, uint3
 }
 
 ApproximateHit intersectCandidatePlane(const Bvh& bvh, const Scene& scene, uint32_t triangle, const Ray& ray,
-                                       float tLo, float tHi, float cosMaxAngle) {
+                                       float tLo, float tHi, float cosMaxAngle, bool frontOnly) {
     ApproximateHit result;
     const TriangleGpu& tri = bvh.triangles[triangle];
     // Moeller-Trumbore without the barycentric bounds: the hit with the triangle's plane (extrapolation).
     const glm::vec3 e1 = tri.v1 - tri.v0, e2 = tri.v2 - tri.v0;
     const glm::vec3 p = glm::cross(ray.direction, e2);
     const float det = gpu::dotOrdered(e1, p);
-    if (det == 0.0f) {
-        return result; // ray parallel to the plane
+    if (det == 0.0f || (frontOnly && !(det > 0.0f))) {
+        return result; // ray parallel to the plane, or (frontOnly) meeting its back side: det = -dot(d, e1 x e2)
     }
     const float invDet = 1.0f / det;
     const glm::vec3 s = ray.origin - tri.v0;
@@ -78,7 +78,8 @@ ApproximateHit intersectCandidatePlane(const Bvh& bvh, const Scene& scene, uint3
 }
 
 ApproximateHit approximateHit(const Bvh& bvh, const Scene& scene, const SparseShaftStore& store, uint32_t space,
-                              const Aabb& box, uint32_t n, const Ray& ray, float maxNormalAngleDegrees) {
+                              const Aabb& box, uint32_t n, const Ray& ray, float maxNormalAngleDegrees,
+                              bool frontOnly) {
     const glm::vec3 invDir = gpu::safeInverseDirection(ray.direction);
     const glm::vec2 entryExit = gpu::intersectRayAabb(ray.origin, invDir, box.lower, box.upper);
     if (!gpu::rayHitsAabb(entryExit, ray.tmin, ray.tmax)) {
@@ -94,7 +95,7 @@ ApproximateHit approximateHit(const Bvh& bvh, const Scene& scene, const SparseSh
     }
     const float cosMaxAngle = std::cos(glm::radians(maxNormalAngleDegrees));
     return intersectCandidatePlane(bvh, scene, candidate, ray, std::max(ray.tmin, entryExit.x),
-                                   std::min(ray.tmax, entryExit.y), cosMaxAngle);
+                                   std::min(ray.tmax, entryExit.y), cosMaxAngle, frontOnly);
 }
 
 } // namespace chcrt::ls

@@ -39,13 +39,15 @@ struct ApproximateHit {
 
 // Intersects the ray with the plane of BVH triangle `triangle` within [tLo, tHi] and applies the normal-angle
 // rejection with cos(threshold) = cosMaxAngle. Vertex normals come from the scene (by original id).
+// frontOnly: a plane met from its back side (counter-clockwise = front) is no hit (`--ls-modes faces=front`).
 ApproximateHit intersectCandidatePlane(const Bvh& bvh, const Scene& scene, uint32_t triangle, const Ray& ray,
-                                       float tLo, float tHi, float cosMaxAngle);
+                                       float tLo, float tHi, float cosMaxAngle, bool frontOnly = false);
 
 // Algorithm 1 on one Line Space node: shaft of the ray's line in `box`, its candidate from `store` (Line Space
 // `space`), and the plane hit restricted to the ray's [tmin, tmax] and to the box's [tEntry, tExit] (a plane
 // hit outside the node's box is not that node's geometry). A miss when the shaft is empty.
 ApproximateHit approximateHit(const Bvh& bvh, const Scene& scene, const SparseShaftStore& store, uint32_t space,
-                              const Aabb& box, uint32_t n, const Ray& ray, float maxNormalAngleDegrees);
+                              const Aabb& box, uint32_t n, const Ray& ray, float maxNormalAngleDegrees,
+                              bool frontOnly = false);
 
 } // namespace chcrt::ls

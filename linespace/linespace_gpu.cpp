@@ -32,6 +32,15 @@ const char* toString(LineSpaceMode mode) {
     return "?";
 }
 
+const char* toString(CandidateFaces faces) {
+    switch (faces) {
+    case CandidateFaces::Both: return "both";
+    case CandidateFaces::FrontInStartNode: return "front-start";
+    case CandidateFaces::Front: return "front";
+    }
+    return "?";
+}
+
 LineSpaceMode parseLineSpaceMode(const std::string& text) {
     for (LineSpaceMode m : {LineSpaceMode::Off, LineSpaceMode::Exact, LineSpaceMode::Shadow, LineSpaceMode::Candidate,
                             LineSpaceMode::CandidateExactStart}) {
@@ -92,7 +101,8 @@ void LineSpaceGpu::bind() const {
     }
 }
 
-std::vector<ShaderDefine> LineSpaceGpu::defines(LineSpaceMode mode, float maxNormalAngleDegrees) const {
+std::vector<ShaderDefine> LineSpaceGpu::defines(LineSpaceMode mode, float maxNormalAngleDegrees,
+                                                CandidateFaces faces) const {
     if (mode == LineSpaceMode::Off) return {};
     const bool candidate = mode == LineSpaceMode::Candidate || mode == LineSpaceMode::CandidateExactStart;
     if (candidate && !hasCandidates_) {
@@ -104,6 +114,7 @@ std::vector<ShaderDefine> LineSpaceGpu::defines(LineSpaceMode mode, float maxNor
     if (cosValue.find_first_of(".e") == std::string::npos) cosValue += ".0";
     return {{"CHCRT_LS_MODE", std::to_string(candidate ? int(LineSpaceMode::Candidate) : int(mode))},
             {"CHCRT_LS_CANDIDATE_START_EXACT", mode == LineSpaceMode::CandidateExactStart ? "1" : "0"},
+            {"CHCRT_LS_CANDIDATE_FRONT_ONLY", std::to_string(candidate ? int(faces) : 0)},
             {"CHCRT_LS_N", std::to_string(n_) + "u"},
             {"CHCRT_LS_BINARY_WORDS_PER_SPACE", std::to_string(lsWordCount(n_, true)) + "u"},
             {"CHCRT_LS_CANDIDATE_WORDS_PER_SPACE", std::to_string(lsWordCount(n_, false)) + "u"},

@@ -18,6 +18,11 @@ namespace chcrt::ls {
 // CandidateExactStart: candidates, but the node a ray starts in is traversed exactly (SS §4.1's rule applied
 // to candidates: removes most self-occlusion by neighbouring candidate planes, costs speed).
 enum class LineSpaceMode { Off = 0, Exact = 1, Shadow = 2, Candidate = 3, CandidateExactStart = 4 };
+// Which candidate planes may be hit from behind (CHCRT_LS_CANDIDATE_FRONT_ONLY = the enum's value): Both = the
+// paper; FrontInStartNode = only front sides in the node the ray starts in (default of LineSpaceModes);
+// Front = only front sides anywhere.
+enum class CandidateFaces { Both = 0, FrontInStartNode = 1, Front = 2 };
+const char* toString(CandidateFaces faces);
 const char* toString(LineSpaceMode mode);
 LineSpaceMode parseLineSpaceMode(const std::string& text); // "off|exact|shadow|candidate|candidate-exact-start"
 
@@ -28,8 +33,10 @@ public:
     LineSpaceGpu(const LineSpaces& spaces, const Bvh& bvh, const Scene& scene);
 
     void bind() const;
-    // Defines for a traversal in `mode` (empty for Off). Candidate mode needs candidates.
-    std::vector<ShaderDefine> defines(LineSpaceMode mode, float maxNormalAngleDegrees) const;
+    // Defines for a traversal in `mode` (empty for Off). Candidate mode needs candidates. `faces`: which
+    // candidate planes met from behind are no hit.
+    std::vector<ShaderDefine> defines(LineSpaceMode mode, float maxNormalAngleDegrees,
+                                      CandidateFaces faces = CandidateFaces::Both) const;
     bool hasCandidates() const { return hasCandidates_; }
     uint64_t gpuBytes() const { return gpuBytes_; }
     uint32_t n() const { return n_; }

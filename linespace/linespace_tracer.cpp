@@ -21,13 +21,21 @@ void LineSpaceModes::parse(const std::string& text) {
         const size_t eq = item.find('=');
         if (eq == std::string::npos) throw InputError("--ls-modes: expected type=mode, got '" + item + "'");
         const std::string type = item.substr(0, eq);
+        if (type == "faces") {
+            const std::string faces = item.substr(eq + 1);
+            if (faces == "both") candidateFaces = CandidateFaces::Both;
+            else if (faces == "front-start") candidateFaces = CandidateFaces::FrontInStartNode;
+            else if (faces == "front") candidateFaces = CandidateFaces::Front;
+            else throw InputError("--ls-modes: faces must be both, front-start or front, not '" + faces + "'");
+            continue;
+        }
         const LineSpaceMode mode = parseLineSpaceMode(item.substr(eq + 1));
         if (type == "primary") primary = mode;
         else if (type == "shadow") shadow = mode;
         else if (type == "ao") ao = mode;
         else if (type == "diffuse") diffuse = mode;
         else if (type == "bounce") bounceShadow = mode;
-        else throw InputError("--ls-modes: unknown ray type '" + type + "' (primary, shadow, ao, diffuse, bounce)");
+        else throw InputError("--ls-modes: unknown ray type '" + type + "' (primary, shadow, ao, diffuse, bounce, faces)");
     }
 }
 
@@ -51,7 +59,8 @@ bool LineSpaceModes::approximate() const {
 
 std::string LineSpaceModes::toString() const {
     return std::string("primary=") + ls::toString(primary) + ",shadow=" + ls::toString(shadow) +
-           ",ao=" + ls::toString(ao) + ",diffuse=" + ls::toString(diffuse) + ",bounce=" + ls::toString(bounceShadow);
+           ",ao=" + ls::toString(ao) + ",diffuse=" + ls::toString(diffuse) + ",bounce=" + ls::toString(bounceShadow) +
+           ",faces=" + ls::toString(candidateFaces);
 }
 
 LineSpaceTracer::LineSpaceTracer(std::string name, std::shared_ptr<const LineSpaceGpu> gpu, LineSpaceModes modes,
@@ -65,7 +74,7 @@ LineSpaceTracer::LineSpaceTracer(std::string name, std::shared_ptr<const LineSpa
 const ShaderProgram& LineSpaceTracer::program(LineSpaceMode mode, bool anyHit) {
     auto& slot = programs_[{int(mode), anyHit}];
     if (!slot) {
-        std::vector<ShaderDefine> defines = gpu_->defines(mode, maxAngle_);
+        std::vector<ShaderDefine> defines = gpu_->defines(mode, maxAngle_, modes_.candidateFaces);
         defines.push_back({"TRACE_ANY_HIT", anyHit ? "1" : "0"});
         if (iterationCap_ != 0) defines.push_back({"CHCRT_TRACE_ITERATION_CAP", std::to_string(iterationCap_) + "u"});
         slot = std::make_unique<ShaderProgram>(std::vector<ShaderStage>{{GL_VERTEX_SHADER, "common/fullscreen.vert.glsl"},

@@ -22,7 +22,7 @@ std::string NTreeParams::toString() const {
 std::string NTreeStats::summary() const {
     char line[320];
     std::snprintf(line, sizeof(line),
-                  "%u nodes (%u with a Line Space) in %.2f s: binary %.1f%% filled, Line Spaces %.2f MB, nodes %.2f MB",
+                  "%u nodes (%u with a Line Space), build %.2f s: binary %.1f%% filled, Line Spaces %.2f MB, nodes %.2f MB",
                   nodeCount, subdividedCount, buildSeconds,
                   binaryShafts ? 100.0 * double(binaryFilled) / double(binaryShafts) : 0.0,
                   double(lineSpaceBytes) / 1e6, double(nodeBytes) / 1e6);
@@ -123,13 +123,7 @@ void fillBlock(const Aabb& box, uint32_t n, double dilation, PatchRect a, PatchR
 
 } // namespace
 
-NTree buildNTree(const Bvh& bvh, const NTreeParams& params, Progress& progress) {
-    if (params.n < 2 || params.n > CHCRT_LS_MAX_N || params.depth == 0) {
-        throw InputError("N-tree needs N in 2.." + std::to_string(CHCRT_LS_MAX_N) + " and depth >= 1");
-    }
-    const auto start = std::chrono::steady_clock::now();
-    NTree tree;
-    tree.params = params;
+NTreeNode nTreeRoot(const Bvh& bvh) {
     // Cubic root over the scene bounds (§3.2: cubic nodes simplify building and traversal).
     const Aabb sceneBounds = bvh.rootBounds();
     const glm::vec3 extent = sceneBounds.extent();
@@ -137,6 +131,37 @@ NTree buildNTree(const Bvh& bvh, const NTreeParams& params, Progress& progress) 
     root.size = std::max({extent.x, extent.y, extent.z, 1e-6f});
     root.lower = sceneBounds.center() - glm::vec3(0.5f * root.size);
     root.triangleCount = static_cast<uint32_t>(bvh.triangles.size());
+    return root;
+}
+
+void computeNTreeStats(NTree& tree) {
+    const uint32_t n = tree.params.n;
+    uint32_t subdivided = 0;
+    for (const NTreeNode& node : tree.nodes) {
+        subdivided += node.space != kNoChild ? 1u : 0u;
+    }
+    NTreeStats& stats = tree.stats;
+    stats.nodeCount = static_cast<uint32_t>(tree.nodes.size());
+    stats.subdividedCount = subdivided;
+    stats.triangleRefs = tree.triangleRefs.size();
+    stats.binaryShafts = uint64_t(subdivided) * lsShaftCount(n, true);
+    stats.binaryFilled = 0;
+    for (const uint32_t w : tree.binaryWords) {
+        stats.binaryFilled += static_cast<uint64_t>(std::popcount(w));
+    }
+    stats.lineSpaceBytes = 4ull * tree.binaryWords.size();
+    stats.nodeBytes = 32ull * subdivided + 4ull * subdivided * n * n * n;
+}
+
+NTree buildNTree(const Bvh& bvh, const NTreeParams& params, Progress& progress) {
+    if (params.n < 2 || params.n > CHCRT_LS_MAX_N || params.depth == 0) {
+        throw InputError("N-tree needs N in 2.." + std::to_string(CHCRT_LS_MAX_N) + " and depth >= 1");
+    }
+    const auto start = std::chrono::steady_clock::now();
+    NTree tree;
+    tree.params = params;
+    const Aabb sceneBounds = bvh.rootBounds();
+    const NTreeNode root = nTreeRoot(bvh);
     for (uint32_t i = 0; i < root.triangleCount; ++i) {
         tree.triangleRefs.push_back(i);
     }
@@ -190,17 +215,8 @@ NTree buildNTree(const Bvh& bvh, const NTreeParams& params, Progress& progress) 
     }
     progress.end();
 
-    NTreeStats& stats = tree.stats;
-    stats.nodeCount = static_cast<uint32_t>(tree.nodes.size());
-    stats.subdividedCount = static_cast<uint32_t>(subdivided.size());
-    stats.triangleRefs = tree.triangleRefs.size();
-    stats.binaryShafts = uint64_t(subdivided.size()) * lsShaftCount(n, true);
-    for (const uint32_t w : tree.binaryWords) {
-        stats.binaryFilled += static_cast<uint64_t>(std::popcount(w));
-    }
-    stats.lineSpaceBytes = 4ull * tree.binaryWords.size();
-    stats.nodeBytes = 32ull * subdivided.size() + 4ull * subdivided.size() * n * n * n;
-    stats.buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    computeNTreeStats(tree);
+    tree.stats.buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return tree;
 }
 

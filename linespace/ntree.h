@@ -63,4 +63,11 @@ struct NTree {
 // binary Line Spaces of its subdivided nodes. Throws InputError for N < 2, N > CHCRT_LS_MAX_N or depth 0.
 NTree buildNTree(const Bvh& bvh, const NTreeParams& params, Progress& progress = nullProgress());
 
+// The root buildNTree starts from: a cube centred on the BVH's root bounds, holding every triangle (the cache
+// checks a loaded tree against it).
+NTreeNode nTreeRoot(const Bvh& bvh);
+
+// Everything in tree.stats but buildSeconds, from the tree's nodes, references and bitsets.
+void computeNTreeStats(NTree& tree);
+
 } // namespace chcrt::ls

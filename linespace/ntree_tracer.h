@@ -23,6 +23,7 @@ public:
     uint64_t gpuBytes() const { return gpu_->gpuBytes(); }
     // Build statistics of the tree (for reports); set by whoever built it.
     NTreeStats buildStats;
+    std::string cacheOutcome; // toString(CacheOutcome): built, loaded from cache, rebuilt
     std::string paramsText;
 
 private:

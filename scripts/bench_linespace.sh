@@ -11,15 +11,20 @@
 #   SS Table 1 shape  25 shadow rays per pixel (--spp 25 --effects shadow): BVH vs BVH+LS with shadow
 #                     termination for N in CHCRT_LS_SS_N at depth CHCRT_LS_SS_DEPTH; pixels > 2/255 differing.
 #   N-tree rows    the same 25 shadow rays per pixel: BVH vs ntree+ls (SS Algorithm 1 over the N-tree; start
-#                  node skipped as SS §4.1) for (N:d) in CHCRT_LS_NTREE ("4:4 6:3 8:3"); no cache: the N-tree is
-#                  built in every run (its build time is reported).
-# CHCRT_LS_TABLES selects the tables ("rc ss ntree", default all).
+#                  node skipped as SS §4.1) for (N:d) in CHCRT_LS_NTREE ("4:4 6:3 8:3"), --ls-ntree-near
+#                  CHCRT_LS_NTREE_NEAR (0 = the paper); trees cached in CHCRT_LS_CACHE like the Line Spaces (the
+#                  JSON's ntree.build_s is the stored build time, ntree.cache says whether it was loaded).
+#   AO candidates  (opt-in table "ao") AO rays only, bvh+ls with ao=candidate (the start node acts as a leaf, RC)
+#                  for faces=both (the paper) and faces=front-start, D in CHCRT_LS_DEPTHS; shadows and diffuse exact,
+#                  so the image error is the AO approximation's alone.
+# CHCRT_LS_TABLES selects the tables ("rc ss ntree", default; add "ao" for the AO table).
 # Usage: scripts/bench_linespace.sh [build dir (build)] [out dir (out/bench/linespace)] [scene ...]
 #   scenes: city interior bunny dragon castle (default: all; the last three only when ../shared/scenes has them)
 # Environment: CHCRT_BENCH_SIZE (256), CHCRT_BENCH_FRAMES (0,5), CHCRT_BENCH_RUNS (3), CHCRT_LS_DEPTHS ("6 9"),
 #   CHCRT_LS_N (6), CHCRT_LS_SS_N ("4 6"), CHCRT_LS_SS_DEPTH (9), CHCRT_LS_CACHE (out/cache/linespace).
-# Output: <out>/<scene>_rc_D<d>.json, <out>/<scene>_ss_N<n>.json (bench rows), <out>/linespace_tables.md,
-#   <out>/rc_table.csv, <out>/ss_table.csv (scripts/linespace_tables.py).
+# Output: <out>/<scene>_rc_D<d>.json, <out>/<scene>_ss_N<n>.json, <out>/<scene>_ntree_<N>_<d>[_near<K>].json,
+#   <out>/<scene>_ao_D<d>_<faces>.json (bench rows), <out>/linespace_tables.md, <out>/summary.md (compact RC
+#   Table 1 with indirect = AO + diffuse, SS Table 1, AO table), <out>/*.csv (scripts/linespace_tables.py).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
@@ -38,6 +43,8 @@ ss_depth=${CHCRT_LS_SS_DEPTH:-9}
 cache=${CHCRT_LS_CACHE:-out/cache/linespace}
 ntree=${CHCRT_LS_NTREE:-"4:4 6:3 8:3"}
 tables=${CHCRT_LS_TABLES:-"rc ss ntree"}
+ntree_near=${CHCRT_LS_NTREE_NEAR:-0}
+near_suffix=""; [[ $ntree_near == 0 ]] || near_suffix="_near${ntree_near}"
 mkdir -p "$out"
 shared=../shared/scenes
 
@@ -59,11 +66,21 @@ for scene in "${scenes[@]}"; do
       --effects shadow,ao,diffuse --ls-n "$n" --ls-depth "$d" --ls-modes shadow=exact,bounce=exact \
       --json "$out/${scene}_rc_D${d}.json"
   done
+  for d in $depths; do
+    [[ " $tables " == *" ao "* ]] || break
+    for faces in both front-start; do
+      echo "bench_linespace: $scene AO candidates, D=$d, faces=$faces"
+      "$chcrt" bench "${common[@]}" --method bvh,bvh+ls --ray-type ao --spp 1 --effects shadow,ao,diffuse \
+        --ls-n "$n" --ls-depth "$d" --ls-modes shadow=exact,bounce=exact,diffuse=exact,ao=candidate,faces=$faces \
+        --json "$out/${scene}_ao_D${d}_${faces}.json"
+    done
+  done
   for nd in $ntree; do
     [[ " $tables " == *" ntree "* ]] || break
-    echo "bench_linespace: $scene N-tree table, N:d=$nd"
+    echo "bench_linespace: $scene N-tree table, N:d=$nd, near $ntree_near"
     "$chcrt" bench "${common[@]}" --method bvh,ntree+ls --ray-type shadow --spp 25 --effects shadow \
-      --ls-ntree "$nd" --ls-ntree-start skip --json "$out/${scene}_ntree_${nd/:/_}.json"
+      --ls-ntree "$nd" --ls-ntree-start skip --ls-ntree-near "$ntree_near" \
+      --json "$out/${scene}_ntree_${nd/:/_}${near_suffix}.json"
   done
   for sn in $ss_n; do
     [[ " $tables " == *" ss "* ]] || break

@@ -69,7 +69,8 @@ def main(folder):
                 "scene": scene, "params": nt["params"], "nodes": nt["nodes"], "spaces": nt["spaces"],
                 "build_s": nt["build_s"], "binary_filled": nt["binary_filled"], "ls_mb": nt["linespace_mb"],
                 "node_pool_mb": nt["node_pool_mb"], "gpu_mb": nt["gpu_bytes"] / 1e6,
-                "start": "exact" if nt.get("start_exact") else "skip",
+                "start": "exact" if nt.get("start_exact") else "skip", "near": nt.get("near_edges", 0),
+                "cache": nt.get("cache", "built"),
                 "bvh_ms_frame": bvh_ms.get(r["ray_type"]), "ms_frame": r["ms_median"], "speedup": r["speedup_vs_bvh"],
                 "shadow_samples_differing": r.get("shadow_samples_differing_fraction"),
                 "pixels_over_2_255": err.get("final_pixels_over_2_255"), "final_psnr_db": err.get("final_psnr_db")})
@@ -88,12 +89,12 @@ def main(folder):
                   f"{fmt(r['final_psnr_db'], 1) if approx else '-'} | {opt(r['final_mae'], 4) if approx else '-'} | "
                   f"{fmt(r['indirect_psnr_db'], 1) if approx else '-'} |")
     md += ["", "## SS Table 1 shape over the N-tree (ntree+ls, 25 shadow rays per pixel, shadow-only frames)", "",
-           "| scene | N-tree | nodes stored | Line Spaces | build s | binary filled | LS MB | node pools MB | GPU MB | start node | ms/frame BVH -> N-tree | speedup | shadow samples differing | pixels > 2/255 | PSNR dB |",
-           "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+           "| scene | N-tree | nodes stored | Line Spaces | build s | cache | binary filled | LS MB | node pools MB | GPU MB | start node, near | ms/frame BVH -> N-tree | speedup | shadow samples differing | pixels > 2/255 | PSNR dB |",
+           "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     for r in nt_rows:
         md.append(f"| {r['scene']} | {r['params']} | {r['nodes']} | {r['spaces']} | {fmt(r['build_s'], 1)} | "
-                  f"{fmt(100 * r['binary_filled'], 1)} % | {fmt(r['ls_mb'])} | {fmt(r['node_pool_mb'])} | {fmt(r['gpu_mb'])} | "
-                  f"{r['start']} | {opt(r['bvh_ms_frame'], 1)} -> {fmt(r['ms_frame'], 1)} | {fmt(r['speedup'])} | "
+                  f"{r['cache']} | {fmt(100 * r['binary_filled'], 1)} % | {fmt(r['ls_mb'])} | {fmt(r['node_pool_mb'])} | {fmt(r['gpu_mb'])} | "
+                  f"{r['start']}, {fmt(r['near'], 0)} | {opt(r['bvh_ms_frame'], 1)} -> {fmt(r['ms_frame'], 1)} | {fmt(r['speedup'])} | "
                   f"{opt(r['shadow_samples_differing'], 4)} | {opt(r['pixels_over_2_255'], 4)} | {fmt(r['final_psnr_db'], 1)} |")
     md += ["", "## SS Table 1 shape (25 shadow rays per pixel, shadow-only frames)", "",
            "| scene | method | Line Space | spaces | build s | LS MB | ms/frame | speedup | shadow samples differing | pixels > 2/255 | PSNR dB |",
@@ -116,7 +117,81 @@ def main(folder):
     print("\n".join(md))
 
 
+def summary(folder):
+    """Compact tables (summary.md): RC Table 1 with indirect = AO + diffuse rays, SS Table 1 (bvh+ls and ntree+ls),
+    AO candidates (*_ao_D*.json)."""
+    def rows(path):
+        with open(path) as f:
+            return json.load(f)
+    out = ["# Line Space summary", "",
+           "RC Table 1 shape: indirect = AO + diffuse rays (1 spp each) with the bvh+ls modes of the run; shadows exact.",
+           "The AO column of bvh+ls is pure BVH tracing unless the modes say otherwise (then it shows the run's noise).", "",
+           "| scene | D | spaces | build s (bin + cand) | LS MB | BVH MB | ms AO+diffuse BVH -> LS | indirect speedup | AO | diffuse | final PSNR dB | indirect (diffuse) PSNR dB | modes |",
+           "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for path in sorted(glob.glob(os.path.join(folder, "[a-z]*_rc_D*.json"))):
+        if os.path.basename(path).startswith("extra_"):
+            continue
+        data = rows(path)
+        pick = {(r["method"], r["ray_type"]): r for r in data["rows"]}
+        try:
+            bvh_ms = pick[("bvh", "ao")]["ms_median"] + pick[("bvh", "diffuse")]["ms_median"]
+            ls_ms = pick[("bvh+ls", "ao")]["ms_median"] + pick[("bvh+ls", "diffuse")]["ms_median"]
+            ls = pick[("bvh+ls", "diffuse")]["linespace"]
+            err = pick[("bvh+ls", "diffuse")]["image_error"]
+        except KeyError:
+            continue
+        binary = (pick.get(("bvh+ls-exact", "diffuse")) or {}).get("linespace", {}).get("build_s")
+        out.append(f"| {os.path.basename(path).split('_rc_')[0]} | {ls['params'].split('D=')[1].split()[0]} | {ls['spaces']} | "
+                   f"{fmt(binary, 1) if binary is not None else '-'} + {fmt(ls['build_s'], 1)} | {fmt(ls['mb'], 1)} | "
+                   f"{fmt(data['bvh']['bytes'] / 1e6, 1)} | {fmt(bvh_ms, 1)} -> {fmt(ls_ms, 1)} | {fmt(bvh_ms / ls_ms)} | "
+                   f"{fmt(pick[('bvh+ls', 'ao')]['speedup_vs_bvh'])} | {fmt(pick[('bvh+ls', 'diffuse')]['speedup_vs_bvh'])} | "
+                   f"{fmt(err['final_psnr_db'], 1)} | {fmt(err['indirect_psnr_db'], 1)} | {ls['modes']} |")
+    out += ["", "SS Table 1 shape (25 shadow rays per pixel): BVH vs bvh+ls shadow termination and ntree+ls", "",
+            "| scene | method | params | build s | cache | MB | ms BVH -> method | speedup | samples differing | px > 2/255 | PSNR dB |",
+            "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+    paths = sorted(glob.glob(os.path.join(folder, "[a-z]*_ss_N*.json")) + glob.glob(os.path.join(folder, "[a-z]*_ntree_*.json")))
+    for path in paths:
+        if os.path.basename(path).startswith("extra_"):
+            continue
+        data = rows(path)
+        base = [r for r in data["rows"] if r["method"] == "bvh"]
+        for r in data["rows"]:
+            if r["method"] == "bvh" or not base or "image_error" not in r:
+                continue
+            err = r["image_error"]
+            if "ntree" in r:
+                nt = r["ntree"]
+                params, build, cache, mb = f"{nt['params']} near {nt['near_edges']:g}", nt["build_s"], nt.get("cache", "-"), nt["gpu_bytes"] / 1e6
+            else:
+                ls = r["linespace"]
+                params, build, cache, mb = ls["params"], ls["build_s"], ls["cache"], ls["mb"]
+            out.append(f"| {os.path.basename(path).split('_')[0]} | {r['method']} | {params} | {fmt(build, 1)} | {cache} | {fmt(mb, 1)} | "
+                       f"{fmt(base[0]['ms_median'], 0)} -> {fmt(r['ms_median'], 0)} | {fmt(r['speedup_vs_bvh'])} | "
+                       f"{fmt(100 * r['shadow_samples_differing_fraction'], 1)} % | {fmt(100 * err['final_pixels_over_2_255'])} % | "
+                       f"{fmt(err['final_psnr_db'], 1)} |")
+    ao = sorted(glob.glob(os.path.join(folder, "*_ao_D*.json")))
+    if ao:
+        out += ["", "AO with candidates: AO rays timed; image error with shadows and diffuse exact (the AO error alone)", "",
+                "| run | modes | Line Space | ms AO BVH -> LS | AO speedup | differing hits | final PSNR dB | px > 2/255 |",
+                "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+        for path in ao:
+            data = rows(path)
+            base = [r for r in data["rows"] if r["method"] == "bvh"]
+            for r in data["rows"]:
+                if r["method"] != "bvh+ls" or not base:
+                    continue
+                err = r["image_error"]
+                modes = r["linespace"]["modes"]
+                out.append(f"| {os.path.basename(path)[:-5]} | {modes.split('ao=')[1].split(',')[0]}, {modes.split('faces=')[1]} | "
+                           f"{r['linespace']['params']} | {fmt(base[0]['ms_median'], 1)} -> {fmt(r['ms_median'], 1)} | "
+                           f"{fmt(r['speedup_vs_bvh'])} | {r['diff_pixels']} | {fmt(err['final_psnr_db'], 1)} | "
+                           f"{fmt(100 * err['final_pixels_over_2_255'])} % |")
+    with open(os.path.join(folder, "summary.md"), "w") as f:
+        f.write("\n".join(out) + "\n")
+
+
 if __name__ == "__main__":
     if len(sys.argv) != 2:
         sys.exit(__doc__)
     main(sys.argv[1])
+    summary(sys.argv[1])

@@ -9,6 +9,8 @@
 //   CHCRT_LS_CANDIDATE_WORDS_PER_SPACE lsShaftCount(N, false) / 32 rounded up (candidate mode)
 //   CHCRT_LS_COS_MAX_ANGLE             cos of the normal-angle threshold (candidate mode), e.g. 0.866
 //   CHCRT_LS_CANDIDATE_START_EXACT     1: the node a candidate ray starts in is traversed exactly (default 0)
+//   CHCRT_LS_CANDIDATE_FRONT_ONLY      candidate planes count only when the ray meets their front side: 0 never
+//                                      (default, the paper), 1 in the node the ray starts in, 2 in every node
 // Needs bvhTriangles and TraceHit from bvh_traverse.glsl (include it from there, after both).
 #include "linespace/linespace_bindings.h"
 #include "shared/linespace_layout.h"
@@ -16,6 +18,9 @@
 
 #ifndef CHCRT_LS_CANDIDATE_START_EXACT
 #define CHCRT_LS_CANDIDATE_START_EXACT 0
+#endif
+#ifndef CHCRT_LS_CANDIDATE_FRONT_ONLY
+#define CHCRT_LS_CANDIDATE_FRONT_ONLY 0
 #endif
 
 layout(binding = CHCRT_UNIT_LS_SPACE_OF_NODE) uniform usamplerBuffer lsSpaceOfNode;
@@ -78,7 +83,18 @@ bool lsCandidateHit(uint space, vec3 origin, vec3 direction, vec3 invDir, vec3 b
     vec3 e2 = v2 - v0.xyz;
     vec3 p = cross(direction, e2);
     float det = dotOrdered(e1, p);
-    if (det == 0.0f) {
+    // det = -dot(direction, cross(e1, e2)): positive when the ray meets the plane's front (counter-clockwise)
+    // side. CHCRT_LS_CANDIDATE_FRONT_ONLY rejects back sides (our addition): a ray leaving a convex surface
+    // crosses the extended planes of its neighbouring triangles from behind, which is the self-occlusion of
+    // `candidate` mode; a ray coming from outside a closed surface meets front sides only.
+#if CHCRT_LS_CANDIDATE_FRONT_ONLY == 2
+    bool frontOnly = true;
+#elif CHCRT_LS_CANDIDATE_FRONT_ONLY == 1
+    bool frontOnly = entryExit.x <= tmin; // the node the ray starts in: where the self-occlusion is (measured)
+#else
+    bool frontOnly = false;
+#endif
+    if (det == 0.0f || (frontOnly && !(det > 0.0f))) {
         return false;
     }
     float invDet = 1.0f / det;

@@ -83,6 +83,16 @@ TEST(CandidateLineSpace, ApproximateHitExtrapolatesThePlane) {
     EXPECT_GT(h.u + h.v, 1.0f); // outside the triangle: extrapolated
     EXPECT_NEAR(std::abs(h.normal.y), 1.0f, 1e-6f); // the flat vertex normals (winding gives -Y)
     EXPECT_FALSE(intersectCandidatePlane(bvh, scene, flat, ray, 0.0f, 0.5f, cos30).hit); // beyond [tLo, tHi]
+    // frontOnly (faces=front): this ray meets the plane's back side (the counter-clockwise normal is -Y); the
+    // same ray going up from below meets its front side.
+    EXPECT_FALSE(intersectCandidatePlane(bvh, scene, flat, ray, 0.0f, 10.0f, cos30, true).hit);
+    Ray up = ray;
+    up.origin = glm::vec3(0.7f, -1.0f, 0.6f);
+    up.direction = glm::vec3(0.0f, 1.0f, 0.0f);
+    const ApproximateHit front = intersectCandidatePlane(bvh, scene, flat, up, 0.0f, 10.0f, cos30, true);
+    ASSERT_TRUE(front.hit);
+    EXPECT_FLOAT_EQ(front.t, 1.0f);
+    EXPECT_TRUE(intersectCandidatePlane(bvh, scene, flat, up, 0.0f, 10.0f, cos30, false).hit);
     // Fan the vertex normals out by 20 degrees: near the triangle the extrapolated normal stays within 30
     // degrees of the mean, far outside it deviates more and the hit is discarded (an edge, §3.1).
     const float s = std::sin(glm::radians(20.0f)), c = std::cos(glm::radians(20.0f));
