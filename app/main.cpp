@@ -101,7 +101,8 @@ int run(int argc, char** argv) {
                             "Tracing method: raster (no secondary rays) or a GPU method (bvh, chcrt, bvh+ls, ...)")
         ->capture_default_str();
     viewCommand->add_option("--view-mode", view.viewMode,
-                            "shaded, position, normal, albedo, triangle, depth, cost")->capture_default_str();
+                            "shaded, position, normal, albedo, triangle, depth, cost, overdraw, subtrees, batches, "
+                            "shafts, residency")->capture_default_str();
     viewCommand->add_option("--render-scale", view.renderScale, "Internal resolution / window resolution")
         ->capture_default_str();
     viewCommand->add_option("--script", view.script, "Run a scripted session (JSON list of steps) and exit");

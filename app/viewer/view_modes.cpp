@@ -8,7 +8,7 @@ const std::vector<ViewMode>& allViewModes() {
     static const std::vector<ViewMode> modes = {ViewMode::Shaded, ViewMode::Position, ViewMode::Normal,
                                                 ViewMode::Albedo, ViewMode::TriangleId, ViewMode::Depth,
                                                 ViewMode::Cost, ViewMode::Overdraw, ViewMode::Subtrees,
-                                                ViewMode::Batches, ViewMode::Shafts};
+                                                ViewMode::Batches, ViewMode::Shafts, ViewMode::Residency};
     return modes;
 }
 
@@ -25,6 +25,7 @@ const char* toString(ViewMode mode) {
     case ViewMode::Subtrees: return "subtrees";
     case ViewMode::Batches: return "batches";
     case ViewMode::Shafts: return "shafts";
+    case ViewMode::Residency: return "residency";
     }
     return "?";
 }
@@ -43,6 +44,9 @@ const char* describe(ViewMode mode) {
     case ViewMode::Batches: return "CHC+RT: subtrees traversed per pixel over all batches, heat map (Figure 5)";
     case ViewMode::Shafts:
         return "Line Space of the picked node (click): green = the pixel's ray lies in an empty shaft, red = filled";
+    case ViewMode::Residency:
+        return "out of core: primary hit's subtree resident in the GPU cache before the frame (green) or uploaded "
+               "this frame (orange); one shade per subtree, dark subtree boundaries";
     }
     return "";
 }
@@ -57,7 +61,8 @@ ViewMode parseViewMode(const std::string& name) {
 }
 
 bool isGBufferMode(ViewMode mode) {
-    return mode != ViewMode::Shaded && mode != ViewMode::Cost && mode != ViewMode::Shafts && !isChcrtDebugMode(mode);
+    return mode != ViewMode::Shaded && mode != ViewMode::Cost && mode != ViewMode::Shafts &&
+           mode != ViewMode::Residency && !isChcrtDebugMode(mode);
 }
 
 bool isChcrtDebugMode(ViewMode mode) {

@@ -1,7 +1,9 @@
 #include "app/viewer/viewer_app.h"
 
 #include "app/methods.h"
+#include "app/outofcore_report.h"
 #include "app/report.h"
+#include "app/viewer/residency_view.h"
 #include "app/viewer/shaft_view.h"
 #include "app/viewer/view_display.h"
 #include "app/viewer/viewer_script.h"
@@ -12,6 +14,9 @@
 #include "culling/chcrt_tracer.h"
 #include "renderer/core/error.h"
 #include "renderer/gl/gl.h"
+#include "renderer/outofcore/chs_file.h"
+#include "renderer/outofcore/out_of_core_tracer.h"
+#include "renderer/outofcore/primary_resolve.h"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -134,6 +139,9 @@ private:
     void notice(const std::string& text);
     void writeStatsJson() const;
     void renderShafts(FrameStats& stats);
+    void renderResidency(FrameStats& stats);
+    std::vector<uint8_t> residentSubtrees() const;
+    void traceDebugRays(ChcrtTracer* chcrt, bool debugView, FrameStats& stats);
     void updateShaftPick(int w, int h);
     void sampleLoadProgress();
 
@@ -143,6 +151,8 @@ private:
     GLFWwindow* window_ = nullptr;
     std::unique_ptr<SceneSession> scene_;
     std::unique_ptr<Tracer> tracer_;
+    // tracer_ when it traces out of core (--out-of-core with a prepared scene, CHC+RT §5.4), else nullptr.
+    outofcore::OutOfCoreTracer* outOfCore_ = nullptr;
     std::string activeMethod_;
     bool activeAlwaysCull_ = false;
     std::string activeParameters_;
@@ -168,6 +178,7 @@ private:
     int pickWidth_ = 0, pickHeight_ = 0;
     std::pair<int, int> pickPixel_{0, 0};
     std::string pickParameters_; // N/D/T and scene the pick was computed with
+    std::optional<ResidencyCounts> lastResidency_; // of the last residency-view frame (out of core)
     bool leftWasDown_ = false;
     nlohmann::json loadLog_ = nlohmann::json::array(); // samples of the loading worker's progress
 
@@ -199,6 +210,15 @@ Viewer::Viewer(const ViewOptions& options) : options_(options) {
     settings_.renderScale = options.renderScale;
     settings_.accumulate = !options.noAccumulate;
     applySettings(settings_, {{"method", options.method}, {"viewMode", options.viewMode}}); // validates all
+    if (options.common.outOfCore && !outofcore::isPreparedScenePath(options.common.scene)) {
+        throw InputError("--out-of-core needs a prepared scene (--scene file.chs; see chcrt prepare)");
+    }
+    if (options.common.outOfCore &&
+        (options.method.rfind("chcrt", 0) != 0 || options.method.find("+ls") != std::string::npos)) {
+        // As `chcrt render --out-of-core` (app/methods.cpp); the panel refuses such methods with a message.
+        throw InputError("--out-of-core: method " + options.method + " has no out-of-core form; use --method chcrt, "
+                         "chcrt-noadapt or chcrt-aggressive");
+    }
     showPanel_ = !options.hidePanel;
     playing_ = options.play;
     if (!options.script.empty()) {
@@ -309,8 +329,14 @@ void Viewer::finishLoading() {
     const auto uploadStart = Clock::now();
     // GL upload and shader compilation on the main thread (the context lives here).
     tracer_.reset();
+    outOfCore_ = nullptr;
     gpu_.renderer.reset();
     scene_ = std::move(loaded);
+    // --out-of-core applies to prepared scenes; another scene loaded from the panel is traced in core. A scene
+    // that is not in core (docs/outofcore.md) renders as `chcrt render --out-of-core` does: traced primary
+    // visibility resolved through the out-of-core tracer, no diffuse effect.
+    scene_->options.outOfCore = options_.common.outOfCore && outofcore::isPreparedScenePath(scene_->options.scene);
+    settings_.sceneNotInCore = !scene_->sceneInCore;
     int w = 1, h = 1;
     int fbWidth = 1, fbHeight = 1;
     glfwGetFramebufferSize(window_, &fbWidth, &fbHeight);
@@ -328,7 +354,7 @@ void Viewer::finishLoading() {
     walk_ = WalkController(camera_, scene_->scene.bounds());
     gpu_.renderer->warmUp(camera_);
     status_.sceneName = settings_.common.scene = loader_.scene();
-    status_.triangles = scene_->scene.triangleCount();
+    status_.triangles = scene_->sceneInCore ? scene_->scene.triangleCount() : scene_->fileTriangles;
     dirty_ = true;
     char text[160];
     std::snprintf(text, sizeof(text), "loaded %s: %llu triangles, %.2f s loading + BVH (worker thread), %.2f s GL "
@@ -342,23 +368,60 @@ void Viewer::applyMethod() {
         methodParameters(settings_.common) == activeParameters_) {
         return;
     }
+    const std::string previous = activeMethod_;
+    const bool outOfCore = scene_->options.outOfCore;
+    const std::string& m = settings_.method;
+    const bool hasOutOfCoreForm = (m.rfind("chcrt", 0) == 0 && m.find("+ls") == std::string::npos) ||
+                                  (m == kRasterOnlyMethod && scene_->sceneInCore);
+    if (outOfCore && !hasOutOfCoreForm && !previous.empty()) {
+        // Refused before the current tracer is destroyed: its GPU cache (and CHC+RT fronts) stay as they are.
+        notice("method " + m + " has no out-of-core form (pure BVH and Line Space tracing need the whole scene on "
+               "the GPU); keeping " + previous);
+        settings_.method = previous;
+        if (settings_.chcrtAlwaysCull == activeAlwaysCull_ && methodParameters(settings_.common) == activeParameters_) {
+            return;
+        }
+    }
     // Methods read their parameters from the session's options (app/methods.cpp).
     copyMethodParameters(settings_.common, scene_->options);
     activeParameters_ = methodParameters(settings_.common);
     gpu_.renderer->useTracer(nullptr);
-    tracer_.reset();
-    if (settings_.method != kRasterOnlyMethod) {
-        // nullptr for "bvh": the renderer's own tracer
-        try {
-            tracer_ = makeTracer(settings_.method, *scene_, gpu_, settings_.chcrtAlwaysCull);
-        } catch (const InputError& error) {
-            // Parameters the method refuses (e.g. a visibility threshold for exact CHC+RT): back to pure BVH.
-            notice(std::string("method ") + settings_.method + ": " + error.what() + "; using bvh");
-            settings_.method = "bvh";
-            tracer_.reset();
+    gpu_.renderer->setOutOfCorePrimary({}); // it points into the out-of-core tracer destroyed next
+    outOfCore_ = nullptr;
+    tracer_.reset(); // first: an out-of-core tracer's GPU cache is freed before the next one is allocated
+    const auto create = [&](const std::string& method) {
+        if (method == kRasterOnlyMethod) {
+            // Its traced primary rays use the renderer's pure BVH, which holds nothing out of core.
+            if (!scene_->sceneInCore) throw InputError("method raster needs the scene in core; use chcrt");
+            return std::unique_ptr<Tracer>();
         }
-        gpu_.renderer->useTracer(tracer_.get());
+        return makeTracer(method, *scene_, gpu_, settings_.chcrtAlwaysCull); // nullptr for "bvh": the renderer's own
+    };
+    try {
+        tracer_ = create(settings_.method);
+    } catch (const InputError& error) {
+        // Refused methods (no out-of-core form) or parameters (e.g. a visibility threshold for exact CHC+RT): in
+        // core back to pure BVH; out of core back to the previous method, else chcrt with default parameters.
+        const std::string fallback = !outOfCore ? "bvh" : !previous.empty() && previous != settings_.method ? previous
+                                                                                                        : "chcrt";
+        notice(std::string("method ") + settings_.method + ": " + error.what() + "; using " + fallback);
+        settings_.method = fallback;
+        if (outOfCore) {
+            try {
+                tracer_ = create(fallback);
+            } catch (const InputError&) { // the parameters are refused: chcrt with its defaults (budget errors propagate)
+                copyMethodParameters(CommonOptions{}, settings_.common);
+                copyMethodParameters(settings_.common, scene_->options);
+                activeParameters_ = methodParameters(settings_.common);
+                settings_.method = "chcrt";
+                tracer_ = create("chcrt");
+            }
+        }
     }
+    outOfCore_ = dynamic_cast<outofcore::OutOfCoreTracer*>(tracer_.get());
+    // Not in core: the G-buffer is resolved through this tracer's recorded primary subtrees (as chcrt render).
+    if (outOfCore_ && !scene_->sceneInCore) installOutOfCorePrimary(*gpu_.renderer, *outOfCore_);
+    gpu_.renderer->useTracer(tracer_.get());
     activeMethod_ = settings_.method;
     activeAlwaysCull_ = settings_.chcrtAlwaysCull;
 }
@@ -563,6 +626,8 @@ void Viewer::checkExpectations(const nlohmann::json& expect) {
             if (pathFrame_ != value.get<int>()) fail("pathFrame = " + std::to_string(pathFrame_));
         } else if (key == "shaftNodePicked") {
             if (shaftPick_.has_value() != value.get<bool>()) fail(std::string("shaftNodePicked = ") + (shaftPick_ ? "true" : "false"));
+        } else if (key == "outOfCore") { // the method traces through the GPU subtree cache
+            if ((outOfCore_ != nullptr) != value.get<bool>()) fail(std::string("outOfCore = ") + (outOfCore_ ? "true" : "false"));
         } else if (key == "loadProgress") {
             const double actual = loader_.progress().fraction();
             if (std::abs(actual - value.get<double>()) > 1e-9) fail("loadProgress = " + std::to_string(actual));
@@ -601,7 +666,7 @@ void Viewer::renderIfNeeded() {
         dirty_ = true;
     }
     const bool shaded = settings_.viewMode == ViewMode::Shaded;
-    const bool refine = shaded && settings_.accumulate && settings_.method != kRasterOnlyMethod &&
+    const bool refine = shaded && settings_.accumulate && activeMethod_ != kRasterOnlyMethod &&
                         display_->accumulatedFrames() < settings_.maxAccumulatedFrames;
     if (!dirty_ && !refine) return; // the view is complete: only the window is redrawn
     if (dirty_ || !settings_.accumulate) display_->resetAccumulation();
@@ -610,20 +675,32 @@ void Viewer::renderIfNeeded() {
     renderer.setSettings(toRenderSettings(settings_, w, h, display_->accumulatedFrames()));
     // CHC+RT methods: debug images on only in their view modes (instrumented shader variants are slower), and
     // the frame's CHC+RT counters as the difference of the tracer's running totals.
-    ChcrtTracer* chcrt = dynamic_cast<ChcrtTracer*>(tracer_.get());
+    ChcrtTracer* chcrt = outOfCore_ ? &outOfCore_->chcrt() : dynamic_cast<ChcrtTracer*>(tracer_.get());
     const bool debugView = isChcrtDebugMode(settings_.viewMode);
-    if (chcrt) {
+    if (chcrt && !outOfCore_) { // out of core: set around the chosen rays' trace only (traceDebugRays)
         const ChcrtDebugImage kind = !debugView                               ? ChcrtDebugImage::None
                                      : settings_.viewMode == ViewMode::Overdraw ? ChcrtDebugImage::Overdraw
                                      : settings_.viewMode == ViewMode::Subtrees ? ChcrtDebugImage::Subtrees
                                                                                 : ChcrtDebugImage::Batches;
         if (chcrt->debugImageKind() != kind) chcrt->setDebugImage(kind);
     }
+    if (outOfCore_ && chcrt->debugImageKind() != ChcrtDebugImage::None) {
+        // The out-of-core G-buffer's primary rays record their subtrees in the debug image (PrimaryResolve),
+        // which no other debug image may occupy while they are traced.
+        chcrt->setDebugImage(ChcrtDebugImage::None);
+    }
     const ChcrtStats chcrtBefore = chcrt ? chcrt->totalStats() : ChcrtStats{};
+    const outofcore::OutOfCoreStats outOfCoreBefore = outOfCore_ ? outOfCore_->snapshot() : outofcore::OutOfCoreStats{};
     FrameStats stats;
     const bool shafts = settings_.viewMode == ViewMode::Shafts;
+    const bool residency = settings_.viewMode == ViewMode::Residency;
+    std::optional<ResidencyCounts> residencyCounts;
     if (shafts) {
         renderShafts(stats);
+        stats.totalMs = millisecondsSince(start);
+    } else if (residency) {
+        renderResidency(stats);
+        if (outOfCore_ && !scene_->sceneInCore) residencyCounts = lastResidency_;
         stats.totalMs = millisecondsSince(start);
     } else if (shaded) {
         stats = renderer.renderFrame(camera_);
@@ -631,18 +708,24 @@ void Viewer::renderIfNeeded() {
         else display_->showSingleFrame();
     } else {
         renderer.renderGBuffer(camera_, stats);
-        if (settings_.viewMode == ViewMode::Cost || debugView) {
-            // The debug image shows only the chosen ray set (traced primary rays of the G-buffer excluded).
-            if (chcrt && debugView) chcrt->clearDebugImage();
-            renderer.generateRayPass(camera_, settings_.costRayType, 0, stats);
-            renderer.traceRayPass(camera_, settings_.costRayType, 0, stats);
-        }
+        if (settings_.viewMode == ViewMode::Cost || debugView) traceDebugRays(chcrt, debugView, stats);
         stats.totalMs = millisecondsSince(start);
     }
     status_.chcrt.reset();
     if (chcrt) status_.chcrt = chcrtFrameStats(chcrtBefore, chcrt->totalStats());
-    if (shafts) {
-        // renderShafts has shown its image
+    status_.outOfCore.reset();
+    if (outOfCore_) {
+        ViewerOutOfCoreStatus o;
+        o.frame = outofcore::OutOfCoreStats::difference(outOfCore_->snapshot(), outOfCoreBefore);
+        o.gpuCacheMb = double(outOfCore_->options().gpuCacheBytes) / double(1u << 20);
+        o.hostCacheMb = double(outOfCore_->options().hostCacheBytes) / double(1u << 20);
+        o.fileSubtrees = outOfCore_->file().subtrees().size();
+        o.sceneInCore = scene_->sceneInCore;
+        o.residency = residencyCounts;
+        status_.outOfCore = o;
+    }
+    if (shafts || residency) {
+        // renderShafts / renderResidency have shown their image
     } else if (debugView) {
         const bool ready = chcrt && chcrt->debugTexture() != 0 && chcrt->debugWidth() == w && chcrt->debugHeight() == h;
         display_->showImage(ready ? colorizeChcrtDebugImage(chcrt->debugImageKind(), chcrt->readDebugImage(), w, h)
@@ -664,6 +747,15 @@ void Viewer::renderIfNeeded() {
     if (status_.chcrt) {
         entry["chcrt"] = chcrtStatsToJson(*status_.chcrt);
         entry["chcrt"]["always_cull"] = activeAlwaysCull_;
+    }
+    if (outOfCore_) {
+        entry["outofcore"] = outOfCoreStatsJson(status_.outOfCore->frame, 1.0, *outOfCore_);
+        entry["outofcore"]["scene_in_core"] = scene_->sceneInCore;
+    }
+    if (residencyCounts) {
+        const ResidencyCounts& c = *residencyCounts;
+        entry["residency"] = {{"hit_pixels", c.hitPixels}, {"resident_pixels", c.residentPixels},
+                              {"uploaded_pixels", c.uploadedPixels}, {"visible_subtrees", c.visibleSubtrees}};
     }
     if (shafts && shaftPick_) {
         const ShaftPick& p = *shaftPick_;
@@ -809,10 +901,80 @@ void Viewer::sampleLoadProgress() {
     loadLog_.push_back(std::move(sample));
 }
 
+// The cost and CHC+RT debug views: the chosen ray set traced after the G-buffer (the debug image shows only
+// it, not the G-buffer's traced primary rays). Out of core the tracer records the primary rays' subtrees in
+// the debug image for the G-buffer resolve: the chosen image is selected here and the recording paused for
+// this one trace (switching images recompiles CHC+RT's subtree shader: slow, but only in these views).
+void Viewer::traceDebugRays(ChcrtTracer* chcrt, bool debugView, FrameStats& stats) {
+    Renderer& renderer = *gpu_.renderer;
+    if (chcrt && debugView) {
+        if (outOfCore_) {
+            chcrt->setDebugImage(settings_.viewMode == ViewMode::Overdraw  ? ChcrtDebugImage::Overdraw
+                                 : settings_.viewMode == ViewMode::Subtrees ? ChcrtDebugImage::Subtrees
+                                                                            : ChcrtDebugImage::Batches);
+        }
+        chcrt->clearDebugImage();
+    }
+    if (outOfCore_) outOfCore_->setRecordPrimarySubtrees(false);
+    try {
+        renderer.generateRayPass(camera_, settings_.costRayType, 0, stats);
+        renderer.traceRayPass(camera_, settings_.costRayType, 0, stats);
+    } catch (...) {
+        if (outOfCore_) outOfCore_->setRecordPrimarySubtrees(true);
+        throw;
+    }
+    if (outOfCore_) outOfCore_->setRecordPrimarySubtrees(true);
+}
+
+// Subtrees resident in the GPU cache now (by file subtree index).
+std::vector<uint8_t> Viewer::residentSubtrees() const {
+    std::vector<uint8_t> resident(outOfCore_->file().subtrees().size(), 0);
+    const outofcore::GpuSubtreeCache& cache = outOfCore_->cache();
+    for (uint32_t slot = 0; slot < cache.slotCount(); ++slot) {
+        const uint32_t subtree = cache.slotSubtree(slot);
+        if (subtree < resident.size()) resident[subtree] = 1;
+    }
+    return resident;
+}
+
+// The residency view (out of core): the shaded frame (one frame, no refinement) tinted by where each pixel's
+// primary hit came from: a subtree resident in the GPU cache before the frame, or one uploaded during it.
+void Viewer::renderResidency(FrameStats& stats) {
+    Renderer& renderer = *gpu_.renderer;
+    const int w = display_->width(), h = display_->height();
+    const bool available = outOfCore_ && !scene_->sceneInCore;
+    lastResidency_.reset();
+    const std::vector<uint8_t> before = available ? residentSubtrees() : std::vector<uint8_t>{};
+    stats = renderer.renderFrame(camera_);
+    display_->showSingleFrame();
+    ViewerSettings shadedSettings = settings_;
+    shadedSettings.viewMode = ViewMode::Shaded;
+    display_->visualize(renderer.targets(), shadedSettings, scene_->scene.bounds(), renderer.targets().hits[0]);
+    if (!available) { // the shaded frame, with a note
+        const std::string text = "the residency view needs --out-of-core with a prepared scene not loaded in core "
+                                 "(--load-in-core off)";
+        if (status_.message != text) notice(text);
+        return;
+    }
+    const ImageRgba32f image = display_->readImage();
+    std::vector<float> rgb(size_t(w) * h * 3);
+    for (size_t i = 0; i < size_t(w) * h; ++i) {
+        for (int k = 0; k < 3; ++k) rgb[i * 3 + size_t(k)] = std::clamp(image.pixels[i * 4 + size_t(k)], 0.0f, 1.0f);
+    }
+    lastResidency_ = colourResidency(outOfCore_->primaryResolve().lastPixelSubtrees(), before, w, h, rgb);
+    display_->showImage(rgb);
+}
+
 // (Re)computes the picked Line Space node: on a new pick (at the current camera), or when N/D/T change (the same
 // pixel of the camera it was picked with). Without any pick the centre pixel is picked.
 void Viewer::updateShaftPick(int w, int h) {
     const CommonOptions& c = settings_.common;
+    if (!scene_->sceneInCore) { // the node's Line Space is built from the in-core BVH
+        shaftPick_.reset();
+        status_.shaftInfo = {"the shafts view needs the scene in core (out of core only subtrees are on the GPU)"};
+        if (status_.message != status_.shaftInfo.back()) notice(status_.shaftInfo.back());
+        return;
+    }
     const std::string parameters = std::to_string(c.lsN) + "/" + std::to_string(c.lsDepth) + "/" + std::to_string(c.lsT);
     if (!pendingPick_ && !shaftPick_ && pickParameters_.empty()) pendingPick_ = std::make_pair(w / 2, h / 2);
     if (pendingPick_) {

@@ -2,6 +2,8 @@
 
 #include "app/methods.h"
 #include "renderer/core/error.h"
+#include "renderer/outofcore/chs_file.h"
+#include "linespace/ntree_tracer.h"
 
 #include <nlohmann/json.hpp>
 
@@ -79,6 +81,18 @@ std::string commonArguments(const ViewerSettings& s, const Camera& camera, int w
         if (c.lsAngle != d.lsAngle) line += " --ls-angle " + formatFloat(c.lsAngle);
         if (!c.lsModes.empty()) line += " --ls-modes " + shellWord(c.lsModes);
         if (!c.lsNtree.empty()) line += " --ls-ntree " + c.lsNtree;
+        if (s.method == "ntree+ls") {
+            if (c.lsNtreeLevel != d.lsNtreeLevel) line += " --ls-ntree-level " + std::to_string(c.lsNtreeLevel);
+            if (c.lsNtreeStart != d.lsNtreeStart) line += " --ls-ntree-start " + c.lsNtreeStart;
+            if (c.lsNtreeNear != d.lsNtreeNear) line += " --ls-ntree-near " + formatFloat(c.lsNtreeNear);
+        }
+    }
+    if (c.outOfCore && outofcore::isPreparedScenePath(c.scene)) { // CHC+RT through the GPU subtree cache
+        const CommonOptions d;
+        line += " --out-of-core --gpu-cache-mb " + std::to_string(c.gpuCacheMb) + " --host-cache-mb " +
+                std::to_string(c.hostCacheMb);
+        if (c.cachePolicy != d.cachePolicy) line += " --cache-policy " + c.cachePolicy;
+        if (c.loadInCore != d.loadInCore) line += " --load-in-core " + c.loadInCore;
     }
     if (c.bvhBins != CommonOptions{}.bvhBins) line += " --bvh-bins " + std::to_string(c.bvhBins);
     return line;
@@ -106,6 +120,10 @@ RenderSettings toRenderSettings(const ViewerSettings& s, int width, int height, 
         // "raster": no secondary rays. With --primary traced its G-buffer comes from primary rays traced with
         // pure BVH (the renderer's own tracer), the reference the other methods' traced G-buffers equal.
         r.effects = EffectSet{false, false, false};
+    }
+    if (s.sceneNotInCore) { // as openGpuSession: out-of-core primary rays, no id-indexed bounce shading
+        r.primaryVisibility = PrimaryVisibility::Traced;
+        r.effects.diffuse = false;
     }
     if (accumulatedFrame > 0) {
         r.seed = s.common.seed + uint32_t(accumulatedFrame);
@@ -144,6 +162,14 @@ void applySettings(ViewerSettings& settings, const nlohmann::json& changes) {
             s.common.lsT = jsonValue<uint32_t>(value, key);
         } else if (key == "lsAngle") {
             s.common.lsAngle = jsonValue<float>(value, key);
+        } else if (key == "lsNtree") {
+            s.common.lsNtree = jsonValue<std::string>(value, key);
+        } else if (key == "lsNtreeLevel") {
+            s.common.lsNtreeLevel = jsonValue<int>(value, key);
+        } else if (key == "lsNtreeStart") {
+            s.common.lsNtreeStart = jsonValue<std::string>(value, key);
+        } else if (key == "lsNtreeNear") {
+            s.common.lsNtreeNear = jsonValue<float>(value, key);
         } else if (key == "chcrtAlwaysCull") {
             s.chcrtAlwaysCull = jsonValue<bool>(value, key);
         } else if (key == "primary") {
@@ -178,7 +204,8 @@ void applySettings(ViewerSettings& settings, const nlohmann::json& changes) {
             throw InputError("unknown viewer setting '" + key +
                              "' (method, viewMode, primary, chcrtAlwaysCull, chcrtThreshold, chcrtMinTile, "
                              "chcrtHeight, chcrtMultiQuery, chcrtTighterBounds, chcrtLeafCache, lsN, lsDepth, lsT, "
-                             "lsAngle, effects, spp, seed, rotation, aoLength, exposure, renderScale, "
+                             "lsAngle, lsNtree, lsNtreeLevel, lsNtreeStart, lsNtreeNear, effects, spp, seed, "
+                             "rotation, aoLength, exposure, renderScale, "
                              "accumulate, maxAccumulatedFrames, refineWithFullRotation, costRayType, costScale)");
         }
     }
@@ -195,6 +222,13 @@ void applySettings(ViewerSettings& settings, const nlohmann::json& changes) {
     if (s.common.lsN < 1 || s.common.lsDepth < 1 || s.common.lsT < 1 || !(s.common.lsAngle >= 0.0f)) {
         throw InputError("Line Space parameters must be positive");
     }
+    // N-tree parameters (ntree+ls, app/methods.cpp makeNTreeTracer): the same checks as the command line.
+    if (!s.common.lsNtree.empty()) ls::parseNTreeParams(s.common.lsNtree);
+    if (s.common.lsNtreeLevel < -1) throw InputError("lsNtreeLevel must be -1 (d-1) or a level >= 0");
+    if (s.common.lsNtreeStart != "skip" && s.common.lsNtreeStart != "exact") {
+        throw InputError("lsNtreeStart must be skip or exact, not '" + s.common.lsNtreeStart + "'");
+    }
+    if (!(s.common.lsNtreeNear >= 0.0f && s.common.lsNtreeNear <= 1000.0f)) throw InputError("lsNtreeNear must be in 0..1000");
     toRenderSettings(s, 1, 1, 0); // validates effects, rotation, lengths, exposure
     settings = s;
 }
@@ -203,7 +237,8 @@ std::string methodParameters(const CommonOptions& c) {
     std::ostringstream out;
     out << c.chcrtThreshold << ' ' << c.chcrtMinTile << ' ' << c.chcrtHeight << ' ' << c.chcrtMultiQuery << ' '
         << c.chcrtTighterBounds << ' ' << c.chcrtLeafCache << ' ' << c.lsN << ' ' << c.lsDepth << ' ' << c.lsT << ' '
-        << c.lsAngle << ' ' << c.lsNtree << ' ' << c.lsModes;
+        << c.lsAngle << ' ' << c.lsNtree << ' ' << c.lsNtreeLevel << ' ' << c.lsNtreeStart << ' ' << c.lsNtreeNear
+        << ' ' << c.lsModes;
     return out.str();
 }
 
@@ -219,6 +254,9 @@ void copyMethodParameters(const CommonOptions& from, CommonOptions& to) {
     to.lsT = from.lsT;
     to.lsAngle = from.lsAngle;
     to.lsNtree = from.lsNtree;
+    to.lsNtreeLevel = from.lsNtreeLevel;
+    to.lsNtreeStart = from.lsNtreeStart;
+    to.lsNtreeNear = from.lsNtreeNear;
     to.lsModes = from.lsModes;
 }
 

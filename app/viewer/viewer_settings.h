@@ -37,6 +37,9 @@ struct ViewerSettings {
     // the per-pixel perturbation covers the whole sample domain, so the average converges to the integral and
     // not only to the neighbourhood of each pass's shared sample.
     bool refineWithFullRotation = true;
+    // Set by the viewer for an --out-of-core scene that is not loaded in core (docs/outofcore.md): primary
+    // visibility is always traced (out-of-core primary rays) and the diffuse effect is off, as in `chcrt render`.
+    bool sceneNotInCore = false;
 };
 
 // Internal render resolution for a window (framebuffer) size: at least 1×1.
@@ -46,7 +49,8 @@ RenderSettings toRenderSettings(const ViewerSettings& settings, int width, int h
 
 // Applies {"name": value, ...} (names as in docs: method, viewMode, primary (raster | traced), chcrtAlwaysCull,
 // the method parameters chcrtThreshold, chcrtMinTile, chcrtHeight, chcrtMultiQuery (ints), chcrtTighterBounds,
-// chcrtLeafCache (bools), lsN, lsDepth, lsT (ints), lsAngle, effects, spp, seed, rotation, aoLength,
+// chcrtLeafCache (bools), lsN, lsDepth, lsT (ints), lsAngle, the N-tree parameters of ntree+ls lsNtree ("N:d"),
+// lsNtreeLevel (int, -1 = d-1), lsNtreeStart ("skip" | "exact"), lsNtreeNear, effects, spp, seed, rotation, aoLength,
 // exposure, renderScale, accumulate, maxAccumulatedFrames, costRayType, costScale, refineWithFullRotation).
 // Validates everything before changing anything; throws InputError naming the key.
 void applySettings(ViewerSettings& settings, const nlohmann::json& changes);

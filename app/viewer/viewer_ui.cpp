@@ -101,6 +101,38 @@ void ViewerPanel::drawStatistics(const ViewerStatus& status) {
         ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "%llu rays reached the loop cap",
                            static_cast<unsigned long long>(s.cappedRays));
     }
+    if (status.outOfCore && ImGui::CollapsingHeader("Out of core (Table 3, this frame)", ImGuiTreeNodeFlags_DefaultOpen)) {
+        drawOutOfCore(*status.outOfCore);
+    }
+}
+
+void ViewerPanel::drawOutOfCore(const ViewerOutOfCoreStatus& o) {
+    // The columns of CHC+RT Table 3 for the frame's traces (all ray sets): docs/outofcore.md.
+    const outofcore::OutOfCoreStats& f = o.frame;
+    const double mb = 1.0 / double(1u << 20);
+    const auto count = [](uint64_t v) { return static_cast<unsigned long long>(v); };
+    ImGui::Text("%.2f Mrays/s, %llu queries", f.traceMs > 0 ? double(f.raysTraced) / (f.traceMs * 1e3) : 0.0,
+                count(f.queries));
+    ImGui::Text("  over %.1f ms of CHC+RT tracing", f.traceMs);
+    ImGui::Text("cache: %llu hits, %llu misses", count(f.cacheHits), count(f.cacheMisses));
+    ImGui::Text("  %llu evictions, %llu deferred", count(f.cacheEvictions), count(f.cacheDeferred));
+    ImGui::Text("uploaded: %.2f MB BVH", double(f.uploadedBvhBytes) * mb);
+    ImGui::Text("  + %.2f MB geometry", double(f.uploadedGeometryBytes) * mb);
+    ImGui::Text("GPU: %.1f MB resident / %.1f MB", double(f.residentBytes) * mb, double(f.allocatedBytes) * mb);
+    ImGui::Text("  (budget %.0f MB), %u of %u slots used", o.gpuCacheMb, f.residentSubtrees, f.slots);
+    ImGui::Text("  the file has %zu subtrees", o.fileSubtrees);
+    ImGui::Text("host: %llu reads, %.2f MB read", count(f.hostReads), double(f.hostBytesRead) * mb);
+    ImGui::Text("  %.1f MB resident (budget %.0f MB)", double(f.hostResidentBytes) * mb, o.hostCacheMb);
+    if (o.sceneInCore) ImGui::TextUnformatted("scene also in core (--load-in-core): G-buffer from the in-core data");
+    if (o.residency) {
+        const ResidencyCounts& r = *o.residency;
+        const double hits = double(std::max<uint64_t>(r.hitPixels, 1));
+        ImGui::Text("residency of %llu hit pixels (%u subtrees):", count(r.hitPixels), r.visibleSubtrees);
+        ImGui::TextColored(ImVec4(kResidentTint[0], kResidentTint[1], kResidentTint[2], 1),
+                           "  %.1f %% resident before the frame", 100.0 * double(r.residentPixels) / hits);
+        ImGui::TextColored(ImVec4(kUploadedTint[0], kUploadedTint[1], kUploadedTint[2], 1),
+                           "  %.1f %% uploaded this frame", 100.0 * double(r.uploadedPixels) / hits);
+    }
 }
 
 void ViewerPanel::drawSettings(ViewerSettings& settings, ViewerActions& actions) {
@@ -122,8 +154,13 @@ void ViewerPanel::drawSettings(ViewerSettings& settings, ViewerActions& actions)
     }
     // Primary visibility: rasterised G-buffer, or primary rays traced with the method's tracer (CHC+RT §5 "Prim").
     // The raster-only method traces its primary rays (when chosen) with pure BVH and no secondary rays.
-    bool traced = settings.common.primary == "traced";
+    bool traced = settings.common.primary == "traced" || settings.sceneNotInCore;
+    ImGui::BeginDisabled(settings.sceneNotInCore); // out of core: always out-of-core primary rays
     if (ImGui::Checkbox("trace primary rays", &traced)) changes["primary"] = traced ? "traced" : "raster";
+    ImGui::EndDisabled();
+    if (settings.sceneNotInCore && ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) {
+        ImGui::SetTooltip("the scene is not in core: primary visibility comes from out-of-core primary rays");
+    }
     if (settings.method.rfind("chcrt", 0) == 0 && ImGui::TreeNode("CHC+RT parameters")) {
         // Each change recreates the tracer (its visibility fronts start again); culling/README.md, CHC+RT §5.
         const CommonOptions& c = settings.common;
@@ -156,6 +193,20 @@ void ViewerPanel::drawSettings(ViewerSettings& settings, ViewerActions& actions)
         if (ImGui::SliderInt("T", &t, 1, 32)) changes["lsT"] = t;
         float angle = c.lsAngle;
         if (ImGui::SliderFloat("candidate angle", &angle, 0.0f, 90.0f, "%.0f deg")) changes["lsAngle"] = angle;
+        if (settings.method == "ntree+ls") {
+            // The soft-shadow paper's N-tree (--ls-ntree N:d and its shadow options): each change rebuilds it.
+            int treeN = 6, treeD = 3;
+            std::sscanf(c.lsNtree.empty() ? "6:3" : c.lsNtree.c_str(), "%d:%d", &treeN, &treeD);
+            bool treeChanged = ImGui::SliderInt("N-tree N", &treeN, 2, 16);
+            treeChanged |= ImGui::SliderInt("N-tree depth d", &treeD, 1, 8);
+            if (treeChanged) changes["lsNtree"] = std::to_string(treeN) + ":" + std::to_string(treeD);
+            int level = c.lsNtreeLevel;
+            if (ImGui::SliderInt("shadow level (-1 = d-1)", &level, -1, 8)) changes["lsNtreeLevel"] = level;
+            bool exactStart = c.lsNtreeStart == "exact";
+            if (ImGui::Checkbox("exact start node", &exactStart)) changes["lsNtreeStart"] = exactStart ? "exact" : "skip";
+            float nearEdges = c.lsNtreeNear;
+            if (ImGui::SliderFloat("near (node edges)", &nearEdges, 0.0f, 8.0f, "%.2f")) changes["lsNtreeNear"] = nearEdges;
+        }
         ImGui::TreePop();
     }
     EffectSet effects = parseEffects(settings.common.effects);
@@ -163,7 +214,9 @@ void ViewerPanel::drawSettings(ViewerSettings& settings, ViewerActions& actions)
     ImGui::SameLine();
     effectsChanged |= ImGui::Checkbox("AO", &effects.ao);
     ImGui::SameLine();
+    ImGui::BeginDisabled(settings.sceneNotInCore); // bounce hits are shaded by id over the whole scene
     effectsChanged |= ImGui::Checkbox("diffuse", &effects.diffuse);
+    ImGui::EndDisabled();
     if (effectsChanged) changes["effects"] = toString(effects);
     int spp = settings.common.spp;
     if (ImGui::SliderInt("spp", &spp, 1, 16)) changes["spp"] = spp;

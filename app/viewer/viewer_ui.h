@@ -2,7 +2,9 @@
 // The viewer's ImGui panel: statistics (frame time, its split per pass, rays/s, a frame-time graph), the live
 // settings (method, view mode, effects, sampling, exposure, render scale) and camera-path controls. It edits
 // ViewerSettings in place and reports button presses as actions; the app applies them between frames.
+#include "app/viewer/residency_view.h"
 #include "app/viewer/viewer_settings.h"
+#include "renderer/outofcore/out_of_core_tracer.h"
 #include "renderer/render/renderer.h"
 
 #include <optional>
@@ -17,9 +19,20 @@ struct ViewerChcrtStats {
     double phase1Ms = 0, phase2Ms = 0, phase3Ms = 0, fallbackMs = 0;
 };
 
+// Out of core (CHC+RT §5.4, Table 3's columns) for the last frame: the frame's counters (difference of the
+// tracer's snapshots around it) and the budgets; residency counts when the residency view drew the frame.
+struct ViewerOutOfCoreStatus {
+    outofcore::OutOfCoreStats frame;
+    double gpuCacheMb = 0, hostCacheMb = 0;
+    size_t fileSubtrees = 0;
+    bool sceneInCore = false; // --load-in-core: the G-buffer is the in-core one, only tracing is out of core
+    std::optional<ResidencyCounts> residency;
+};
+
 struct ViewerStatus {
     FrameStats stats;          // of the last rendered frame
     std::optional<ViewerChcrtStats> chcrt;
+    std::optional<ViewerOutOfCoreStatus> outOfCore;
     double frameMs = 0;        // wall time of the last loop iteration (render + panel + swap)
     std::vector<float> frameHistoryMs;
     int accumulatedFrames = 0;
@@ -59,6 +72,7 @@ public:
 
 private:
     void drawStatistics(const ViewerStatus& status);
+    void drawOutOfCore(const ViewerOutOfCoreStatus& outOfCore);
     void drawSettings(ViewerSettings& settings, ViewerActions& actions);
     void drawCamera(const ViewerStatus& status, ViewerActions& actions);
     std::string sceneField_;

@@ -44,7 +44,8 @@ void PrimaryResolve::resolve(const Camera& camera, const FrameTargets& t, float 
     std::vector<glm::uvec4> hits(n);
     glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
     glGetTextureImage(t.hits[0].hit.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, GLsizei(n * sizeof(glm::uvec4)), hits.data());
-    const std::vector<uint32_t> subtreeOf = tracer_.chcrt().readDebugImage(); // 1 + subtree, 0 = none
+    pixelSubtrees_ = tracer_.chcrt().readDebugImage(); // 1 + subtree, 0 = none
+    const std::vector<uint32_t>& subtreeOf = pixelSubtrees_;
     const bool haveSubtrees = subtreeOf.size() == n;
 
     // Group hit pixels by subtree, then scan each subtree once for the triangles its pixels hit.

@@ -43,6 +43,10 @@ public:
     // Per-pixel unit geometric normals of the last resolve (RGBA32F, frame size; 0 before the first), for
     // secondary ray generation (Renderer::setOutOfCorePrimary).
     GLuint geometricNormalTexture() const { return geometric_.id(); }
+    // Per pixel of the last resolve: 1 + the termination subtree (file directory index) that produced the
+    // primary hit, 0 = no hit (GL row order, bottom row first; empty before the first). The viewer's residency
+    // view colours pixels by it (app/viewer/README.md).
+    const std::vector<uint32_t>& lastPixelSubtrees() const { return pixelSubtrees_; }
 
 private:
     OutOfCoreTracer& tracer_;
@@ -50,6 +54,7 @@ private:
     ShaderProgram program_;
     GlTexture shading_, geometric_, albedo_;
     int width_ = 0, height_ = 0;
+    std::vector<uint32_t> pixelSubtrees_;
     PrimaryResolveStats stats_;
 };
 
