@@ -47,7 +47,7 @@ void addCommonOptions(CLI::App& c, CommonOptions& o, bool withEffects) {
     c.add_option("--chcrt-multi-query", o.chcrtMultiQuery,
                  "CHC+RT: previously invisible pairs per multi-query (default 4, 1 = off)");
     c.add_option("--chcrt-tighter-bounds", o.chcrtTighterBounds, "CHC+RT: query the children's boxes (on|off, default on)");
-    c.add_option("--chcrt-leaf-cache", o.chcrtLeafCache, "CHC+RT: 2-entry leaf cache in subtree traversal (on|off, default on)");
+    c.add_option("--chcrt-leaf-cache", o.chcrtLeafCache, "CHC+RT: 2-entry leaf cache in subtree traversal (on|off, default off)");
     c.add_flag("-q,--quiet", o.quiet, "No progress bars");
     c.add_option("--bvh-leaf-size", o.bvhLeafSize, "Maximum triangles per BVH leaf")->capture_default_str();
     c.add_option("--bvh-bins", o.bvhBins, "SAH bins per axis")->capture_default_str();
@@ -67,8 +67,9 @@ void addCommonOptions(CLI::App& c, CommonOptions& o, bool withEffects) {
         ->capture_default_str();
     c.add_option("--ls-modes", o.lsModes,
                  "Line Space mode per ray type, e.g. primary=exact,shadow=shadow,ao=candidate,diffuse=candidate,"
-                 "bounce=shadow (modes: off, exact, shadow, candidate, candidate-exact-start)");
-    c.add_option("--ls-cache", o.lsCache, "Line Space cache directory (empty: no cache)")->capture_default_str();
+                 "bounce=shadow,faces=front-start (modes: off, exact, shadow, candidate, candidate-exact-start; faces: "
+                 "front-start, front, both)");
+    c.add_option("--ls-cache", o.lsCache, "Line Space and N-tree cache directory (empty: no cache)")->capture_default_str();
     c.add_flag("--out-of-core", o.outOfCore,
                "Prepared scenes (.chs): chcrt methods trace through a GPU subtree cache fed from the file "
                "(CHC+RT §5.4) instead of the in-core BVH");

@@ -8,6 +8,7 @@
 // BVH tracing (same subtree traversal code and hit rule; queries never cull a box a ray could hit at its
 // current nearest t). An adaptive fallback traces a ray set with one pure full-screen pass when culling did
 // not pay in recent frames (culling/README.md).
+#include "culling/adaptive_choice.h"
 #include "culling/culling_hierarchy.h"
 #include "culling/query_pair_hierarchy.h"
 #include "culling/subtree_source.h"
@@ -36,11 +37,14 @@ struct ChcrtOptions {
     uint32_t seed = 1;               // of the randomized re-query phases
     bool tighterBounds = true;       // §5.1: query the node's two children's boxes instead of its own box
     int multiQueryPairs = 4;         // §5.1: previously invisible pairs of one tile per query (<= 1: off)
-    bool leafCache = true;           // §5.2: 2-entry leaf cache in the subtree traversal (delayed leaf tests)
-    // Adaptive fallback (culling/README.md): per ray set, trace with one pure full-screen pass when the
-    // measured culling time exceeded the measured pure time; culling is re-probed after `adaptiveProbeInterval`
-    // traces of that ray set, the interval doubling (up to 8×) while probes keep losing. Needs a full-tree tracer
-    // (in core: the BVH); ignored without one.
+    // §5.2: 2-entry leaf cache in the subtree traversal (delayed leaf tests). Off by default: on llvmpipe it made
+    // CHC+RT traces 1.17-1.30x slower than without (city 1M, culling/README.md); the paper's GPU gained ~30%.
+    bool leafCache = false;
+    // Adaptive fallback (culling/README.md): per ray kind (primary, shadow, AO, diffuse, bounce shadow), trace
+    // with one pure full-screen pass when the measured culling time exceeds the measured pure time (medians of
+    // the last three each); culling is re-probed after `adaptiveProbeInterval` traces of that kind, the interval
+    // doubling (up to 8×) while probes keep losing. Needs a full-tree tracer (in core: the BVH); ignored without
+    // one.
     bool adaptive = true;
     uint32_t adaptiveProbeInterval = 8;
     // Extra defines of the subtree-intersection shader per any-hit (e.g. Line Space traversal, methods
@@ -140,13 +144,6 @@ private:
         float distance;   // to the camera, for approximate front-to-back order in a batch
         uint32_t gpuRoot; // from the SubtreeSource, per residency round
     };
-    struct AdaptiveState {
-        double cullMs = -1.0, fullMs = -1.0; // smoothed measured trace times (-1: not measured yet)
-        uint32_t sinceProbe = 0;             // traces since culling was last run
-        uint32_t sinceFull = 0;              // traces since the pure pass was last measured
-        bool fullWarm = false;               // the first pure pass is not measured (first use compiles/caches)
-        uint32_t interval = 0;               // current probe interval (0: options.adaptiveProbeInterval)
-    };
     enum class Mode { None, Query, Intersect };
 
     void compilePrograms();
@@ -188,7 +185,7 @@ private:
     int debugWidth_ = 0, debugHeight_ = 0;
     std::map<GLuint, GlFramebuffer> framebuffers_; // by depth texture id
     std::map<uint64_t, std::unique_ptr<VisibilityState>> states_;
-    std::map<uint64_t, AdaptiveState> adaptive_;
+    std::map<uint64_t, AdaptiveChoice> adaptive_; // per ray kind
     std::vector<GLuint> queryPool_;
     size_t queriesInUse_ = 0;
     std::deque<PendingQuery> queue_;
