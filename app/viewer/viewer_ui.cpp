@@ -175,7 +175,7 @@ void ViewerPanel::drawSettings(ViewerSettings& settings, ViewerActions& actions)
         bool tighter = c.chcrtTighterBounds != "off";
         if (ImGui::Checkbox("tighter bounds", &tighter)) changes["chcrtTighterBounds"] = tighter;
         ImGui::SameLine();
-        bool leafCache = c.chcrtLeafCache != "off";
+        bool leafCache = c.chcrtLeafCache == "on"; // default off (culling/README.md: slower on llvmpipe)
         if (ImGui::Checkbox("leaf cache", &leafCache)) changes["chcrtLeafCache"] = leafCache;
         if (settings.method == "chcrt-aggressive") {
             int threshold = c.chcrtThreshold < 0 ? 20 : c.chcrtThreshold;
