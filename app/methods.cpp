@@ -10,6 +10,7 @@
 #include "renderer/outofcore/out_of_core_tracer.h"
 
 #include <cstdio>
+#include <filesystem>
 
 namespace chcrt::app {
 
@@ -42,21 +43,39 @@ const MethodInfo& findGpuMethod(const std::string& name) {
 
 namespace {
 
-// Line Spaces from the cache (or built), uploaded, and a tracer with the modes of the method + --ls-modes.
-// `forceLineSpaces`: no fallback to pure BVH traversal (verify checks the Line Space path itself).
-std::unique_ptr<Tracer> makeLineSpaceTracer(const std::string& name, const SceneSession& session, bool forceLineSpaces) {
-    const CommonOptions& o = session.options;
-    if (!(o.lsAngle >= 0.0f && o.lsAngle <= 180.0f)) throw InputError("--ls-angle must be between 0 and 180");
+// The Line Space modes of a bvh+ls* method: its defaults plus --ls-modes.
+ls::LineSpaceModes lineSpaceModes(const std::string& name, const CommonOptions& o) {
     ls::LineSpaceModes modes = name == "bvh+ls-exact" ? ls::LineSpaceModes::allExact() : ls::LineSpaceModes{};
     modes.parse(o.lsModes);
+    return modes;
+}
+
+// Build parameters of the Line Spaces a method reads: --ls-n/--ls-depth/--ls-t; candidates only when a mode uses
+// them (bvh+ls*) — chcrt+ls* subtrees use binary Line Spaces only.
+ls::LineSpaceParams lineSpaceParams(const std::string& name, const CommonOptions& o) {
     ls::LineSpaceParams params;
     params.n = o.lsN;
     params.depth = o.lsDepth;
     params.triangleThreshold = o.lsT;
     params.candidates = false;
-    for (ls::LineSpaceMode m : {modes.primary, modes.shadow, modes.ao, modes.diffuse, modes.bounceShadow}) {
-        if (m == ls::LineSpaceMode::Candidate || m == ls::LineSpaceMode::CandidateExactStart) params.candidates = true;
+    if (name == "bvh+ls-exact" || name == "bvh+ls") {
+        const ls::LineSpaceModes modes = lineSpaceModes(name, o);
+        for (ls::LineSpaceMode m : {modes.primary, modes.shadow, modes.ao, modes.diffuse, modes.bounceShadow}) {
+            if (m == ls::LineSpaceMode::Candidate || m == ls::LineSpaceMode::CandidateExactStart) params.candidates = true;
+        }
     }
+    return params;
+}
+
+ls::NTreeParams nTreeParams(const CommonOptions& o) { return ls::parseNTreeParams(o.lsNtree.empty() ? "6:3" : o.lsNtree); }
+
+// Line Spaces from the cache (or built), uploaded, and a tracer with the modes of the method + --ls-modes.
+// `forceLineSpaces`: no fallback to pure BVH traversal (verify checks the Line Space path itself).
+std::unique_ptr<Tracer> makeLineSpaceTracer(const std::string& name, const SceneSession& session, bool forceLineSpaces) {
+    const CommonOptions& o = session.options;
+    if (!(o.lsAngle >= 0.0f && o.lsAngle <= 180.0f)) throw InputError("--ls-angle must be between 0 and 180");
+    ls::LineSpaceModes modes = lineSpaceModes(name, o);
+    const ls::LineSpaceParams params = lineSpaceParams(name, o);
     ls::CacheOutcome outcome = ls::CacheOutcome::Built;
     const ls::LineSpaces spaces = ls::loadOrBuildLineSpaces(session.bvh, params, o.lsCache, *session.progress, &outcome);
     // Exact skipping only pays where shafts are empty: measured on llvmpipe (docs/benchmarks.md), 0.49-1.03x of
@@ -90,7 +109,7 @@ std::unique_ptr<Tracer> makeLineSpaceTracer(const std::string& name, const Scene
 // tracer.
 std::unique_ptr<Tracer> makeNTreeTracer(const std::string& name, const SceneSession& session) {
     const CommonOptions& o = session.options;
-    ls::NTreeParams params = ls::parseNTreeParams(o.lsNtree.empty() ? "6:3" : o.lsNtree);
+    const ls::NTreeParams params = nTreeParams(o);
     ls::NTreeShadowOptions shadow;
     shadow.shadowLevel = o.lsNtreeLevel < 0 ? params.depth - 1 : uint32_t(o.lsNtreeLevel);
     if (o.lsNtreeStart != "exact" && o.lsNtreeStart != "skip") {
@@ -158,11 +177,7 @@ std::unique_ptr<Tracer> makeChcrtTracer(const std::string& name, const SceneSess
     if (name == "chcrt+ls" || name == "chcrt+ls-exact") {
         if (o.outOfCore) throw InputError("--out-of-core: " + name + " needs the whole BVH's Line Spaces; use chcrt");
         if (!(o.lsAngle >= 0.0f && o.lsAngle <= 180.0f)) throw InputError("--ls-angle must be between 0 and 180");
-        ls::LineSpaceParams params;
-        params.n = o.lsN;
-        params.depth = o.lsDepth;
-        params.triangleThreshold = o.lsT;
-        params.candidates = false;
+        const ls::LineSpaceParams params = lineSpaceParams(name, o);
         ls::CacheOutcome outcome = ls::CacheOutcome::Built;
         const ls::LineSpaces spaces = ls::loadOrBuildLineSpaces(session.bvh, params, o.lsCache, *session.progress, &outcome);
         auto gpu = std::make_shared<ls::LineSpaceGpu>(spaces, session.bvh, session.scene);
@@ -185,6 +200,22 @@ std::unique_ptr<Tracer> makeChcrtTracer(const std::string& name, const SceneSess
 }
 
 } // namespace
+
+std::function<void(Progress&)> methodCacheBuild(const std::string& name, const SceneSession& session) {
+    const CommonOptions& o = session.options;
+    if (o.lsCache.empty() || o.outOfCore) return {};
+    const Bvh& bvh = session.bvh;
+    const std::filesystem::path dir = o.lsCache;
+    if (name == "bvh+ls-exact" || name == "bvh+ls" || name == "chcrt+ls" || name == "chcrt+ls-exact") {
+        const ls::LineSpaceParams params = lineSpaceParams(name, o);
+        return [&bvh, params, dir](Progress& progress) { ls::loadOrBuildLineSpaces(bvh, params, dir, progress); };
+    }
+    if (name == "ntree+ls") {
+        const ls::NTreeParams params = nTreeParams(o);
+        return [&bvh, params, dir](Progress& progress) { ls::loadOrBuildNTree(bvh, params, dir, progress); };
+    }
+    return {};
+}
 
 std::unique_ptr<Tracer> makeTracer(const std::string& name, const SceneSession& session, const GpuSession& gpu) {
     return makeTracer(name, session, gpu, false);

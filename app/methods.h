@@ -5,6 +5,7 @@
 #include "app/session.h"
 #include "renderer/render/tracer.h"
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -26,5 +27,12 @@ std::unique_ptr<Tracer> makeTracer(const std::string& name, const SceneSession& 
 // to pure BVH traversal (verify checks the culling / the Line Space path itself).
 std::unique_ptr<Tracer> makeTracer(const std::string& name, const SceneSession& session, const GpuSession& gpu,
                                    bool alwaysCull);
+
+// The CPU part of a method's set-up that can run on another thread: building its Line Spaces / N-tree into the
+// --ls-cache directory, so that makeTracer afterwards only loads them (the viewer runs it on a worker and keeps
+// its window responding, issue #6). Empty when there is nothing to build ahead: methods without Line Spaces, an
+// empty --ls-cache (the build then happens inside makeTracer), out of core. The job reads `session.bvh`, which
+// must outlive it; it throws what the builders throw (InputError for an unwritable cache directory).
+std::function<void(Progress&)> methodCacheBuild(const std::string& name, const SceneSession& session);
 
 } // namespace chcrt::app

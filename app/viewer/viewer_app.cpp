@@ -114,6 +114,7 @@ private:
 
     void finishLoading();
     void applyMethod();
+    bool prepareMethodCache();
     void handleInteractiveInput(double seconds);
     void handleKey(int key);
     void handleKeyOrThrow(int key);
@@ -159,6 +160,10 @@ private:
     std::unique_ptr<ViewDisplay> display_;
     std::unique_ptr<ViewerPanel> panel_;
     SceneLoader loader_;
+    // A method switch's Line Space / N-tree build on a worker; declared after scene_ (whose BVH it reads) so that it
+    // is destroyed (joined) first.
+    BackgroundJob cacheJob_;
+    std::string cacheWarmKey_; // method + parameters whose build is in the disk cache (or needs none)
     WalkController walk_;
     Camera camera_, renderedCamera_;
     bool dirty_ = true; // the view must be rendered again from scratch
@@ -297,7 +302,7 @@ int Viewer::run() {
             history_.push_back(float(status_.frameMs));
             if (history_.size() > kFrameHistory) history_.pop_front();
         }
-        idle = !scripted_ && !rendered && !loader_.busy() && !playing_ && !looking_;
+        idle = !scripted_ && !rendered && !loader_.busy() && !cacheJob_.busy() && !playing_ && !looking_;
     }
     writeStatsJson();
     if (scripted_) {
@@ -328,6 +333,13 @@ void Viewer::finishLoading() {
     pickParameters_.clear();
     const auto uploadStart = Clock::now();
     // GL upload and shader compilation on the main thread (the context lives here).
+    if (cacheJob_.busy()) { // it reads the previous scene's BVH: let it end (its result stays in the disk cache)
+        try {
+            cacheJob_.take();
+        } catch (const InputError&) {
+        }
+    }
+    cacheWarmKey_.clear();
     tracer_.reset();
     outOfCore_ = nullptr;
     gpu_.renderer.reset();
@@ -384,6 +396,7 @@ void Viewer::applyMethod() {
     }
     // Methods read their parameters from the session's options (app/methods.cpp).
     copyMethodParameters(settings_.common, scene_->options);
+    if (!prepareMethodCache()) return; // building on the worker: the current tracer keeps rendering meanwhile
     activeParameters_ = methodParameters(settings_.common);
     gpu_.renderer->useTracer(nullptr);
     gpu_.renderer->setOutOfCorePrimary({}); // it points into the out-of-core tracer destroyed next
@@ -424,6 +437,36 @@ void Viewer::applyMethod() {
     gpu_.renderer->useTracer(tracer_.get());
     activeMethod_ = settings_.method;
     activeAlwaysCull_ = settings_.chcrtAlwaysCull;
+}
+
+// True when the method's Line Spaces / N-tree are in the disk cache (or it needs none): makeTracer then only loads
+// them. Otherwise their build runs on cacheJob_ and this returns false until it has finished (a change of method
+// or parameters meanwhile starts the next build once it is done). Scripts wait for the build in place, so that
+// their frames and screenshots show the method they switched to.
+bool Viewer::prepareMethodCache() {
+    const std::string key = settings_.method + " " + methodParameters(settings_.common);
+    if (key == cacheWarmKey_) return true;
+    if (cacheJob_.busy()) {
+        if (!cacheJob_.finished() && !scripted_) return false;
+        const std::string built = cacheJob_.name();
+        try {
+            cacheJob_.take();
+        } catch (const InputError& error) { // e.g. an unwritable --ls-cache: makeTracer reports it again
+            notice(std::string("building for ") + built + ": " + error.what());
+        }
+        if (built == key) {
+            cacheWarmKey_ = key;
+            return true;
+        }
+    }
+    std::function<void(Progress&)> job = methodCacheBuild(settings_.method, *scene_);
+    if (!job) {
+        cacheWarmKey_ = key;
+        return true;
+    }
+    cacheJob_.start(key, std::move(job));
+    if (!scripted_) return false;
+    return prepareMethodCache(); // waits for it
 }
 
 void Viewer::handleInteractiveInput(double seconds) {
@@ -787,6 +830,15 @@ void Viewer::drawWindow() {
     status_.loading = loader_.busy();
     status_.loadingScene = loader_.scene();
     status_.loadingSeconds = loader_.elapsedSeconds();
+    if (!loader_.busy() && cacheJob_.busy()) { // a method's Line Space / N-tree build, shown like a loading step
+        const LoadProgressSnapshot p = cacheJob_.progress();
+        status_.loading = true;
+        status_.loadingScene = "Line Spaces for " + settings_.method;
+        status_.loadingSeconds = cacheJob_.elapsedSeconds();
+        status_.loadingStep = p.label;
+        status_.loadingStepNumber = p.step;
+        status_.loadingFraction = p.fraction();
+    }
     if (showPanel_ || !scene_) {
         status_.frameHistoryMs.assign(history_.begin(), history_.end());
         status_.accumulatedFrames = display_->accumulatedFrames();

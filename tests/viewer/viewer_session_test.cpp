@@ -631,5 +631,21 @@ TEST_F(ViewerTest, NTreeParametersSwitchLive) {
     }
 }
 
+// A switch to a Line Space or N-tree method builds its structures on a worker into the disk cache (scripts wait
+// for it; the interactive window keeps rendering the previous method meanwhile), then the tracer loads them.
+TEST_F(ViewerTest, LineSpaceBuildsOfAMethodSwitchGoToTheDiskCache) {
+    const Result r = view(R"([
+        {"frames": 1, "screenshot": "bvh.png"},
+        {"set": {"method": "bvh+ls-exact"}, "frames": 1, "screenshot": "exact.png",
+         "expect": {"method": "bvh+ls-exact"}},
+        {"set": {"method": "ntree+ls", "lsNtree": "4:2"}, "frames": 1, "expect": {"method": "ntree+ls"}}])",
+                          "--no-accumulate --ls-cache cache");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_EQ(compareImages(image("bvh.png"), image("exact.png")).differingPixels, 0u); // exact skipping
+    size_t files = 0;
+    for (const auto& entry : fs::directory_iterator(dir_ / "cache")) files += entry.is_regular_file() ? 1 : 0;
+    EXPECT_GE(files, 2u) << "a Line Space and an N-tree cache file";
+}
+
 } // namespace
 } // namespace chcrt
