@@ -201,6 +201,10 @@ std::unique_ptr<Tracer> makeChcrtTracer(const std::string& name, const SceneSess
 
 } // namespace
 
+bool hasOutOfCoreForm(const std::string& name) {
+    return name.rfind("chcrt", 0) == 0 && name.find("+ls") == std::string::npos;
+}
+
 std::function<void(Progress&)> methodCacheBuild(const std::string& name, const SceneSession& session) {
     const CommonOptions& o = session.options;
     if (o.lsCache.empty() || o.outOfCore) return {};
@@ -208,11 +212,18 @@ std::function<void(Progress&)> methodCacheBuild(const std::string& name, const S
     const std::filesystem::path dir = o.lsCache;
     if (name == "bvh+ls-exact" || name == "bvh+ls" || name == "chcrt+ls" || name == "chcrt+ls-exact") {
         const ls::LineSpaceParams params = lineSpaceParams(name, o);
-        return [&bvh, params, dir](Progress& progress) { ls::loadOrBuildLineSpaces(bvh, params, dir, progress); };
+        return [&bvh, params, dir](Progress& progress) {
+            // A cached file is loaded (and validated) once, by makeTracer, not here as well.
+            if (std::filesystem::exists(ls::lineSpaceCachePath(dir, ls::lineSpaceInputHash(bvh), params))) return;
+            ls::loadOrBuildLineSpaces(bvh, params, dir, progress);
+        };
     }
     if (name == "ntree+ls") {
         const ls::NTreeParams params = nTreeParams(o);
-        return [&bvh, params, dir](Progress& progress) { ls::loadOrBuildNTree(bvh, params, dir, progress); };
+        return [&bvh, params, dir](Progress& progress) {
+            if (std::filesystem::exists(ls::nTreeCachePath(dir, ls::nTreeInputHash(bvh), params))) return;
+            ls::loadOrBuildNTree(bvh, params, dir, progress);
+        };
     }
     return {};
 }

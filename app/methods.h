@@ -28,11 +28,16 @@ std::unique_ptr<Tracer> makeTracer(const std::string& name, const SceneSession& 
 std::unique_ptr<Tracer> makeTracer(const std::string& name, const SceneSession& session, const GpuSession& gpu,
                                    bool alwaysCull);
 
+// Whether a GPU method can trace a prepared scene out of core (--out-of-core): the CHC+RT methods without Line
+// Spaces (pure BVH and Line Space tracing need the whole scene on the GPU).
+bool hasOutOfCoreForm(const std::string& name);
+
 // The CPU part of a method's set-up that can run on another thread: building its Line Spaces / N-tree into the
-// --ls-cache directory, so that makeTracer afterwards only loads them (the viewer runs it on a worker and keeps
-// its window responding, issue #6). Empty when there is nothing to build ahead: methods without Line Spaces, an
-// empty --ls-cache (the build then happens inside makeTracer), out of core. The job reads `session.bvh`, which
-// must outlive it; it throws what the builders throw (InputError for an unwritable cache directory).
+// --ls-cache directory (nothing when the cache file exists), so that makeTracer afterwards only loads them (the
+// viewer runs it on a worker and keeps its window responding, issue #6). Empty when there is nothing to build
+// ahead: methods without Line Spaces, an empty --ls-cache (the build then happens inside makeTracer), out of core.
+// The job reads `session.bvh`, which must outlive it; it throws what the builders throw (InputError for an
+// unwritable cache directory).
 std::function<void(Progress&)> methodCacheBuild(const std::string& name, const SceneSession& session);
 
 } // namespace chcrt::app

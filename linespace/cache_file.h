@@ -104,4 +104,20 @@ void writeCacheFile(const std::filesystem::path& file, CacheFileHeader header, c
 CacheLoad readCacheFile(const std::filesystem::path& file, const CacheFileHeader& expected,
                         std::vector<uint8_t>& payload);
 
+// The protocol both caches follow: `load(T&)` the cache file (returns CacheLoad), else `build()` and `save(const T&)`
+// it, reporting which happened (a Missing file means Built, a Corrupt one RebuiltCorrupt).
+template <typename T, typename Load, typename Build, typename Save>
+T loadOrBuildCached(Load&& load, Build&& build, Save&& save, CacheOutcome* outcome) {
+    T value;
+    const CacheLoad loaded = load(value);
+    CacheOutcome result = CacheOutcome::Loaded;
+    if (loaded != CacheLoad::Loaded) {
+        result = loaded == CacheLoad::Corrupt ? CacheOutcome::RebuiltCorrupt : CacheOutcome::Built;
+        value = build();
+        save(value);
+    }
+    if (outcome != nullptr) *outcome = result;
+    return value;
+}
+
 } // namespace chcrt::ls

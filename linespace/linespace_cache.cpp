@@ -105,30 +105,16 @@ CacheLoad loadLineSpaceCache(const std::filesystem::path& file, const Bvh& bvh, 
 
 LineSpaces loadOrBuildLineSpaces(const Bvh& bvh, const LineSpaceParams& params, const std::filesystem::path& cacheDir,
                                  Progress& progress, CacheOutcome* outcome) {
-    CacheOutcome result = CacheOutcome::Built;
-    if (!cacheDir.empty()) {
-        const uint64_t hash = lineSpaceInputHash(bvh);
-        const std::filesystem::path file = lineSpaceCachePath(cacheDir, hash, params);
-        LineSpaces loaded;
-        const CacheLoad load = loadLineSpaceCache(file, bvh, hash, params, loaded);
-        if (load == CacheLoad::Loaded) {
-            if (outcome != nullptr) {
-                *outcome = CacheOutcome::Loaded;
-            }
-            return loaded;
-        }
-        result = load == CacheLoad::Corrupt ? CacheOutcome::RebuiltCorrupt : CacheOutcome::Built;
-        LineSpaces built = buildLineSpaces(bvh, params, progress);
-        saveLineSpaceCache(file, hash, built);
-        if (outcome != nullptr) {
-            *outcome = result;
-        }
-        return built;
+    if (cacheDir.empty()) {
+        if (outcome != nullptr) *outcome = CacheOutcome::Built;
+        return buildLineSpaces(bvh, params, progress);
     }
-    if (outcome != nullptr) {
-        *outcome = result;
-    }
-    return buildLineSpaces(bvh, params, progress);
+    const uint64_t hash = lineSpaceInputHash(bvh);
+    const std::filesystem::path file = lineSpaceCachePath(cacheDir, hash, params);
+    return loadOrBuildCached<LineSpaces>(
+        [&](LineSpaces& spaces) { return loadLineSpaceCache(file, bvh, hash, params, spaces); },
+        [&] { return buildLineSpaces(bvh, params, progress); },
+        [&](const LineSpaces& spaces) { saveLineSpaceCache(file, hash, spaces); }, outcome);
 }
 
 } // namespace chcrt::ls

@@ -136,24 +136,15 @@ CacheLoad loadNTreeCache(const std::filesystem::path& file, const Bvh& bvh, uint
 
 NTree loadOrBuildNTree(const Bvh& bvh, const NTreeParams& params, const std::filesystem::path& cacheDir,
                        Progress& progress, CacheOutcome* outcome) {
-    CacheOutcome result = CacheOutcome::Built;
-    NTree tree;
     if (cacheDir.empty()) {
-        tree = buildNTree(bvh, params, progress);
-    } else {
-        const uint64_t hash = nTreeInputHash(bvh);
-        const std::filesystem::path file = nTreeCachePath(cacheDir, hash, params);
-        const CacheLoad load = loadNTreeCache(file, bvh, hash, params, tree);
-        if (load == CacheLoad::Loaded) {
-            result = CacheOutcome::Loaded;
-        } else {
-            result = load == CacheLoad::Corrupt ? CacheOutcome::RebuiltCorrupt : CacheOutcome::Built;
-            tree = buildNTree(bvh, params, progress);
-            saveNTreeCache(file, hash, tree);
-        }
+        if (outcome != nullptr) *outcome = CacheOutcome::Built;
+        return buildNTree(bvh, params, progress);
     }
-    if (outcome != nullptr) *outcome = result;
-    return tree;
+    const uint64_t hash = nTreeInputHash(bvh);
+    const std::filesystem::path file = nTreeCachePath(cacheDir, hash, params);
+    return loadOrBuildCached<NTree>([&](NTree& tree) { return loadNTreeCache(file, bvh, hash, params, tree); },
+                                    [&] { return buildNTree(bvh, params, progress); },
+                                    [&](const NTree& tree) { saveNTreeCache(file, hash, tree); }, outcome);
 }
 
 } // namespace chcrt::ls

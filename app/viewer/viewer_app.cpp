@@ -141,6 +141,8 @@ private:
     void writeStatsJson() const;
     void renderShafts(FrameStats& stats);
     void renderResidency(FrameStats& stats);
+    void renderShadedFrame(FrameStats& stats);
+    std::vector<float> shownRgb() const;
     std::vector<uint8_t> residentSubtrees() const;
     void traceDebugRays(ChcrtTracer* chcrt, bool debugView, FrameStats& stats);
     void updateShaftPick(int w, int h);
@@ -218,8 +220,7 @@ Viewer::Viewer(const ViewOptions& options) : options_(options) {
     if (options.common.outOfCore && !outofcore::isPreparedScenePath(options.common.scene)) {
         throw InputError("--out-of-core needs a prepared scene (--scene file.chs; see chcrt prepare)");
     }
-    if (options.common.outOfCore &&
-        (options.method.rfind("chcrt", 0) != 0 || options.method.find("+ls") != std::string::npos)) {
+    if (options.common.outOfCore && !hasOutOfCoreForm(options.method)) {
         // As `chcrt render --out-of-core` (app/methods.cpp); the panel refuses such methods with a message.
         throw InputError("--out-of-core: method " + options.method + " has no out-of-core form; use --method chcrt, "
                          "chcrt-noadapt or chcrt-aggressive");
@@ -383,9 +384,8 @@ void Viewer::applyMethod() {
     const std::string previous = activeMethod_;
     const bool outOfCore = scene_->options.outOfCore;
     const std::string& m = settings_.method;
-    const bool hasOutOfCoreForm = (m.rfind("chcrt", 0) == 0 && m.find("+ls") == std::string::npos) ||
-                                  (m == kRasterOnlyMethod && scene_->sceneInCore);
-    if (outOfCore && !hasOutOfCoreForm && !previous.empty()) {
+    const bool tracesOutOfCore = hasOutOfCoreForm(m) || (m == kRasterOnlyMethod && scene_->sceneInCore);
+    if (outOfCore && !tracesOutOfCore && !previous.empty()) {
         // Refused before the current tracer is destroyed: its GPU cache (and CHC+RT fronts) stay as they are.
         notice("method " + m + " has no out-of-core form (pure BVH and Line Space tracing need the whole scene on "
                "the GPU); keeping " + previous);
@@ -706,7 +706,8 @@ void Viewer::renderIfNeeded() {
     if (settings_.method != activeMethod_ || settings_.chcrtAlwaysCull != activeAlwaysCull_ ||
         methodParameters(settings_.common) != activeParameters_) {
         applyMethod();
-        dirty_ = true;
+        // While the method's Line Spaces build on the worker the previous tracer stays: its view keeps refining.
+        if (!cacheJob_.busy()) dirty_ = true;
     }
     const bool shaded = settings_.viewMode == ViewMode::Shaded;
     const bool refine = shaded && settings_.accumulate && activeMethod_ != kRasterOnlyMethod &&
@@ -978,6 +979,27 @@ void Viewer::traceDebugRays(ChcrtTracer* chcrt, bool debugView, FrameStats& stat
     if (outOfCore_) outOfCore_->setRecordPrimarySubtrees(true);
 }
 
+// One shaded frame shown without refinement: the base image of the views drawn over it (residency, shafts).
+void Viewer::renderShadedFrame(FrameStats& stats) {
+    Renderer& renderer = *gpu_.renderer;
+    stats = renderer.renderFrame(camera_);
+    display_->showSingleFrame();
+    ViewerSettings shadedSettings = settings_;
+    shadedSettings.viewMode = ViewMode::Shaded;
+    display_->visualize(renderer.targets(), shadedSettings, scene_->scene.bounds(), renderer.targets().hits[0]);
+}
+
+// The displayed image as RGB in [0, 1], for the views that colour it on the CPU.
+std::vector<float> Viewer::shownRgb() const {
+    const ImageRgba32f image = display_->readImage();
+    const size_t pixels = size_t(image.width) * size_t(image.height);
+    std::vector<float> rgb(pixels * 3);
+    for (size_t i = 0; i < pixels; ++i) {
+        for (int k = 0; k < 3; ++k) rgb[i * 3 + size_t(k)] = std::clamp(image.pixels[i * 4 + size_t(k)], 0.0f, 1.0f);
+    }
+    return rgb;
+}
+
 // Subtrees resident in the GPU cache now (by file subtree index).
 std::vector<uint8_t> Viewer::residentSubtrees() const {
     std::vector<uint8_t> resident(outOfCore_->file().subtrees().size(), 0);
@@ -992,27 +1014,18 @@ std::vector<uint8_t> Viewer::residentSubtrees() const {
 // The residency view (out of core): the shaded frame (one frame, no refinement) tinted by where each pixel's
 // primary hit came from: a subtree resident in the GPU cache before the frame, or one uploaded during it.
 void Viewer::renderResidency(FrameStats& stats) {
-    Renderer& renderer = *gpu_.renderer;
     const int w = display_->width(), h = display_->height();
     const bool available = outOfCore_ && !scene_->sceneInCore;
     lastResidency_.reset();
     const std::vector<uint8_t> before = available ? residentSubtrees() : std::vector<uint8_t>{};
-    stats = renderer.renderFrame(camera_);
-    display_->showSingleFrame();
-    ViewerSettings shadedSettings = settings_;
-    shadedSettings.viewMode = ViewMode::Shaded;
-    display_->visualize(renderer.targets(), shadedSettings, scene_->scene.bounds(), renderer.targets().hits[0]);
+    renderShadedFrame(stats);
     if (!available) { // the shaded frame, with a note
         const std::string text = "the residency view needs --out-of-core with a prepared scene not loaded in core "
                                  "(--load-in-core off)";
         if (status_.message != text) notice(text);
         return;
     }
-    const ImageRgba32f image = display_->readImage();
-    std::vector<float> rgb(size_t(w) * h * 3);
-    for (size_t i = 0; i < size_t(w) * h; ++i) {
-        for (int k = 0; k < 3; ++k) rgb[i * 3 + size_t(k)] = std::clamp(image.pixels[i * 4 + size_t(k)], 0.0f, 1.0f);
-    }
+    std::vector<float> rgb = shownRgb();
     lastResidency_ = colourResidency(outOfCore_->primaryResolve().lastPixelSubtrees(), before, w, h, rgb);
     display_->showImage(rgb);
 }
@@ -1067,19 +1080,10 @@ void Viewer::updateShaftPick(int w, int h) {
 
 // The shafts view: the shaded frame (one frame, no refinement) with the picked node's shafts drawn over it.
 void Viewer::renderShafts(FrameStats& stats) {
-    Renderer& renderer = *gpu_.renderer;
     const int w = display_->width(), h = display_->height();
-    stats = renderer.renderFrame(camera_);
-    display_->showSingleFrame();
-    ViewerSettings shadedSettings = settings_;
-    shadedSettings.viewMode = ViewMode::Shaded;
-    display_->visualize(renderer.targets(), shadedSettings, scene_->scene.bounds(), renderer.targets().hits[0]);
+    renderShadedFrame(stats);
     updateShaftPick(w, h);
-    const ImageRgba32f image = display_->readImage();
-    std::vector<float> rgb(size_t(w) * h * 3);
-    for (size_t i = 0; i < size_t(w) * h; ++i) {
-        for (int k = 0; k < 3; ++k) rgb[i * 3 + size_t(k)] = std::clamp(image.pixels[i * 4 + size_t(k)], 0.0f, 1.0f);
-    }
+    std::vector<float> rgb = shownRgb();
     if (shaftPick_) drawShafts(*shaftPick_, camera_, w, h, rgb);
     display_->showImage(rgb);
 }
