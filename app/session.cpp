@@ -102,9 +102,7 @@ SceneSession openSceneSession(const CommonOptions& o, std::unique_ptr<Progress> 
         s.light = loaded.light;
         if (parseProceduralSpec(loaded.source, spec)) s.procedural = spec;
     } else if (parseProceduralSpec(o.scene, spec)) {
-        s.progress->begin("Generating " + toString(spec), 0);
-        s.scene = generateProceduralScene(spec);
-        s.progress->end();
+        s.scene = generateProceduralScene(spec, *s.progress);
         s.procedural = spec;
         s.light = proceduralAreaLight(spec);
     } else {

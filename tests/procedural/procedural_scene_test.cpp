@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <tuple>
@@ -125,6 +126,40 @@ TEST(ProceduralScene, UnevenTargetsAndSeedsStayInBudget) {
         const double ratio = double(scene.triangleCount()) / double(target);
         EXPECT_NEAR(ratio, 1.0, 0.1) << scene.name;
     }
+}
+
+// Records what a generator reports: the viewer's panel shows it as a percentage bar while a scene generates.
+class RecordingProgress final : public Progress {
+public:
+    void begin(const std::string& label, uint64_t total) override {
+        labels.push_back(label);
+        totals.push_back(total);
+    }
+    void update(uint64_t done) override { updates.push_back(done); }
+    void end() override { ++ends; }
+    std::vector<std::string> labels;
+    std::vector<uint64_t> totals, updates;
+    int ends = 0;
+};
+
+TEST(ProceduralScene, GenerationReportsTrianglesAgainstTheTarget) {
+    for (ProceduralKind kind : kLarge) {
+        RecordingProgress progress;
+        const ProceduralSpec spec = makeSpec(kind, 500'000);
+        const Scene scene = generateProceduralScene(spec, progress);
+        SCOPED_TRACE(scene.name);
+        ASSERT_EQ(progress.labels, std::vector<std::string>{"Generating " + toString(spec)});
+        EXPECT_EQ(progress.totals, std::vector<uint64_t>{500'000});
+        EXPECT_EQ(progress.ends, 1);
+        ASSERT_GE(progress.updates.size(), 5u); // every 64k triangles
+        EXPECT_TRUE(std::is_sorted(progress.updates.begin(), progress.updates.end()));
+        EXPECT_LE(progress.updates.back(), scene.triangles.size());
+        EXPECT_GT(progress.updates.back(), scene.triangles.size() - 70'000); // the last report is near the end
+    }
+    RecordingProgress analytic;
+    generateProceduralScene(makeSpec(ProceduralKind::PlaneAndBox, 1'000'000), analytic);
+    EXPECT_EQ(analytic.totals, std::vector<uint64_t>{0}); // no triangle budget: a spinner
+    EXPECT_EQ(analytic.ends, 1);
 }
 
 TEST(ProceduralScene, GroundAtZeroAndYUp) {

@@ -33,6 +33,15 @@ void MeshBuilder::addQuad(const glm::vec3& p0, const glm::vec3& p1, const glm::v
     scene_.triangles.emplace_back(base, base + 2, base + 3);
     scene_.triangleMaterials.push_back(material);
     scene_.triangleMaterials.push_back(material);
+    reportProgress();
+}
+
+// Every 64k triangles: often enough for a smooth bar, rare enough to cost nothing per primitive.
+void MeshBuilder::reportProgress() {
+    const uint64_t triangles = scene_.triangles.size();
+    if (triangles < nextReport_) return;
+    progress_.update(triangles);
+    nextReport_ = triangles + (uint64_t(1) << 16);
 }
 
 void MeshBuilder::addBox(const glm::vec3& lower, const glm::vec3& upper, uint32_t material, uint32_t faces) {
@@ -110,6 +119,7 @@ void MeshBuilder::addCylinder(const glm::vec3& a, const glm::vec3& b, float radi
             scene_.triangleMaterials.push_back(material);
         }
     }
+    reportProgress();
 }
 
 } // namespace chcrt::procedural

@@ -7,6 +7,7 @@
 // (boxCost, cylinderCost) and matches what the add* call emits.
 //
 // What it is not: a general mesh library. No welding, no texture coordinates, no instancing.
+#include "renderer/core/progress.h"
 #include "renderer/scene/scene.h"
 
 #include <bit>
@@ -31,7 +32,8 @@ enum BoxFace : uint32_t {
 
 class MeshBuilder {
 public:
-    explicit MeshBuilder(Scene& scene) : scene_(scene) {}
+    // `progress`: updated with the triangle count as primitives are added (the caller begins and ends its step).
+    explicit MeshBuilder(Scene& scene, Progress& progress = nullProgress()) : scene_(scene), progress_(progress) {}
 
     // Reserves the output arrays (generators know their counts; vertices <= 2 * triangles for boxes/quads).
     void reserve(uint64_t triangles, uint64_t vertices);
@@ -64,8 +66,11 @@ public:
 
 private:
     const std::vector<glm::vec2>& circle(uint32_t segments);
+    void reportProgress();
 
     Scene& scene_;
+    Progress& progress_;
+    uint64_t nextReport_ = 0; // triangle count at which progress_ is updated next
     std::vector<std::vector<glm::vec2>> circles_; // unit circle tables by segment count
 };
 

@@ -5,9 +5,12 @@
 
 namespace chcrt {
 
-Scene generateProceduralScene(const ProceduralSpec& spec) {
+Scene generateProceduralScene(const ProceduralSpec& spec, Progress& progress) {
     Scene scene;
-    procedural::MeshBuilder builder(scene);
+    const bool budgeted = spec.kind == ProceduralKind::City || spec.kind == ProceduralKind::Interior ||
+                          spec.kind == ProceduralKind::Plant;
+    progress.begin("Generating " + toString(spec), budgeted ? spec.targetTriangles : 0);
+    procedural::MeshBuilder builder(scene, progress);
     switch (spec.kind) {
     case ProceduralKind::City: procedural::generateCity(spec, builder); break;
     case ProceduralKind::Interior: procedural::generateInterior(spec, builder); break;
@@ -20,6 +23,7 @@ Scene generateProceduralScene(const ProceduralSpec& spec) {
     scene.stats.instancedTriangles = scene.triangles.size();
     scene.stats.meshCount = 1;
     scene.stats.instanceCount = 1;
+    progress.end();
     return scene;
 }
 

@@ -5,6 +5,7 @@
 // an industrial plant (pipes, tanks, scaffolds: irregular and deep, like the Powerplant), and small analytic
 // scenes for tests. Each large scene comes with a near-view (street level / inside) and a far-view (bird's
 // eye) camera path, like the paper's two walkthroughs.
+#include "renderer/core/progress.h"
 #include "renderer/scene/camera_path.h"
 #include "renderer/scene/scene.h"
 
@@ -53,7 +54,9 @@ std::string toString(const ProceduralSpec& spec); // canonical form, e.g. "city:
 
 // Generates the scene. Materials have distinct base colours (facades, roofs, streets, ...). Normals are flat
 // per face (vertices are not shared across faces with different normals). Units: metres, +Y up.
-Scene generateProceduralScene(const ProceduralSpec& spec);
+// Reports one step "Generating <spec>" to `progress`, its total the target triangle count (0 for the analytic
+// scenes); generators land within ±10 % of it, so the count may stop short of the total before the step ends.
+Scene generateProceduralScene(const ProceduralSpec& spec, Progress& progress = nullProgress());
 
 // Default walkthroughs of a generated scene ("near" at street level / inside, "far" from above), valid for
 // any seed and size of that kind: the near path never passes through geometry. For analytic scenes, both
