@@ -25,6 +25,8 @@
 #include <imgui.h>
 #include <nlohmann/json.hpp>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -36,6 +38,32 @@
 
 namespace chcrt::app {
 namespace {
+
+// `--ls-cache ""` (no cache) in the viewer: a method switch's Line Space / N-tree build still goes through a cache
+// directory, so that it runs on the worker (methodCacheBuild) while the window keeps drawing (issue #6), but a
+// private temporary one, removed when the viewer exits: nothing outlives the session, as the flag asks.
+class PrivateCacheDirectory {
+public:
+    PrivateCacheDirectory() = default;
+    PrivateCacheDirectory(const PrivateCacheDirectory&) = delete;
+    PrivateCacheDirectory& operator=(const PrivateCacheDirectory&) = delete;
+    ~PrivateCacheDirectory() {
+        std::error_code ignored;
+        if (!path_.empty()) std::filesystem::remove_all(path_, ignored);
+    }
+    void create() {
+        std::filesystem::path base = std::filesystem::temp_directory_path();
+        for (int attempt = 0; path_.empty(); ++attempt) {
+            const std::filesystem::path candidate =
+                base / ("chcrt-view-" + std::to_string(::getpid()) + "-" + std::to_string(attempt));
+            if (std::filesystem::create_directory(candidate)) path_ = candidate; // false: it exists, try the next
+        }
+    }
+    const std::filesystem::path& path() const { return path_; }
+
+private:
+    std::filesystem::path path_;
+};
 
 using Clock = std::chrono::steady_clock;
 constexpr double kScriptSecondsPerFrame = 1.0 / 30.0; // fixed time step of scripted sessions
@@ -113,6 +141,9 @@ private:
     static void onScroll(GLFWwindow* window, double x, double y);
 
     void finishLoading();
+    void finishShaftPick();
+    void startLoading(const std::string& scene);
+    SceneLoader::GpuUpload workerUpload() const;
     void applyMethod();
     bool prepareMethodCache();
     void handleInteractiveInput(double seconds);
@@ -152,6 +183,7 @@ private:
     ViewerSettings settings_;
     GpuSession gpu_;
     GLFWwindow* window_ = nullptr;
+    GLFWwindow* uploadWindow_ = nullptr; // shares window_'s objects; scene uploads on the loading worker
     std::unique_ptr<SceneSession> scene_;
     std::unique_ptr<Tracer> tracer_;
     // tracer_ when it traces out of core (--out-of-core with a prepared scene, CHC+RT §5.4), else nullptr.
@@ -162,6 +194,8 @@ private:
     std::unique_ptr<ViewDisplay> display_;
     std::unique_ptr<ViewerPanel> panel_;
     SceneLoader loader_;
+    // With `--ls-cache ""`: the session's private cache directory (below), removed after cacheJob_ has ended.
+    PrivateCacheDirectory privateCache_;
     // A method switch's Line Space / N-tree build on a worker; declared after scene_ (whose BVH it reads) so that it
     // is destroyed (joined) first.
     BackgroundJob cacheJob_;
@@ -185,6 +219,10 @@ private:
     int pickWidth_ = 0, pickHeight_ = 0;
     std::pair<int, int> pickPixel_{0, 0};
     std::string pickParameters_; // N/D/T and scene the pick was computed with
+    // The picked node's Line Space is built on a worker (a node of a big scene at a low cut depth holds many
+    // triangles); the previous pick stays shown meanwhile. Declared after scene_, whose BVH it reads.
+    BackgroundJob pickJob_;
+    std::shared_ptr<std::optional<ShaftPick>> pickResult_;
     std::optional<ResidencyCounts> lastResidency_; // of the last residency-view frame (out of core)
     bool leftWasDown_ = false;
     nlohmann::json loadLog_ = nlohmann::json::array(); // samples of the loading worker's progress
@@ -235,6 +273,7 @@ Viewer::Viewer(const ViewOptions& options) : options_(options) {
     auto context = std::make_unique<GlfwWindowContext>(options.common.width, options.common.height,
                                                        options.common.glDebug);
     window_ = context->window();
+    uploadWindow_ = context->uploadWindow();
     gpu_.context = std::move(context);
     glfwSetWindowUserPointer(window_, this);
     // Installed before ImGui's backend, which chains to them.
@@ -248,7 +287,38 @@ Viewer::Viewer(const ViewOptions& options) : options_(options) {
     ImGui_ImplOpenGL3_Init("#version 450 core");
     display_ = std::make_unique<ViewDisplay>();
     panel_ = std::make_unique<ViewerPanel>(options.common.scene);
-    loader_.start(options.common);
+    CommonOptions first = options.common;
+    if (first.lsCache.empty() && !first.outOfCore) {
+        privateCache_.create();
+        first.lsCache = settings_.common.lsCache = privateCache_.path().string();
+    }
+    loader_.start(first, workerUpload());
+}
+
+// Another scene, from the panel or a script: its own default camera.
+void Viewer::startLoading(const std::string& scene) {
+    CommonOptions o = settings_.common;
+    o.scene = scene;
+    o.cameraPath.clear();
+    o.eye.clear();
+    o.target.clear();
+    loader_.start(o, workerUpload());
+}
+
+// The loading worker's last step: the scene's GPU upload on the hidden window's shared context (issue #6: the
+// window never waits for long work). Without that context the upload runs in finishLoading, on this thread.
+SceneLoader::GpuUpload Viewer::workerUpload() const {
+    if (!uploadWindow_) return nullptr;
+    return [window = uploadWindow_](const SceneSession& session) {
+        glfwMakeContextCurrent(window);
+        struct Release { // also when the upload throws (GlError: a buffer beyond the texture-buffer limit)
+            ~Release() {
+                glFinish(); // complete before the main thread binds the objects (GL 4.5 §5.3, shared objects)
+                glfwMakeContextCurrent(nullptr);
+            }
+        } release;
+        return std::make_unique<SceneGpu>(session.scene, session.bvh);
+    };
 }
 
 Viewer::~Viewer() {
@@ -303,7 +373,12 @@ int Viewer::run() {
             history_.push_back(float(status_.frameMs));
             if (history_.size() > kFrameHistory) history_.pop_front();
         }
-        idle = !scripted_ && !rendered && !loader_.busy() && !cacheJob_.busy() && !playing_ && !looking_;
+        if (pickJob_.busy() && pickJob_.finished()) { // the shafts view's new pick: show it
+            finishShaftPick();
+            dirty_ = true;
+        }
+        idle = !scripted_ && !rendered && !loader_.busy() && !cacheJob_.busy() && !pickJob_.busy() && !playing_ &&
+               !looking_;
     }
     writeStatsJson();
     if (scripted_) {
@@ -323,17 +398,26 @@ void Viewer::finishLoading() {
     std::unique_ptr<SceneSession> loaded;
     try {
         loaded = loader_.take();
-    } catch (const InputError& e) {
+    } catch (const std::runtime_error& e) { // InputError, or GlError from the GPU upload
         if (first) throw; // nothing to show: a bad --scene is a usage error
         notice(std::string("cannot load the scene: ") + e.what());
         return;
     }
     const double loadSeconds = loader_.elapsedSeconds();
+    std::unique_ptr<SceneGpu> uploadedScene = loader_.takeUploaded();
+    const bool uploaded = uploadedScene != nullptr;
     sampleLoadProgress(); // the worker has finished: complete, 100 %
+    if (pickJob_.busy()) { // it reads the previous scene's BVH
+        try {
+            pickJob_.take();
+        } catch (const InputError&) {
+        }
+    }
     shaftPick_.reset();   // a node of the previous scene: the new one starts with the centre pixel
     pickParameters_.clear();
     const auto uploadStart = Clock::now();
-    // GL upload and shader compilation on the main thread (the context lives here).
+    // The scene is on the GPU already (uploaded by the worker, unless there is no shared context); the renderer's
+    // and the method's programs are made here, on the drawing context.
     if (cacheJob_.busy()) { // it reads the previous scene's BVH: let it end (its result stays in the disk cache)
         try {
             cacheJob_.take();
@@ -355,7 +439,7 @@ void Viewer::finishLoading() {
     glfwGetFramebufferSize(window_, &fbWidth, &fbHeight);
     internalSize(settings_, std::max(fbWidth, 1), std::max(fbHeight, 1), w, h);
     gpu_.renderer = std::make_unique<Renderer>(scene_->scene, scene_->bvh, scene_->light,
-                                               toRenderSettings(settings_, w, h, 0));
+                                               toRenderSettings(settings_, w, h, 0), std::move(uploadedScene));
     activeMethod_.clear();
     applyMethod();
     pathFrame_ = 0;
@@ -370,9 +454,10 @@ void Viewer::finishLoading() {
     status_.triangles = scene_->sceneInCore ? scene_->scene.triangleCount() : scene_->fileTriangles;
     dirty_ = true;
     char text[160];
-    std::snprintf(text, sizeof(text), "loaded %s: %llu triangles, %.2f s loading + BVH (worker thread), %.2f s GL "
-                  "upload + shaders", loader_.scene().c_str(), static_cast<unsigned long long>(status_.triangles),
-                  loadSeconds, millisecondsSince(uploadStart) / 1000.0);
+    std::snprintf(text, sizeof(text), "loaded %s: %llu triangles, %.2f s loading + BVH%s (worker thread), %.2f s "
+                  "renderer set-up (main thread)", loader_.scene().c_str(),
+                  static_cast<unsigned long long>(status_.triangles), loadSeconds,
+                  uploaded ? " + GPU upload" : "", millisecondsSince(uploadStart) / 1000.0);
     notice(text);
 }
 
@@ -465,6 +550,8 @@ bool Viewer::prepareMethodCache() {
         return true;
     }
     cacheJob_.start(key, std::move(job));
+    notice("building the Line Spaces of " + settings_.method + " on a worker thread into " + scene_->options.lsCache +
+           (privateCache_.path().empty() ? "" : " (private to this session: --ls-cache \"\")"));
     if (!scripted_) return false;
     return prepareMethodCache(); // waits for it
 }
@@ -582,14 +669,7 @@ bool Viewer::advanceScript() {
 }
 
 void Viewer::runStepActions(const ScriptStep& step) {
-    if (!step.loadScene.empty()) {
-        CommonOptions o = settings_.common;
-        o.scene = step.loadScene;
-        o.cameraPath.clear();
-        o.eye.clear();
-        o.target.clear();
-        loader_.start(o);
-    }
+    if (!step.loadScene.empty()) startLoading(step.loadScene);
     if (step.resize) glfwSetWindowSize(window_, step.resize->first, step.resize->second);
     if (step.set) {
         applySettings(settings_, *step.set);
@@ -873,14 +953,7 @@ void Viewer::applyPanelActions(const ViewerActions& a) {
     if (a.toggleRecord) handleKey(GLFW_KEY_F9);
     if (a.screenshot) handleKey(GLFW_KEY_F12);
     if (a.copyCommandLine) printCommandLine();
-    if (!a.loadScene.empty() && !loader_.busy()) {
-        CommonOptions o = settings_.common;
-        o.scene = a.loadScene;
-        o.cameraPath.clear();
-        o.eye.clear();
-        o.target.clear();
-        loader_.start(o);
-    }
+    if (!a.loadScene.empty() && !loader_.busy()) startLoading(a.loadScene);
 }
 
 void Viewer::takeScreenshot(const std::string& file) {
@@ -1041,6 +1114,10 @@ void Viewer::updateShaftPick(int w, int h) {
         return;
     }
     const std::string parameters = std::to_string(c.lsN) + "/" + std::to_string(c.lsDepth) + "/" + std::to_string(c.lsT);
+    if (pickJob_.busy()) {
+        if (!pickJob_.finished() && !scripted_) return; // the previous pick stays shown meanwhile
+        finishShaftPick(); // scripts wait for it in place
+    }
     if (!pendingPick_ && !shaftPick_ && pickParameters_.empty()) pendingPick_ = std::make_pair(w / 2, h / 2);
     if (pendingPick_) {
         pickCamera_ = camera_;
@@ -1050,11 +1127,33 @@ void Viewer::updateShaftPick(int w, int h) {
     } else if (parameters == pickParameters_) {
         return;
     }
-    const std::pair<int, int> pixel = pickPixel_;
     pendingPick_.reset();
     pickParameters_ = parameters;
-    shaftPick_ = pickLineSpaceNode(scene_->bvh, pickCamera_, pickWidth_, pickHeight_, pixel.first, pixel.second, c.lsN,
-                                   c.lsDepth, c.lsT);
+    pickResult_ = std::make_shared<std::optional<ShaftPick>>();
+    pickJob_.start("Line Space of the picked node",
+                   [result = pickResult_, &bvh = scene_->bvh, camera = pickCamera_, w = pickWidth_, h = pickHeight_,
+                    pixel = pickPixel_, n = c.lsN, depth = c.lsDepth, t = c.lsT](Progress& progress) {
+                       progress.begin("Line Space of the picked node", 0);
+                       *result = pickLineSpaceNode(bvh, camera, w, h, pixel.first, pixel.second, n, depth, t);
+                       progress.end();
+                   });
+    status_.shaftInfo = {"pixel " + std::to_string(pickPixel_.first) + ", " + std::to_string(pickPixel_.second) +
+                         ": building the Line Space of its node ..."};
+    if (scripted_) finishShaftPick();
+}
+
+// Takes the finished pick job's node and describes it in the panel.
+void Viewer::finishShaftPick() {
+    try {
+        pickJob_.take();
+    } catch (const InputError& error) {
+        shaftPick_.reset();
+        status_.shaftInfo = {std::string("shafts: ") + error.what()};
+        notice(status_.shaftInfo.back());
+        return;
+    }
+    shaftPick_ = std::move(*pickResult_);
+    const std::pair<int, int> pixel = pickPixel_;
     status_.shaftInfo.clear();
     if (!shaftPick_) {
         status_.shaftInfo.push_back("pixel " + std::to_string(pixel.first) + ", " + std::to_string(pixel.second) +
@@ -1070,15 +1169,14 @@ void Viewer::updateShaftPick(int w, int h) {
     std::snprintf(line, sizeof(line), "%llu shafts, %llu filled: fill rate %.1f %%", (unsigned long long)p.shafts,
                   (unsigned long long)p.filled, 100.0 * p.fillRate());
     status_.shaftInfo.push_back(line);
-    std::snprintf(line, sizeof(line), "picked pixel %d, %d (triangle %u); built in %.0f ms", p.pixelX, p.pixelY,
-                  p.triangleId, p.buildMs);
+    std::snprintf(line, sizeof(line), "picked pixel %d, %d (triangle %u); built in %.0f ms (worker thread)", p.pixelX,
+                  p.pixelY, p.triangleId, p.buildMs);
     status_.shaftInfo.push_back(line);
     std::snprintf(line, sizeof(line), "shafts: node %u, %llu shafts, fill rate %.1f %%", p.space,
                   (unsigned long long)p.shafts, 100.0 * p.fillRate());
     notice(line);
 }
 
-// The shafts view: the shaded frame (one frame, no refinement) with the picked node's shafts drawn over it.
 void Viewer::renderShafts(FrameStats& stats) {
     const int w = display_->width(), h = display_->height();
     renderShadedFrame(stats);

@@ -1,9 +1,10 @@
 #pragma once
-// Scene loading for the viewer on a worker thread (generation or file loading, then the BVH build), so the
-// window keeps drawing and shows progress while a scene loads. GL upload happens afterwards on the main thread
-// (a GL context is current on one thread only).
+// Scene loading for the viewer on a worker thread (generation or file loading, the BVH build, then the GPU upload
+// on a context that shares objects with the window's), so the window keeps drawing and shows progress while a
+// scene loads.
 #include "app/session.h"
 #include "app/viewer/background_job.h"
+#include "renderer/render/scene_gpu.h"
 
 #include <atomic>
 #include <chrono>
@@ -23,12 +24,17 @@ public:
     SceneLoader(const SceneLoader&) = delete;
     SceneLoader& operator=(const SceneLoader&) = delete;
 
-    // Starts loading `options.scene` (with its camera path). Requires !busy().
-    void start(const CommonOptions& options);
+    // Uploads a loaded session's scene and BVH to the GPU; runs on the worker after the BVH build, as the step
+    // "Uploading to the GPU" (the viewer makes its shared upload context current around SceneGpu's construction).
+    using GpuUpload = std::function<std::unique_ptr<SceneGpu>(const SceneSession&)>;
+    // Starts loading `options.scene` (with its camera path), then `upload` when given. Requires !busy().
+    void start(const CommonOptions& options, GpuUpload upload = nullptr);
     bool busy() const { return worker_.joinable(); }
     bool finished() const { return finished_.load(); }
     // The loaded session, after finished(); rethrows what the worker threw (InputError for bad scenes).
     std::unique_ptr<SceneSession> take();
+    // The scene uploaded by the worker (nullptr without an upload function), after take().
+    std::unique_ptr<SceneGpu> takeUploaded() { return std::move(uploaded_); }
     double elapsedSeconds() const;
     const std::string& scene() const { return scene_; }
     // The worker's progress (label and fraction of the current step); complete once finished.
@@ -38,6 +44,7 @@ private:
     std::thread worker_;
     std::atomic<bool> finished_{false};
     std::unique_ptr<SceneSession> result_;
+    std::unique_ptr<SceneGpu> uploaded_;
     std::exception_ptr error_;
     std::string scene_;
     std::shared_ptr<LoadProgressState> progress_ = std::make_shared<LoadProgressState>();

@@ -27,6 +27,9 @@ GlfwWindowContext::GlfwWindowContext(int width, int height, bool debugOutput) {
         glfwTerminate();
         throw GlError("cannot create a window with an OpenGL 4.5 core context");
     }
+    glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
+    uploadWindow_ = glfwCreateWindow(1, 1, "chcrt upload", nullptr, window_); // shares window_'s objects
+    glfwDefaultWindowHints();
     glfwMakeContextCurrent(window_);
     glfwSwapInterval(0); // frame times are measured: no vsync
     try {
@@ -34,6 +37,7 @@ GlfwWindowContext::GlfwWindowContext(int width, int height, bool debugOutput) {
         checkRequiredGlFeatures();
         if (debugOutput) enableGlDebugOutput(false);
     } catch (...) {
+        if (uploadWindow_) glfwDestroyWindow(uploadWindow_);
         glfwDestroyWindow(window_);
         glfwTerminate();
         throw;
@@ -41,6 +45,7 @@ GlfwWindowContext::GlfwWindowContext(int width, int height, bool debugOutput) {
 }
 
 GlfwWindowContext::~GlfwWindowContext() {
+    if (uploadWindow_) glfwDestroyWindow(uploadWindow_);
     glfwDestroyWindow(window_);
     glfwTerminate();
 }

@@ -18,9 +18,14 @@ public:
 
     std::string description() const override { return "GLFW window"; }
     GLFWwindow* window() const { return window_; }
+    // A hidden 1×1 window whose context shares objects (buffers, textures, programs) with the window's, for GPU
+    // uploads on one worker thread at a time; nullptr when the platform refuses a second context (uploads then
+    // run on the main thread).
+    GLFWwindow* uploadWindow() const { return uploadWindow_; }
 
 private:
     GLFWwindow* window_ = nullptr;
+    GLFWwindow* uploadWindow_ = nullptr;
 };
 
 } // namespace chcrt::app

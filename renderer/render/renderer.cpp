@@ -66,10 +66,11 @@ double FrameStats::traceMs() const {
     return sum;
 }
 
-Renderer::Renderer(const Scene& scene, const Bvh& bvh, const AreaLight& light, const RenderSettings& settings)
+Renderer::Renderer(const Scene& scene, const Bvh& bvh, const AreaLight& light, const RenderSettings& settings,
+                   std::unique_ptr<SceneGpu> uploaded)
     : light_(light), sceneBounds_(scene.bounds()) {
     sceneDiagonal_ = std::max(sceneBounds_.diagonal(), 1e-6f);
-    sceneGpu_ = std::make_unique<SceneGpu>(scene, bvh);
+    sceneGpu_ = uploaded ? std::move(uploaded) : std::make_unique<SceneGpu>(scene, bvh);
     bvhTracer_ = std::make_unique<BvhTracer>();
     activeTracer_ = bvhTracer_.get();
     gbufferProgram_ = ShaderProgram(

@@ -35,8 +35,10 @@ struct FrameStats {
 
 class Renderer {
 public:
-    // Requires a current GL context. Keeps references to nothing: scene data is uploaded.
-    Renderer(const Scene& scene, const Bvh& bvh, const AreaLight& light, const RenderSettings& settings);
+    // Requires a current GL context. Keeps references to nothing: scene data is uploaded, or taken from `uploaded`
+    // when given (the same scene and BVH already on the GPU, e.g. uploaded by a worker thread on a shared context).
+    Renderer(const Scene& scene, const Bvh& bvh, const AreaLight& light, const RenderSettings& settings,
+             std::unique_ptr<SceneGpu> uploaded = nullptr);
     ~Renderer();
 
     // Changes settings; recreates targets when the size changes. Throws InputError for invalid settings.

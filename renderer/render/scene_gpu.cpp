@@ -100,7 +100,7 @@ void SceneGpu::uploadGeometry(const Scene& scene, const Bvh& bvh) {
         glm::vec3 normal;
         glm::vec2 texcoord;
     };
-    static_assert(sizeof(Vertex) == 32);
+    static_assert(sizeof(Vertex) == sizeof(float) * kVertexFloats);
     std::vector<Vertex> vertices(scene.positions.size());
     for (size_t i = 0; i < vertices.size(); ++i) {
         vertices[i].position = scene.positions[i];
@@ -116,11 +116,20 @@ void SceneGpu::uploadGeometry(const Scene& scene, const Bvh& bvh) {
     for (size_t c = 0; c < clusters_.size(); ++c) clusterFirst[c] = clusters_[c].firstTriangle;
     clusterFirstBuffer_ = createBuffer(clusterFirst.size() * sizeof(uint32_t), clusterFirst.data(), 0);
     indirectBuffer_ = createBuffer(clusters_.size() * 5 * sizeof(uint32_t), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    gpuBytes_ += vertices.size() * sizeof(Vertex) + scene.triangles.size() * sizeof(glm::uvec3);
+}
+
+// Vertex array objects are container objects that GL contexts do not share (GL 4.5 §5.1.3), unlike the buffers
+// they point to: the scene may be uploaded on a worker thread's shared context (the viewer), so the vertex array
+// is made on the drawing context, on its first draw.
+void SceneGpu::createVertexArrayForDrawing() {
     vertexArray_ = createVertexArray();
     const GLuint vao = vertexArray_.id();
-    glVertexArrayVertexBuffer(vao, 0, vertexBuffer_.id(), 0, sizeof(Vertex));
+    constexpr GLsizei stride = sizeof(float) * kVertexFloats;
+    glVertexArrayVertexBuffer(vao, 0, vertexBuffer_.id(), 0, stride);
     glVertexArrayElementBuffer(vao, indexBuffer_.id());
-    const GLuint offsets[3] = {offsetof(Vertex, position), offsetof(Vertex, normal), offsetof(Vertex, texcoord)};
+    // Interleaved position, normal, texcoord (uploadGeometry).
+    const GLuint offsets[3] = {0, sizeof(float) * 3, sizeof(float) * 6};
     const GLint sizes[3] = {3, 3, 2};
     for (GLuint attribute = 0; attribute < 3; ++attribute) {
         glEnableVertexArrayAttrib(vao, attribute);
@@ -134,7 +143,6 @@ void SceneGpu::uploadGeometry(const Scene& scene, const Bvh& bvh) {
     glEnableVertexArrayAttrib(vao, 3);
     glVertexArrayAttribIFormat(vao, 3, 1, GL_UNSIGNED_INT, 0);
     glVertexArrayAttribBinding(vao, 3, 1);
-    gpuBytes_ += vertices.size() * sizeof(Vertex) + scene.triangles.size() * sizeof(glm::uvec3);
 }
 
 void SceneGpu::uploadAttributes(const Scene& scene) {
@@ -263,6 +271,7 @@ uint64_t SceneGpu::drawTriangles(const glm::mat4& clipFromWorld, bool frustumCul
     if (commands.empty()) return 0;
     glNamedBufferSubData(indirectBuffer_.id(), 0, GLsizeiptr(commands.size() * sizeof(DrawElementsIndirectCommand)),
                          commands.data());
+    if (vertexArray_.id() == 0) createVertexArrayForDrawing();
     glBindVertexArray(vertexArray_.id());
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, indirectBuffer_.id());
     glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, nullptr, GLsizei(commands.size()), 0);

@@ -1,7 +1,9 @@
 #pragma once
 // The scene on the GPU: vertex/index buffers for rasterising the G-buffer, the BVH and its triangles as
 // texture buffers for tracing (shaders/shared/bvh_layout.h), per-triangle attributes and materials for shading
-// hits, and base-colour textures as one texture array. Built once per scene; read-only afterwards.
+// hits, and base-colour textures as one texture array. Built once per scene; read-only afterwards. It may be built
+// on a context that shares objects with the drawing one (the viewer uploads on a worker thread): everything but the
+// vertex array is a shared object, and the vertex array is made on the first draw.
 #include "renderer/bvh/bvh.h"
 #include "renderer/gl/gl_objects.h"
 #include "renderer/scene/scene.h"
@@ -13,7 +15,7 @@ namespace chcrt {
 
 class SceneGpu {
 public:
-    // Requires a current GL context. Throws GlError when a buffer exceeds the texture-buffer limit.
+    // Requires a current GL context (the drawing one or one sharing its objects). Throws GlError when a buffer exceeds the texture-buffer limit.
     SceneGpu(const Scene& scene, const Bvh& bvh);
 
     // Binds the texture buffers and the texture array to their units (shaders/shared/render_layout.h).
@@ -38,12 +40,14 @@ private:
         uint32_t firstTriangle = 0; // BVH order
         uint32_t triangleCount = 0;
     };
+    static constexpr int kVertexFloats = 8; // interleaved position, normal, texcoord
     void uploadGeometry(const Scene& scene, const Bvh& bvh);
+    void createVertexArrayForDrawing();
     void buildClusters(const Bvh& bvh);
     void uploadAttributes(const Scene& scene);
     void uploadMaterials(const Scene& scene);
 
-    GlVertexArray vertexArray_;
+    GlVertexArray vertexArray_; // of the drawing context, made on the first draw
     GlBuffer vertexBuffer_;
     GlBuffer indexBuffer_;       // BVH triangle order
     GlBuffer clusterFirstBuffer_; // per cluster: first BVH-order triangle (instanced attribute, divisor 1)

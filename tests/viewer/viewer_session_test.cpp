@@ -113,10 +113,11 @@ protected:
         if (!HasFailure()) fs::remove_all(dir_); // keep images of a failed test for inspection
     }
 
-    Result run(const std::string& arguments, bool withDisplay = true) const {
+    // `environment`: extra VAR=value assignments for the command.
+    Result run(const std::string& arguments, bool withDisplay = true, const std::string& environment = "") const {
         const std::string display = withDisplay ? "DISPLAY=" + server().display() : "DISPLAY=";
-        const std::string command = "cd '" + dir_.string() + "' && " + display + " '" CHCRT_BINARY "' " + arguments +
-                                    " 2>&1";
+        const std::string command = "cd '" + dir_.string() + "' && " + display + " " + environment + " '" CHCRT_BINARY
+                                    "' " + arguments + " 2>&1";
         Result result;
         FILE* pipe = ::popen(command.c_str(), "r");
         if (!pipe) return result;
@@ -127,10 +128,12 @@ protected:
         return result;
     }
     // Runs a script on the small city at 128×72 (render scale 1).
-    Result view(const std::string& script, const std::string& extra = "", const char* renderScale = "1") const {
+    Result view(const std::string& script, const std::string& extra = "", const char* renderScale = "1",
+                const std::string& environment = "") const {
         std::ofstream(dir_ / "script.json") << script;
         return run("view --scene city:20k --width 128 --height 72 -q --script script.json --render-scale " +
-                   std::string(renderScale) + " " + extra);
+                       std::string(renderScale) + " " + extra,
+                   true, environment);
     }
     ImageRgba32f image(const std::string& name) const { return readImage(dir_ / name); }
     nlohmann::json json(const std::string& name) const {
@@ -442,8 +445,10 @@ TEST_F(ViewerTest, SceneLoadingReportsProgressUpTo100Percent) {
     EXPECT_EQ(last["scene"], "city:50k");
     EXPECT_TRUE(last["complete"].get<bool>());
     EXPECT_EQ(last["fraction"].get<double>(), 1.0);
-    EXPECT_EQ(last["step"], 2); // generation, then the BVH build
-    EXPECT_EQ(last["label"], "Building BVH");
+    // Generation, the BVH build, then the GPU upload on the worker's shared context: the main thread only makes
+    // the renderer's programs.
+    EXPECT_EQ(last["step"], 3);
+    EXPECT_EQ(last["label"], "Uploading to the GPU");
     EXPECT_EQ(last["done"], last["total"]);
     double previous = -1;
     int previousStep = 0;
@@ -645,6 +650,23 @@ TEST_F(ViewerTest, LineSpaceBuildsOfAMethodSwitchGoToTheDiskCache) {
     size_t files = 0;
     for (const auto& entry : fs::directory_iterator(dir_ / "cache")) files += entry.is_regular_file() ? 1 : 0;
     EXPECT_GE(files, 2u) << "a Line Space and an N-tree cache file";
+}
+
+// `--ls-cache ""`: the build of a method switch still runs on the worker, through a private temporary directory
+// that is gone when the viewer exits; nothing is written to the default cache directory.
+TEST_F(ViewerTest, WithoutACacheLineSpaceBuildsRunOnTheWorkerAndLeaveNothingBehind) {
+    fs::create_directories(dir_ / "tmp");
+    const Result r = view(R"([
+        {"frames": 1, "screenshot": "bvh.png"},
+        {"set": {"method": "bvh+ls-exact"}, "frames": 1, "screenshot": "exact.png",
+         "expect": {"method": "bvh+ls-exact"}}])",
+                          "--no-accumulate --ls-cache ''", "1", "TMPDIR='" + (dir_ / "tmp").string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("on a worker thread into " + (dir_ / "tmp").string() + "/chcrt-view-"), std::string::npos)
+        << r.output;
+    EXPECT_EQ(compareImages(image("bvh.png"), image("exact.png")).differingPixels, 0u);
+    EXPECT_TRUE(fs::is_empty(dir_ / "tmp")) << "the private cache directory is removed at exit";
+    EXPECT_FALSE(fs::exists(dir_ / "out")) << "nothing in the default cache directory";
 }
 
 } // namespace
