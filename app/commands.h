@@ -16,7 +16,7 @@ struct RenderOptions {
     std::string output;
     bool demo = false;
     std::string method = "bvh";  // GPU tracing method (app/methods.h)
-    std::string debugImage;      // CHC+RT debug image instead of the shaded frame: overdraw|subtrees|batches
+    std::string debugImage;      // CHC+RT debug image instead of the shaded frame: overdraw|subtrees|batches|cost
 };
 int runRender(const RenderOptions& options);
 

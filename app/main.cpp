@@ -43,7 +43,7 @@ int run(int argc, char** argv) {
     renderCommand->add_option("-o,--output", render.output, "Output image; #### becomes the frame number")->required();
     renderCommand->add_option("--method", render.method, "Tracing method (bvh, chcrt, ...; see bench)")->capture_default_str();
     renderCommand->add_option("--debug-image", render.debugImage,
-                              "CHC+RT debug image instead of the shaded frame: overdraw, subtrees or batches "
+                              "CHC+RT debug image instead of the shaded frame: overdraw, subtrees, batches or cost "
                               "(chcrt methods only)");
 
     BenchOptions bench;

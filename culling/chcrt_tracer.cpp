@@ -16,6 +16,9 @@
 namespace chcrt {
 namespace {
 
+static_assert(kChcrtCostCappedBit == CHCRT_CULLING_COST_CAPPED && kChcrtCostStepMask == CHCRT_CULLING_COST_STEPS,
+              "the cost debug image layout must match shaders/culling/culling_layout.h");
+
 using Clock = std::chrono::steady_clock;
 double millisecondsSince(Clock::time_point start) {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
@@ -67,6 +70,7 @@ const char* debugDefine(ChcrtDebugImage kind) {
     case ChcrtDebugImage::Overdraw: return "CHCRT_CULLING_DEBUG_OVERDRAW";
     case ChcrtDebugImage::Subtrees: return "CHCRT_CULLING_DEBUG_SUBTREES";
     case ChcrtDebugImage::Batches: return "CHCRT_CULLING_DEBUG_BATCHES";
+    case ChcrtDebugImage::Cost: return "CHCRT_CULLING_DEBUG_COST";
     default: return "CHCRT_CULLING_DEBUG_NONE";
     }
 }
@@ -77,14 +81,16 @@ ChcrtDebugImage parseChcrtDebugImage(const std::string& name) {
     if (name == "overdraw") return ChcrtDebugImage::Overdraw;
     if (name == "subtrees") return ChcrtDebugImage::Subtrees;
     if (name == "batches") return ChcrtDebugImage::Batches;
-    throw InputError("unknown debug image '" + name + "' (available: overdraw, subtrees, batches)");
+    if (name == "cost") return ChcrtDebugImage::Cost;
+    throw InputError("unknown debug image '" + name + "' (available: overdraw, subtrees, batches, cost)");
 }
 
 std::vector<float> colorizeChcrtDebugImage(ChcrtDebugImage kind, const std::vector<uint32_t>& values, int width,
                                            int height) {
     std::vector<float> rgb(size_t(width) * height * 3, 0.0f);
+    const bool cost = kind == ChcrtDebugImage::Cost;
     uint32_t maxValue = 0;
-    for (uint32_t v : values) maxValue = std::max(maxValue, v);
+    for (uint32_t v : values) maxValue = std::max(maxValue, cost ? v & kChcrtCostStepMask : v);
     for (int y = 0; y < height; ++y) {
         for (int x = 0; x < width; ++x) {
             const uint32_t v = values[size_t(height - 1 - y) * width + x]; // GL rows are bottom to top
@@ -96,9 +102,14 @@ std::vector<float> colorizeChcrtDebugImage(ChcrtDebugImage kind, const std::vect
                 h *= 0x85EBCA77u;
                 h ^= h >> 13;
                 for (int c = 0; c < 3; ++c) out[c] = 0.25f + 0.75f * float((h >> (8 * c)) & 255u) / 255.0f;
+            } else if (cost && (v & kChcrtCostCappedBit) != 0) {
+                out[0] = 1.0f; // magenta: a pass reached the loop cap (the count is cut short), as the cost view
+                out[2] = 1.0f;
             } else {
-                // Heat ramp: blue -> green -> yellow -> red as the count approaches the image's maximum.
-                const float s = float(v) / float(std::max(maxValue, 1u));
+                // Heat ramp: blue -> green -> yellow -> red as the count approaches the image's maximum. Costs span
+                // orders of magnitude (a sky ray tests one box, a grazing one thousands): log scale for them.
+                const float s = cost ? std::log2(1.0f + float(v)) / std::log2(1.0f + float(std::max(maxValue, 1u)))
+                                     : float(v) / float(std::max(maxValue, 1u));
                 out[0] = std::clamp(2.0f * s - 0.5f, 0.0f, 1.0f);
                 out[1] = std::clamp(2.0f * s, 0.0f, 1.0f) * (s < 0.75f ? 1.0f : 4.0f * (1.0f - s));
                 out[2] = std::clamp(1.0f - 2.0f * s, 0.0f, 1.0f);
@@ -499,7 +510,9 @@ void ChcrtTracer::trace(const TraceRequest& request, const RayTextures& rays, Hi
     last_.traces = 1;
     last_.raysTraced = uint64_t(width) * uint64_t(height);
     // Adaptive fallback (adaptive_choice.h): per ray kind, the cheaper of the two measured ways; the loser is
-    // re-measured after adaptiveProbeInterval traces (culling: doubling while it keeps losing).
+    // re-measured after adaptiveProbeInterval traces (culling: doubling while it keeps losing). A selected debug
+    // image turns it off, so that the image shows the culling passes (for Cost: what culling costs per pixel,
+    // also where the adaptive choice would trace with one pure pass).
     const bool canFallBack = options_.adaptive && fullTracer_ != nullptr && debugKind_ == ChcrtDebugImage::None;
     AdaptiveChoice& choice =
         adaptive_.try_emplace(adaptiveKey(request), options_.adaptiveProbeInterval).first->second;

@@ -88,11 +88,18 @@ enum class ChcrtDebugImage : uint8_t {
     Overdraw, // query fragments per pixel (Figure 4 left)
     Subtrees, // 1 + id of the termination subtree that produced the pixel's latest hit change, 0 = none (Figure 5 left)
     Batches,  // subtrees traversed per pixel: the sum of the sizes of the batches that covered it (Figure 5 right)
+    // BVH traversal steps per pixel (inner nodes + leaves + triangles, as the pure tracer's cost target counts
+    // them) summed over every subtree pass of the trace; bit kChcrtCostCappedBit = a pass reached the loop cap.
+    // The step count saturates at kChcrtCostStepMask (it never carries into the flag).
+    Cost,
 };
-// "overdraw" | "subtrees" | "batches" (InputError otherwise).
+constexpr uint32_t kChcrtCostCappedBit = 0x80000000u; // = CHCRT_CULLING_COST_CAPPED (culling_layout.h)
+constexpr uint32_t kChcrtCostStepMask = 0x7fffffffu;  // = CHCRT_CULLING_COST_STEPS
+// "overdraw" | "subtrees" | "batches" | "cost" (InputError otherwise).
 ChcrtDebugImage parseChcrtDebugImage(const std::string& name);
 // Colours a debug image (R32UI values, rows bottom to top as GL stores them) as display RGB in [0, 1], rows top to
-// bottom: counts as a heat ramp scaled to the maximum, subtree ids as hashed colours; 0 is black.
+// bottom: counts as a heat ramp scaled to the maximum, subtree ids as hashed colours; 0 is black. Cost: a log heat
+// ramp of the steps (costs span orders of magnitude) scaled to the image's maximum, magenta where a pass was capped.
 std::vector<float> colorizeChcrtDebugImage(ChcrtDebugImage kind, const std::vector<uint32_t>& values, int width,
                                            int height);
 

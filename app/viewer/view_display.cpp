@@ -73,7 +73,7 @@ void ViewDisplay::showImage(const std::vector<float>& rgb) {
 }
 
 void ViewDisplay::visualize(const FrameTargets& frame, const ViewerSettings& settings, const Aabb& bounds,
-                            const HitTargets& costHits) {
+                            const HitTargets& costHits, GLuint cullingCost) {
     glBindFramebuffer(GL_FRAMEBUFFER, displayFbo_.id());
     glViewport(0, 0, width_, height_);
     glDisable(GL_BLEND);
@@ -87,9 +87,12 @@ void ViewDisplay::visualize(const FrameTargets& frame, const ViewerSettings& set
     p.set("sceneExtent", bounds.extent());
     p.set("sceneDiagonal", bounds.diagonal());
     p.set("costScale", settings.costScale);
+    p.set("useCullingCost", int(cullingCost != 0));
     glBindTextureUnit(CHCRT_VIEWER_UNIT_DISPLAY, frame.outputDisplay.id());
     glBindTextureUnit(CHCRT_VIEWER_UNIT_ACCUM, accumHdr_.id());
     glBindTextureUnit(CHCRT_VIEWER_UNIT_COST, costHits.cost.id());
+    // Binding 0 would unbind every target of the unit (its number is shared with renderer units).
+    if (cullingCost != 0) glBindTextureUnit(CHCRT_VIEWER_UNIT_CULLING_COST, cullingCost);
     glBindTextureUnit(CHCRT_UNIT_GBUFFER_POSITION, frame.gbufferPosition.id());
     glBindTextureUnit(CHCRT_UNIT_GBUFFER_NORMAL, frame.gbufferNormal.id());
     glBindTextureUnit(CHCRT_UNIT_GBUFFER_ALBEDO, frame.gbufferAlbedo.id());

@@ -25,9 +25,11 @@ public:
     int accumulatedFrames() const { return accumulatedFrames_; }
 
     // Renders the display image of `settings.viewMode` from the frame's targets; `costHits` is the hit set
-    // holding the traversal cost of the traced rays (cost view).
+    // holding the traversal cost of the traced rays (cost view). `cullingCost`, when not 0, is a CHC+RT cost debug
+    // image (R32UI of the display's size, ChcrtDebugImage::Cost) that the cost view shows instead, on the same heat
+    // map and `costScale`, so that CHC+RT and pure BVH methods compare.
     void visualize(const FrameTargets& frame, const ViewerSettings& settings, const Aabb& sceneBounds,
-                   const HitTargets& costHits);
+                   const HitTargets& costHits, GLuint cullingCost = 0);
     // Shows a CPU image (RGB in [0, 1], rows top to bottom, width × height of the display) as the display image:
     // CHC+RT's colourised debug images.
     void showImage(const std::vector<float>& rgb);

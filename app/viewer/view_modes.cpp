@@ -38,7 +38,9 @@ const char* describe(ViewMode mode) {
     case ViewMode::Albedo: return "G-buffer base colour";
     case ViewMode::TriangleId: return "original triangle id, hashed to a colour";
     case ViewMode::Depth: return "linear view depth, log scale over the scene diagonal";
-    case ViewMode::Cost: return "BVH traversal steps per ray (inner nodes + leaves + triangles), heat map";
+    case ViewMode::Cost:
+        return "BVH traversal steps per ray (inner nodes + leaves + triangles; CHC+RT: summed over its subtree "
+               "passes), heat map";
     case ViewMode::Overdraw: return "CHC+RT: occlusion-query fragments per pixel, heat map (paper Figure 4)";
     case ViewMode::Subtrees: return "CHC+RT: termination subtree that produced each hit, hashed colour (Figure 5)";
     case ViewMode::Batches: return "CHC+RT: subtrees traversed per pixel over all batches, heat map (Figure 5)";

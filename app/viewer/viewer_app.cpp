@@ -73,6 +73,18 @@ double millisecondsSince(Clock::time_point start) {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
+// The CHC+RT debug image a view mode shows: its own for the debug views; for `cost` the traversal steps summed
+// over CHC+RT's subtree passes (CHC+RT writes no per-ray cost target); none otherwise.
+ChcrtDebugImage chcrtDebugImageOf(ViewMode mode) {
+    switch (mode) {
+    case ViewMode::Overdraw: return ChcrtDebugImage::Overdraw;
+    case ViewMode::Subtrees: return ChcrtDebugImage::Subtrees;
+    case ViewMode::Batches: return ChcrtDebugImage::Batches;
+    case ViewMode::Cost: return ChcrtDebugImage::Cost;
+    default: return ChcrtDebugImage::None;
+    }
+}
+
 int glfwKeyFor(const std::string& name) {
     if (name == "R") return GLFW_KEY_R;
     if (name == "F") return GLFW_KEY_F;
@@ -175,7 +187,7 @@ private:
     void renderShadedFrame(FrameStats& stats);
     std::vector<float> shownRgb() const;
     std::vector<uint8_t> residentSubtrees() const;
-    void traceDebugRays(ChcrtTracer* chcrt, bool debugView, FrameStats& stats);
+    void traceDebugRays(ChcrtTracer* chcrt, FrameStats& stats);
     void updateShaftPick(int w, int h);
     void sampleLoadProgress();
 
@@ -797,15 +809,14 @@ void Viewer::renderIfNeeded() {
 
     const auto start = Clock::now();
     renderer.setSettings(toRenderSettings(settings_, w, h, display_->accumulatedFrames()));
-    // CHC+RT methods: debug images on only in their view modes (instrumented shader variants are slower), and
-    // the frame's CHC+RT counters as the difference of the tracer's running totals.
+    // CHC+RT methods: debug images on only in their view modes and the cost view (instrumented shader variants
+    // are slower; a debug image also turns the adaptive fallback off, so `chcrt`'s cost view shows what culling
+    // costs), and the frame's CHC+RT counters as the difference of the tracer's running totals.
     ChcrtTracer* chcrt = outOfCore_ ? &outOfCore_->chcrt() : dynamic_cast<ChcrtTracer*>(tracer_.get());
     const bool debugView = isChcrtDebugMode(settings_.viewMode);
+    const bool costView = settings_.viewMode == ViewMode::Cost;
     if (chcrt && !outOfCore_) { // out of core: set around the chosen rays' trace only (traceDebugRays)
-        const ChcrtDebugImage kind = !debugView                               ? ChcrtDebugImage::None
-                                     : settings_.viewMode == ViewMode::Overdraw ? ChcrtDebugImage::Overdraw
-                                     : settings_.viewMode == ViewMode::Subtrees ? ChcrtDebugImage::Subtrees
-                                                                                : ChcrtDebugImage::Batches;
+        const ChcrtDebugImage kind = chcrtDebugImageOf(settings_.viewMode);
         if (chcrt->debugImageKind() != kind) chcrt->setDebugImage(kind);
     }
     if (outOfCore_ && chcrt->debugImageKind() != ChcrtDebugImage::None) {
@@ -832,7 +843,7 @@ void Viewer::renderIfNeeded() {
         else display_->showSingleFrame();
     } else {
         renderer.renderGBuffer(camera_, stats);
-        if (settings_.viewMode == ViewMode::Cost || debugView) traceDebugRays(chcrt, debugView, stats);
+        if (costView || debugView) traceDebugRays(chcrt, stats);
         stats.totalMs = millisecondsSince(start);
     }
     status_.chcrt.reset();
@@ -855,7 +866,12 @@ void Viewer::renderIfNeeded() {
         display_->showImage(ready ? colorizeChcrtDebugImage(chcrt->debugImageKind(), chcrt->readDebugImage(), w, h)
                                   : std::vector<float>(size_t(w) * h * 3, 0.0f));
     } else {
-        display_->visualize(renderer.targets(), settings_, scene_->scene.bounds(), renderer.targets().hits[0]);
+        // CHC+RT's cost view: its cost debug image on the pure tracer's heat map and scale.
+        const bool cullingCost = costView && chcrt && chcrt->debugImageKind() == ChcrtDebugImage::Cost &&
+                                 chcrt->debugTexture() != 0 && chcrt->debugWidth() == w && chcrt->debugHeight() == h;
+        if (cullingCost) glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT); // the image stores, read as a texture
+        display_->visualize(renderer.targets(), settings_, scene_->scene.bounds(), renderer.targets().hits[0],
+                            cullingCost ? chcrt->debugTexture() : 0);
     }
     checkGlErrors("viewer frame");
     dirty_ = false;
@@ -1029,16 +1045,14 @@ void Viewer::sampleLoadProgress() {
 
 // The cost and CHC+RT debug views: the chosen ray set traced after the G-buffer (the debug image shows only
 // it, not the G-buffer's traced primary rays). Out of core the tracer records the primary rays' subtrees in
-// the debug image for the G-buffer resolve: the chosen image is selected here and the recording paused for
-// this one trace (switching images recompiles CHC+RT's subtree shader: slow, but only in these views).
-void Viewer::traceDebugRays(ChcrtTracer* chcrt, bool debugView, FrameStats& stats) {
+// the debug image for the G-buffer resolve: the chosen image (for `cost`, CHC+RT's cost image) is selected here
+// and the recording paused for this one trace (switching images recompiles CHC+RT's subtree shader: slow, but
+// only in these views).
+void Viewer::traceDebugRays(ChcrtTracer* chcrt, FrameStats& stats) {
     Renderer& renderer = *gpu_.renderer;
-    if (chcrt && debugView) {
-        if (outOfCore_) {
-            chcrt->setDebugImage(settings_.viewMode == ViewMode::Overdraw  ? ChcrtDebugImage::Overdraw
-                                 : settings_.viewMode == ViewMode::Subtrees ? ChcrtDebugImage::Subtrees
-                                                                            : ChcrtDebugImage::Batches);
-        }
+    const ChcrtDebugImage kind = chcrtDebugImageOf(settings_.viewMode);
+    if (chcrt && kind != ChcrtDebugImage::None) {
+        if (outOfCore_) chcrt->setDebugImage(kind);
         chcrt->clearDebugImage();
     }
     if (outOfCore_) outOfCore_->setRecordPrimarySubtrees(false);

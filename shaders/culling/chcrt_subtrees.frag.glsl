@@ -8,8 +8,9 @@
 // CHCRT_CULLING_LEAF_CACHE (0 | 1: §5.2 2-entry leaf cache,
 // subtree_traverse_cached.glsl), CHCRT_SUBTREE_STACK (traversal stack entries: the partition's maximum
 // subtree height + 1, §5.2; on llvmpipe 25 vs 64 entries measured no difference, see culling/README.md),
-// CHCRT_CULLING_DEBUG_SUBTREES / CHCRT_CULLING_DEBUG_BATCHES (debug image: 1 + id of the subtree that changed
-// the pixel's hit last, Figure 5 left / subtrees traversed per pixel, Figure 5 right).
+// CHCRT_CULLING_DEBUG_SUBTREES / CHCRT_CULLING_DEBUG_BATCHES / CHCRT_CULLING_DEBUG_COST (debug image: 1 + id of
+// the subtree that changed the pixel's hit last, Figure 5 left / subtrees traversed per pixel, Figure 5 right /
+// traversal steps per pixel summed over all passes, bit 31 = capped, layout in culling/culling_layout.h).
 #include "shared/render_layout.h"
 #include "shared/bvh_layout.h"
 #include "culling/culling_layout.h"
@@ -36,11 +37,30 @@ layout(binding = CHCRT_ATOMIC_BINDING_CAPPED_RAYS, offset = 0) uniform atomic_ui
 
 uniform uvec4 subtreeRoots[CHCRT_CULLING_MAX_BATCH / 4];
 uniform int subtreeCount;
-#if defined(CHCRT_CULLING_DEBUG_SUBTREES) || defined(CHCRT_CULLING_DEBUG_BATCHES)
+#if defined(CHCRT_CULLING_DEBUG_SUBTREES) || defined(CHCRT_CULLING_DEBUG_BATCHES) || defined(CHCRT_CULLING_DEBUG_COST)
 layout(binding = CHCRT_CULLING_IMAGE_DEBUG, r32ui) uniform coherent uimage2D debugImage;
 #endif
 #ifdef CHCRT_CULLING_DEBUG_SUBTREES
 uniform uvec4 subtreeIds[CHCRT_CULLING_MAX_BATCH / 4]; // culling-hierarchy subtree index per slot
+#endif
+
+#ifdef CHCRT_CULLING_DEBUG_COST
+// Adds this pass's traversal steps (the pure tracer's cost target counts the same: inner nodes + leaves +
+// triangles) to the pixel's count, saturating below the capped bit so that a huge sum never reads as capped.
+// Passes over the same pixel are ordered by the tracer's image barriers (the hit image relies on the same), so
+// the load-then-add cannot race with another pass's add; the atomics keep each update whole.
+void addCostSteps(ivec2 pixel, TraceCost cost) {
+    uint steps = cost.innerNodes + cost.leaves + cost.triangles;
+    uint counted = imageLoad(debugImage, pixel).x & CHCRT_CULLING_COST_STEPS;
+    if (steps > CHCRT_CULLING_COST_STEPS - counted) {
+        imageAtomicOr(debugImage, pixel, CHCRT_CULLING_COST_STEPS);
+    } else if (steps != 0u) {
+        imageAtomicAdd(debugImage, pixel, steps);
+    }
+    if (cost.iterations >= CHCRT_TRACE_ITERATION_CAP) {
+        imageAtomicOr(debugImage, pixel, CHCRT_CULLING_COST_CAPPED);
+    }
+}
 #endif
 
 void main() {
@@ -105,6 +125,11 @@ void main() {
     if (cost.iterations >= CHCRT_TRACE_ITERATION_CAP) {
         atomicCounterIncrement(cappedRays);
     }
+#ifdef CHCRT_CULLING_DEBUG_COST
+    // Before the discard below: a pass that finds nothing nearer still did its traversal. (The discards above
+    // come before any traversal: inactive rays and finished any-hit rays add nothing.)
+    addCostSteps(pixel, cost);
+#endif
     if (best.triangleId == previousId && best.t == previousT) {
         discard; // nothing nearer in these subtrees: hit and depth stay
     }

@@ -7,9 +7,15 @@
 // read and update it with image load/store, separated by glMemoryBarrier (see culling/README.md).
 #define CHCRT_CULLING_IMAGE_HIT 0
 
-// Image unit of the optional debug image (R32UI: query overdraw, subtree ids or subtrees per pixel; see
-// ChcrtDebugImage in culling/chcrt_tracer.h). Only the instrumented shader variants use it.
+// Image unit of the optional debug image (R32UI: query overdraw, subtree ids, subtrees or traversal steps per
+// pixel; see ChcrtDebugImage in culling/chcrt_tracer.h). Only the instrumented shader variants use it.
 #define CHCRT_CULLING_IMAGE_DEBUG 1
+
+// Cost debug image (CHCRT_CULLING_DEBUG_COST): the low 31 bits count traversal steps (saturating at
+// CHCRT_CULLING_COST_STEPS), bit 31 marks a pixel whose ray reached the loop cap in some pass. The viewer's cost
+// view (shaders/viewer/visualize.frag.glsl) decodes the same layout.
+#define CHCRT_CULLING_COST_CAPPED 0x80000000u
+#define CHCRT_CULLING_COST_STEPS 0x7fffffffu
 
 // Boxes per occlusion query: §5.1 multi-queries of up to 8 pairs with tighter bounds (2 child boxes each).
 #define CHCRT_CULLING_MAX_QUERY_BOXES 16

@@ -6,6 +6,7 @@
 #define CHCRT_VIEWER_UNIT_ACCUM 1       // sampler2D RGBA32F: sum of HDR frames (rgb), frame count (a)
 #define CHCRT_VIEWER_UNIT_COST 2        // usampler2D RGBA32UI: inner nodes, leaves, triangles, capped
 #define CHCRT_VIEWER_UNIT_SOURCE 3      // sampler2D: the texture a copy/blit pass reads
+#define CHCRT_VIEWER_UNIT_CULLING_COST 4 // usampler2D R32UI: CHC+RT's cost debug image (steps, bit 31 capped)
 
 // View modes: the order of app::ViewMode (view_modes.h), checked by a static_assert there.
 #define CHCRT_VIEW_SHADED 0

@@ -4,10 +4,12 @@
 #include "shared/render_layout.h"
 #include "shared/bvh_layout.h"
 #include "viewer/viewer_layout.h"
+#include "culling/culling_layout.h"
 
 layout(binding = CHCRT_VIEWER_UNIT_DISPLAY) uniform sampler2D renderedDisplay;
 layout(binding = CHCRT_VIEWER_UNIT_ACCUM) uniform sampler2D accumulatedHdr;
 layout(binding = CHCRT_VIEWER_UNIT_COST) uniform usampler2D traversalCost;
+layout(binding = CHCRT_VIEWER_UNIT_CULLING_COST) uniform usampler2D cullingCost;
 layout(binding = CHCRT_UNIT_GBUFFER_POSITION) uniform sampler2D gbufferPosition;
 layout(binding = CHCRT_UNIT_GBUFFER_NORMAL) uniform sampler2D gbufferNormal;
 layout(binding = CHCRT_UNIT_GBUFFER_ALBEDO) uniform sampler2D gbufferAlbedo;
@@ -20,6 +22,9 @@ uniform vec3 sceneLower;
 uniform vec3 sceneExtent;
 uniform float sceneDiagonal;
 uniform float costScale; // traversal steps at the top of the heat map (log scale: costs span orders of magnitude)
+// Cost view of CHC+RT methods: the steps come from CHC+RT's cost debug image (steps summed over its subtree passes,
+// bit 31 = capped; culling/culling_layout.h) instead of the tracer's cost target, on the same heat map and scale.
+uniform bool useCullingCost;
 
 layout(location = 0) out vec4 outDisplay;
 
@@ -57,10 +62,19 @@ void main() {
             colour = toneMapAces(sum.rgb / max(sum.a, 1.0f) * exposure);
         }
     } else if (viewMode == CHCRT_VIEW_COST) {
-        uvec4 cost = texelFetch(traversalCost, pixel, 0);
-        float steps = float(cost.x + cost.y + cost.z);
+        uint steps = 0u;
+        bool capped = false;
+        if (useCullingCost) {
+            uint value = texelFetch(cullingCost, pixel, 0).x;
+            steps = value & CHCRT_CULLING_COST_STEPS;
+            capped = (value & CHCRT_CULLING_COST_CAPPED) != 0u;
+        } else {
+            uvec4 cost = texelFetch(traversalCost, pixel, 0);
+            steps = cost.x + cost.y + cost.z;
+            capped = cost.w != 0u;
+        }
         // Magenta: the ray reached the loop cap (its cost is cut short).
-        colour = cost.w != 0u ? vec3(1.0f, 0.0f, 1.0f) : heat(log2(1.0f + steps) / log2(1.0f + costScale));
+        colour = capped ? vec3(1.0f, 0.0f, 1.0f) : heat(log2(1.0f + float(steps)) / log2(1.0f + costScale));
     } else if (covered) {
         if (viewMode == CHCRT_VIEW_POSITION) {
             colour = (texelFetch(gbufferPosition, pixel, 0).xyz - sceneLower) / max(sceneExtent, vec3(1e-6f));

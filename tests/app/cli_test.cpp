@@ -1,5 +1,7 @@
 // The CLI as users and scripts see it: exit codes, one-line errors, no partial output files, and the JSON
 // fields other tools rely on. Runs build/bin/chcrt (path injected by CMake) in a temporary directory.
+#include "renderer/core/image_io.h"
+
 #include <nlohmann/json.hpp>
 
 #include <gtest/gtest.h>
@@ -129,6 +131,22 @@ TEST_F(CliTest, RenderWritesFramesAndStatsJson) {
     EXPECT_GT(j["frames"][0]["ms_total"].get<double>(), 0.0);
     EXPECT_EQ(j["frames"][0]["capped_rays"], 0);
     EXPECT_EQ(j["scene"]["triangles"], 14);
+}
+
+TEST_F(CliTest, RenderWritesTheChcrtCostDebugImage) {
+    // CHC+RT's traversal steps per pixel (culling/README.md): a heat map over the city, not a black image.
+    const std::string city = "render --scene city:10k -o out.png ";
+    const Result r = run(city + "--method chcrt --debug-image cost " + kSmall);
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const chcrt::ImageRgba32f image = chcrt::readImage(dir_ / "out.png");
+    size_t lit = 0;
+    for (size_t i = 0; i < image.pixels.size(); ++i) lit += i % 4 != 3 && image.pixels[i] > 0.0f;
+    EXPECT_GT(lit, image.pixels.size() / 8) << "mostly black";
+    // Only CHC+RT methods have debug images; unknown kinds list the available ones.
+    EXPECT_EQ(run(city + "--method bvh --debug-image cost " + kSmall).exitCode, 2);
+    const Result bad = run(city + "--method chcrt --debug-image costs " + kSmall);
+    EXPECT_EQ(bad.exitCode, 2);
+    EXPECT_NE(bad.output.find("batches, cost"), std::string::npos) << bad.output;
 }
 
 TEST_F(CliTest, FramesAllWithAStepRendersEveryNthFrame) {

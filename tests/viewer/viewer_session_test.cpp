@@ -356,6 +356,47 @@ TEST_F(ViewerTest, ChcrtDebugViewsShowQueriesSubtreesAndBatches) {
     EXPECT_FALSE(stats["frames"][4].contains("chcrt"));
 }
 
+// Fraction of pixels with some non-zero colour channel.
+double litFraction(const ImageRgba32f& img) {
+    size_t lit = 0;
+    for (size_t p = 0; p + 3 < img.pixels.size(); p += 4) {
+        lit += img.pixels[p] > 0.0f || img.pixels[p + 1] > 0.0f || img.pixels[p + 2] > 0.0f;
+    }
+    return double(lit) / (double(img.width) * img.height);
+}
+
+// The cost view of CHC+RT methods shows the traversal steps of its subtree passes (its cost debug image) on the
+// heat map of the pure BVH cost view: not black, not the shaded image; bvh's cost view is unchanged.
+TEST_F(ViewerTest, CostViewShowsTraversalStepsOfChcrtMethods) {
+    const Result r = view(R"([
+        {"set": {"method": "chcrt"}, "frames": 1, "screenshot": "shaded.png"},
+        {"set": {"viewMode": "cost"}, "frames": 1, "screenshot": "chcrt_cost.png", "expect": {"viewMode": "cost"}},
+        {"set": {"method": "chcrt-noadapt"}, "frames": 1, "screenshot": "noadapt_cost.png"},
+        {"set": {"costRayType": "shadow"}, "frames": 1, "screenshot": "noadapt_shadow_cost.png"},
+        {"set": {"method": "bvh", "costRayType": "primary"}, "frames": 1, "screenshot": "bvh_cost.png",
+         "expect": {"method": "bvh"}}])",
+                          "--no-accumulate");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    for (const char* cost : {"chcrt_cost.png", "noadapt_cost.png", "noadapt_shadow_cost.png", "bvh_cost.png"}) {
+        EXPECT_GT(litFraction(image(cost)), 0.3) << cost;
+        EXPECT_GT(differingFraction("shaded.png", cost), 0.3) << cost;
+    }
+    // Both CHC+RT methods culled the same rays (a debug image turns chcrt's adaptive fallback off): the same image.
+    EXPECT_EQ(compareImages(image("chcrt_cost.png"), image("noadapt_cost.png")).differingPixels, 0u);
+    EXPECT_GT(differingFraction("noadapt_cost.png", "noadapt_shadow_cost.png"), 0.05);
+
+    // With the whole BVH as one termination subtree and queries on its own box, CHC+RT's steps per pixel are
+    // exactly pure BVH tracing's (tests/culling/chcrt_cost_image_test.cpp): on the shared heat map and scale the
+    // two cost views are the same image.
+    const Result single = view(R"([
+        {"set": {"viewMode": "cost", "method": "chcrt-noadapt"}, "frames": 1, "screenshot": "single_cost.png"},
+        {"set": {"method": "bvh"}, "frames": 1, "screenshot": "single_bvh_cost.png"}])",
+                               "--no-accumulate --chcrt-height 64 --chcrt-tighter-bounds off");
+    ASSERT_EQ(single.exitCode, 0) << single.output;
+    EXPECT_GT(litFraction(image("single_cost.png")), 0.3);
+    EXPECT_EQ(compareImages(image("single_cost.png"), image("single_bvh_cost.png")).differingPixels, 0u);
+}
+
 TEST_F(ViewerTest, ReportsFailuresWithExitCodes) {
     // An unmet expectation: exit 4 with a message naming it.
     Result r = view(R"([{"frames": 1, "expect": {"accumulatedFrames": 5}}])");
@@ -551,6 +592,7 @@ TEST_F(ViewerTest, OutOfCoreSceneMatchesInCoreShowsResidencyAndTable3Statistics)
         {"set": {"method": "raster", "primary": "raster"}, "frames": 1, "expect": {"method": "chcrt", "primary": "traced"}},
         {"set": {"method": "chcrt-noadapt", "viewMode": "subtrees", "costRayType": "shadow"}, "frames": 1,
          "screenshot": "subtrees.png", "expect": {"method": "chcrt-noadapt"}},
+        {"set": {"viewMode": "cost", "costRayType": "primary"}, "frames": 1, "screenshot": "cost.png"},
         {"set": {"viewMode": "shaded"}, "frames": 1, "screenshot": "noadapt5.png", "expect": {"cappedRays": 0}}])";
     r = run("view --scene c.chs --out-of-core --load-in-core off --gpu-cache-mb 1 --host-cache-mb 2 --script ooc.json "
             "--stats-json stats.json" + size);
@@ -563,13 +605,16 @@ TEST_F(ViewerTest, OutOfCoreSceneMatchesInCoreShowsResidencyAndTable3Statistics)
     }
     EXPECT_GT(differingFraction("ooc5.png", "residency.png"), 0.5);
     EXPECT_GT(differingFraction("residency.png", "subtrees.png"), 0.3);
+    // The cost view out of core: CHC+RT's cost image of the primary rays, switched around their trace only.
+    EXPECT_GT(litFraction(image("cost.png")), 0.3);
+    EXPECT_GT(differingFraction("cost.png", "subtrees.png"), 0.3);
     size_t green = 0, orange = 0;
     countResidencyTints(image("residency.png"), green, orange);
     EXPECT_GT(green, 100u);
     EXPECT_GT(orange, 100u);
 
     const nlohmann::json frames = json("stats.json")["frames"];
-    ASSERT_EQ(frames.size(), 8u);
+    ASSERT_EQ(frames.size(), 9u);
     double evictions = 0;
     for (const nlohmann::json& f : frames) {
         ASSERT_TRUE(f.contains("outofcore")) << f.dump();
