@@ -23,6 +23,52 @@ glm::vec3 quantizedNormal(const glm::vec3& n) {
     return q;
 }
 
+// Map from the triangle ids hit in one subtree to their index in the subtree: open addressing with linear probing
+// over two flat arrays. The resolve probes it once per triangle of the subtree (~43k for the 140M city), and with
+// std::unordered_map's scattered nodes those probes were most of the resolve's time (docs/outofcore.md); here
+// the ids of one subtree's pixels fit in the L2 cache.
+class HitIdIndex {
+public:
+    static constexpr uint32_t kAbsent = UINT32_MAX;
+    // Empties the map for up to `ids` distinct ids (load factor <= 1/2).
+    void reset(size_t ids) {
+        size_t capacity = 16;
+        shift_ = 28;
+        while (capacity < 2 * ids) {
+            capacity *= 2;
+            --shift_;
+        }
+        mask_ = capacity - 1;
+        keys_.assign(capacity, CHCRT_NO_HIT_ID); // never a hit's id
+        values_.assign(capacity, kAbsent);
+        size_ = 0;
+    }
+    void insert(uint32_t id) {
+        size_t i = slot(id);
+        while (keys_[i] != CHCRT_NO_HIT_ID) {
+            if (keys_[i] == id) return;
+            i = (i + 1) & mask_;
+        }
+        keys_[i] = id;
+        ++size_;
+    }
+    // The value slot of `id`, nullptr when it was not inserted.
+    uint32_t* find(uint32_t id) {
+        for (size_t i = slot(id);; i = (i + 1) & mask_) {
+            if (keys_[i] == id) return &values_[i];
+            if (keys_[i] == CHCRT_NO_HIT_ID) return nullptr;
+        }
+    }
+    size_t size() const { return size_; }
+
+private:
+    // Fibonacci hashing: the top bits of id × 2^32/φ spread the clustered ids of a subtree over the table.
+    size_t slot(uint32_t id) const { return size_t((id * 0x9E3779B1u) >> shift_); }
+    std::vector<uint32_t> keys_, values_;
+    size_t mask_ = 0, size_ = 0;
+    int shift_ = 28; // 32 - log2(capacity)
+};
+
 } // namespace
 
 PrimaryResolve::PrimaryResolve(OutOfCoreTracer& tracer)
@@ -61,39 +107,49 @@ void PrimaryResolve::resolve(const Camera& camera, const FrameTargets& t, float 
     }
     std::vector<glm::vec4> shading(n, glm::vec4(0.0f)), geometric(n, glm::vec4(0.0f)), albedo(n, glm::vec4(0.0f));
     SubtreeStore& store = tracer_.store();
-    std::unordered_map<uint32_t, uint32_t> localOf; // original id -> triangle index in the subtree
+    HitIdIndex localOf; // hit triangle id -> its index in the subtree
     for (const auto& [subtree, pixels] : pixelsOf) {
         ++stats_.subtreesRead;
         const std::shared_ptr<const SubtreeData> data = store.get(subtree);
-        localOf.clear();
-        for (uint32_t p : pixels) localOf.emplace(hits[p].y, UINT32_MAX);
+        localOf.reset(pixels.size());
+        for (uint32_t p : pixels) localOf.insert(hits[p].y);
         size_t found = 0;
         for (uint32_t k = 0; k < data->triangles.size() && found < localOf.size(); ++k) {
-            const auto it = localOf.find(data->triangles[k].originalId);
-            if (it != localOf.end() && it->second == UINT32_MAX) {
-                it->second = k;
+            uint32_t* local = localOf.find(data->triangles[k].originalId);
+            if (local && *local == HitIdIndex::kAbsent) {
+                *local = k;
                 ++found;
             }
         }
+        // Neighbouring pixels mostly hit the same triangle: its per-triangle terms are computed once per run.
+        uint32_t lastK = HitIdIndex::kAbsent;
+        glm::vec3 g(0.0f), q0(0.0f), q1(0.0f), q2(0.0f);
+        glm::vec4 triangleAlbedo(0.0f);
         for (uint32_t p : pixels) {
-            const uint32_t k = localOf[hits[p].y];
-            if (k == UINT32_MAX) {
+            const uint32_t k = *localOf.find(hits[p].y);
+            if (k == HitIdIndex::kAbsent) {
                 ++stats_.unresolvedPixels;
                 continue;
             }
-            const TriangleGpu& tri = data->triangles[k];
-            glm::vec3 g = glm::cross(tri.v1 - tri.v0, tri.v2 - tri.v0);
-            const float length = glm::length(g);
-            g = length > 0.0f ? g / length : glm::vec3(0.0f, 1.0f, 0.0f);
+            if (k != lastK) {
+                lastK = k;
+                const TriangleGpu& tri = data->triangles[k];
+                g = glm::cross(tri.v1 - tri.v0, tri.v2 - tri.v0);
+                const float length = glm::length(g);
+                g = length > 0.0f ? g / length : glm::vec3(0.0f, 1.0f, 0.0f);
+                q0 = quantizedNormal(data->normals[k * 3]);
+                q1 = quantizedNormal(data->normals[k * 3 + 1]);
+                q2 = quantizedNormal(data->normals[k * 3 + 2]);
+                triangleAlbedo = glm::vec4(albedos_[std::min<size_t>(tri.materialId, albedos_.size() - 1)], 1.0f);
+            }
             glm::vec2 b;
             std::memcpy(&b, &hits[p].z, sizeof(b));
             const float w0 = 1.0f - b.x - b.y;
-            const glm::vec3 s = w0 * quantizedNormal(data->normals[k * 3]) + b.x * quantizedNormal(data->normals[k * 3 + 1]) +
-                                b.y * quantizedNormal(data->normals[k * 3 + 2]);
+            const glm::vec3 s = w0 * q0 + b.x * q1 + b.y * q2;
             const float sl = glm::length(s);
             shading[p] = glm::vec4(sl > 0.0f ? s / sl : g, 0.0f);
             geometric[p] = glm::vec4(g, 0.0f);
-            albedo[p] = glm::vec4(albedos_[std::min<size_t>(tri.materialId, albedos_.size() - 1)], 1.0f);
+            albedo[p] = triangleAlbedo;
         }
     }
     if (width_ != w || height_ != h) {
