@@ -48,6 +48,8 @@ void addCommonOptions(CLI::App& c, CommonOptions& o, bool withEffects) {
                  "CHC+RT: previously invisible pairs per multi-query (default 4, 1 = off)");
     c.add_option("--chcrt-tighter-bounds", o.chcrtTighterBounds, "CHC+RT: query the children's boxes (on|off, default on)");
     c.add_option("--chcrt-leaf-cache", o.chcrtLeafCache, "CHC+RT: 2-entry leaf cache in subtree traversal (on|off, default off)");
+    c.add_option("--chcrt-ray-extent", o.chcrtRayExtent,
+                 "CHC+RT: skip pairs out of reach of their tile's bounded rays (on|off, default on)");
     c.add_flag("-q,--quiet", o.quiet, "No progress bars");
     c.add_option("--bvh-leaf-size", o.bvhLeafSize, "Maximum triangles per BVH leaf")->capture_default_str();
     c.add_option("--bvh-bins", o.bvhBins, "SAH bins per axis")->capture_default_str();

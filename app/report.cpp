@@ -150,6 +150,8 @@ nlohmann::json chcrtStatsJson(const ChcrtStats& s, double frames) {
                            {"queries_invisible", s.queriesInvisible},
                            {"queries_lazy", s.queriesLazy},
                            {"queries_traversal", s.queriesTraversal},
+                           {"queries_skipped_extent", s.queriesSkippedExtent},
+                           {"leaves_skipped_extent", s.leavesSkippedExtent},
                            {"pairs_visible", s.pairsVisible},
                            {"pairs_invisible", s.pairsInvisible},
                            {"pairs_newly_visible", s.pairsNewlyVisible},

@@ -129,6 +129,8 @@ ChcrtStats& ChcrtStats::operator+=(const ChcrtStats& o) {
     queriesInvisible += o.queriesInvisible;
     queriesLazy += o.queriesLazy;
     queriesTraversal += o.queriesTraversal;
+    queriesSkippedExtent += o.queriesSkippedExtent;
+    leavesSkippedExtent += o.leavesSkippedExtent;
     pairsVisible += o.pairsVisible;
     pairsInvisible += o.pairsInvisible;
     pairsNewlyVisible += o.pairsNewlyVisible;
@@ -166,6 +168,7 @@ ChcrtTracer::ChcrtTracer(CullingHierarchy hierarchy, SubtreeSource& source, Trac
 }
 
 void ChcrtTracer::compilePrograms() {
+    if (options_.rayExtentCulling && !rayExtent_) rayExtent_ = std::make_unique<RayExtentGrid>();
     // A subtree of height h pushes at most h entries (one per level below its root).
     const uint32_t stack = std::min<uint32_t>(hierarchy_.maxSubtreeHeight + 1, CHCRT_MAX_BVH_DEPTH);
     for (int anyHit = 0; anyHit < 2; ++anyHit) {
@@ -302,8 +305,24 @@ void ChcrtTracer::beginQueryDraw(const Tile& tile, bool anyHit) {
     glViewport(tile.x, tile.y, tile.width, tile.height);
 }
 
-void ChcrtTracer::issueQuery(int32_t pairIndex, const VisibilityState& state, bool lazy, bool anyHit) {
-    const QueryPair& pair = state.pair(pairIndex);
+bool ChcrtTracer::mayHit(const QueryPair& pair) const {
+    if (!rayExtent_) return true;
+    // The boxes the query would test (setQueryBoxes): with tighter bounds the children's, inside the node's.
+    const CullingHierarchy::Node& node = hierarchy_.nodes[pair.bvhNode];
+    if (options_.tighterBounds && node.tightCount > 0) {
+        return rayExtent_->mayReach(pair.tile, node.tightMin, node.tightMax, int(node.tightCount));
+    }
+    return rayExtent_->mayReach(pair.tile, &node.boxMin, &node.boxMax, 1);
+}
+
+bool ChcrtTracer::issueQuery(int32_t pairIndex, VisibilityState& state, bool lazy, bool anyHit) {
+    QueryPair& pair = state.pair(pairIndex);
+    if (!mayHit(pair)) {
+        // No ray of the tile reaches the boxes: the query would count 0 (lazy or not, the pair is invisible).
+        pair.visible = false;
+        ++last_.queriesSkippedExtent;
+        return false;
+    }
     beginQueryDraw(pair.tile, anyHit);
     const uint32_t node = pair.bvhNode;
     setQueryBoxes(queryProgram(anyHit), &node, 1);
@@ -314,6 +333,7 @@ void ChcrtTracer::issueQuery(int32_t pairIndex, const VisibilityState& state, bo
     queue_.push_back(PendingQuery{pairIndex, query, lazy});
     ++last_.queries;
     ++last_.queriesSingle;
+    return true;
 }
 
 void ChcrtTracer::issueMultiQuery(const std::vector<int32_t>& pairs, const VisibilityState& state, bool anyHit) {
@@ -499,8 +519,7 @@ void ChcrtTracer::processResult(VisibilityState& state, const PendingQuery& pend
     std::array<int32_t, 4> children;
     state.subdivide(pending.pair, tiles.data(), nodes.data(), count, children.data(), options_.requeryInterval);
     for (int i = 0; i < count; ++i) {
-        issueQuery(children[size_t(i)], state, false, anyHit);
-        ++last_.queriesTraversal;
+        if (issueQuery(children[size_t(i)], state, false, anyHit)) ++last_.queriesTraversal;
     }
 }
 
@@ -569,11 +588,17 @@ bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& ra
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
     dirtyTiles_.clear();
 
+    // Where the rays can reach (culling/ray_extent_grid.h), for skipping pairs out of reach in every phase.
+    if (rayExtent_) rayExtent_->update(rays.origin.id(), rays.direction.id(), width, height);
+
     // Phase 1 (Algorithm 1, lines 1-4): intersect the previously visible leaves, initialising depth.
     std::vector<int32_t> visibleLeaves, invisibleLeaves;
     state.collectLeaves(visibleLeaves, invisibleLeaves);
     std::vector<Scheduled> work;
-    for (int32_t p : visibleLeaves) schedule(state, p, work);
+    for (int32_t p : visibleLeaves) {
+        if (mayHit(state.pair(p))) schedule(state, p, work);
+        else ++last_.leavesSkippedExtent; // no hit possible; its lazy re-query (Phase 2) finds it invisible
+    }
     intersect(work, anyHit);
     glFinish(); // phase timing (the queries of Phase 2 depend on this depth anyway)
     last_.phase1Ms = millisecondsSince(start);
@@ -582,6 +607,12 @@ bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& ra
     // visible leaves lazily every n frames.
     start = Clock::now();
     last_.queriesInvisible = invisibleLeaves.size();
+    // Invisible pairs out of their rays' reach stay invisible without a query.
+    std::erase_if(invisibleLeaves, [&](int32_t p) {
+        if (mayHit(state.pair(p))) return false;
+        ++last_.queriesSkippedExtent;
+        return true;
+    });
     if (options_.multiQueryPairs > 1) {
         std::stable_sort(invisibleLeaves.begin(), invisibleLeaves.end(), [&](int32_t a, int32_t b) {
             const Tile &ta = state.pair(a).tile, &tb = state.pair(b).tile;

@@ -11,6 +11,7 @@
 #include "culling/adaptive_choice.h"
 #include "culling/culling_hierarchy.h"
 #include "culling/query_pair_hierarchy.h"
+#include "culling/ray_extent_grid.h"
 #include "culling/subtree_source.h"
 #include "culling/visibility_state.h"
 #include "renderer/gl/gl_objects.h"
@@ -40,6 +41,9 @@ struct ChcrtOptions {
     // §5.2: 2-entry leaf cache in the subtree traversal (delayed leaf tests). Off by default: on llvmpipe it made
     // CHC+RT traces 1.17-1.30x slower than without (city 1M, culling/README.md); the paper's GPU gained ~30%.
     bool leafCache = false;
+    // Pairs out of reach of every bounded ray of their tile are invisible without a query, and such visible leaves
+    // are not intersected (our addition; culling/ray_extent_grid.h). Exact.
+    bool rayExtentCulling = true;
     // Adaptive fallback (culling/README.md): per ray kind (primary, shadow, AO, diffuse, bounce shadow), trace
     // with one pure full-screen pass when the measured culling time exceeds the measured pure time (medians of
     // the last three each); culling is re-probed after `adaptiveProbeInterval` traces of that kind, the interval
@@ -65,6 +69,8 @@ struct ChcrtStats {
     uint64_t queriesInvisible = 0;   // Phase 2: previously invisible pairs (single or inside multi-queries)
     uint64_t queriesLazy = 0;        // Phase 2: lazy re-queries of previously visible leaves
     uint64_t queriesTraversal = 0;   // Phase 3: children of pairs that turned visible
+    uint64_t queriesSkippedExtent = 0; // pairs found invisible without a query: out of their rays' reach
+    uint64_t leavesSkippedExtent = 0;  // Phase 1: visible leaves not intersected, out of their rays' reach
     uint64_t pairsVisible = 0;       // visible front after the trace
     uint64_t pairsInvisible = 0;     // invisible front after the trace
     uint64_t pairsNewlyVisible = 0;  // terminal pairs found visible in Phase 3
@@ -160,7 +166,9 @@ private:
     GLuint framebufferFor(const HitTargets& hits);
     void setMode(Mode mode, bool anyHit);
     int setQueryBoxes(const ShaderProgram& program, const uint32_t* nodes, int count) const;
-    void issueQuery(int32_t pair, const VisibilityState& state, bool lazy, bool anyHit);
+    // False when the pair was found invisible without a query (out of its rays' reach).
+    bool issueQuery(int32_t pair, VisibilityState& state, bool lazy, bool anyHit);
+    bool mayHit(const QueryPair& pair) const; // some ray of the pair's tile may reach its query boxes
     void issueMultiQuery(const std::vector<int32_t>& pairs, const VisibilityState& state, bool anyHit);
     void beginQueryDraw(const Tile& tile, bool anyHit);
     GLuint acquireQuery();
@@ -193,6 +201,7 @@ private:
     std::map<GLuint, GlFramebuffer> framebuffers_; // by depth texture id
     std::map<uint64_t, std::unique_ptr<VisibilityState>> states_;
     std::map<uint64_t, AdaptiveChoice> adaptive_; // per ray kind
+    std::unique_ptr<RayExtentGrid> rayExtent_;    // with options_.rayExtentCulling, updated per culled trace
     std::vector<GLuint> queryPool_;
     size_t queriesInUse_ = 0;
     std::deque<PendingQuery> queue_;

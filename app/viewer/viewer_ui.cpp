@@ -177,6 +177,8 @@ void ViewerPanel::drawSettings(ViewerSettings& settings, ViewerActions& actions)
         ImGui::SameLine();
         bool leafCache = c.chcrtLeafCache == "on"; // default off (culling/README.md: slower on llvmpipe)
         if (ImGui::Checkbox("leaf cache", &leafCache)) changes["chcrtLeafCache"] = leafCache;
+        bool rayExtent = c.chcrtRayExtent != "off"; // culling/ray_extent_grid.h
+        if (ImGui::Checkbox("ray extent culling", &rayExtent)) changes["chcrtRayExtent"] = rayExtent;
         if (settings.method == "chcrt-aggressive") {
             int threshold = c.chcrtThreshold < 0 ? 20 : c.chcrtThreshold;
             if (ImGui::SliderInt("visible threshold (rays)", &threshold, 0, 200)) changes["chcrtThreshold"] = threshold;

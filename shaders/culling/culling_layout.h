@@ -17,6 +17,18 @@
 #define CHCRT_CULLING_COST_CAPPED 0x80000000u
 #define CHCRT_CULLING_COST_STEPS 0x7fffffffu
 
+// Ray extent grid (culling/ray_extent_grid.h): screen cells of CHCRT_CULLING_RAY_CELL² pixels, each reduced to
+// the box around its active rays' segments. A ray whose tmax exceeds CHCRT_CULLING_RAY_UNBOUNDED_T (primary and
+// diffuse rays: "no limit") makes its cell unbounded. Cell states in the lower image's w.
+#define CHCRT_CULLING_RAY_CELL 16
+#define CHCRT_CULLING_RAY_UNBOUNDED_T 1.0e30
+#define CHCRT_CULLING_CELL_EMPTY 0.0     // no active ray
+#define CHCRT_CULLING_CELL_BOUNDED 1.0   // every active ray's segment is inside [lower, upper]
+#define CHCRT_CULLING_CELL_UNBOUNDED 2.0 // some active ray is unbounded
+// Image units of the grid's two RGBA32F images (lower.xyz + state, upper.xyz).
+#define CHCRT_CULLING_IMAGE_CELL_LOWER 2
+#define CHCRT_CULLING_IMAGE_CELL_UPPER 3
+
 // Boxes per occlusion query: §5.1 multi-queries of up to 8 pairs with tighter bounds (2 child boxes each).
 #define CHCRT_CULLING_MAX_QUERY_BOXES 16
 

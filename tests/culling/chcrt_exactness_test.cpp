@@ -18,6 +18,7 @@ struct ExactnessCase {
     int multiQueryPairs = 4;   // §5.1 (1 = off)
     bool adaptive = false;     // the adaptive fallback switches between culling and pure passes per ray set
     bool leafCache = false;    // §5.2 2-entry leaf cache (off by default: slower on llvmpipe)
+    bool rayExtent = true;     // pairs out of their rays' reach skipped (culling/ray_extent_grid.h)
 };
 
 class ChcrtExactnessTest : public RenderTest, public ::testing::WithParamInterface<ExactnessCase> {};
@@ -41,6 +42,7 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
     options.multiQueryPairs = c.multiQueryPairs;
     options.adaptive = c.adaptive;
     options.leafCache = c.leafCache;
+    options.rayExtentCulling = c.rayExtent;
     ChcrtTracer chcrt(bvh_, options);
     const CameraPath path = proceduralNearPath(spec_);
 
@@ -85,6 +87,14 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
         EXPECT_GT(total.queries, 0u);
         EXPECT_GT(total.pairsInvisible, 0u);
         EXPECT_GT(total.subtreesScheduled, total.pairsNewlyVisible);
+        // Bounded rays (shadow, AO) leave pairs out of their reach: the exactness above covers the skipping.
+        if (c.rayExtent) {
+            EXPECT_GT(total.queriesSkippedExtent, 0u);
+        }
+    }
+    if (!c.rayExtent) {
+        EXPECT_EQ(total.queriesSkippedExtent, 0u);
+        EXPECT_EQ(total.leavesSkippedExtent, 0u);
     }
     // per sample index for AO and diffuse, one state each for primary and shadow (§5.3)
     EXPECT_EQ(chcrt.rayStateCount(), 2u + 2u + 2u);
@@ -198,7 +208,8 @@ std::string caseName(const ::testing::TestParamInfo<ExactnessCase>& info) {
         if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
     return scene + "_h" + std::to_string(info.param.maxSubtreeHeight) + "_tile" + std::to_string(info.param.minTileSize) +
            (info.param.tighterBounds ? "" : "_loose") + "_multi" + std::to_string(info.param.multiQueryPairs) +
-           (info.param.adaptive ? "_adaptive" : "") + (info.param.leafCache ? "_leafcache" : "");
+           (info.param.adaptive ? "_adaptive" : "") + (info.param.leafCache ? "_leafcache" : "") +
+           (info.param.rayExtent ? "" : "_noextent");
 }
 
 // Subtree height 8, well below the BVH depth at 60k triangles, so that object-space splits happen; tiles small enough for
@@ -213,7 +224,9 @@ INSTANTIATE_TEST_SUITE_P(ProceduralScenes, ChcrtExactnessTest,
                                            ExactnessCase{"interior:60k", 8, 16, true, 8, false, true},
                                            ExactnessCase{"city:60k", 8, 16, true, 4, false, true},
                                            // adaptive fallback on: culled and pure traces mix per ray set
-                                           ExactnessCase{"plant:60k", 8, 16, true, 4, true}),
+                                           ExactnessCase{"plant:60k", 8, 16, true, 4, true},
+                                           // no ray extent culling (on by default)
+                                           ExactnessCase{"city:60k", 8, 16, true, 4, false, false, false}),
                          caseName);
 
 } // namespace
