@@ -82,12 +82,55 @@ PrimaryResolve::PrimaryResolve(OutOfCoreTracer& tracer)
 
 PrimaryResolve::~PrimaryResolve() { tracer_.setRecordPrimarySubtrees(false); }
 
+uint32_t PrimaryResolve::DenseIdIndex::find(uint32_t id) const {
+    const uint32_t offset = id - first; // wraps for ids below `first`
+    return offset < localOf.size() ? localOf[offset] : UINT32_MAX;
+}
+
+// Most subtrees of a prepared scene hold a compact range of original ids (the streamed city's: span within 1-3×
+// the triangle count), so one table lookup per pixel replaces a scan of the whole subtree each frame (~45k triangles
+// per subtree, ~190 hit subtrees per near frame of the 140M city). Tables of other subtrees are not built.
+const PrimaryResolve::DenseIdIndex* PrimaryResolve::denseIndexFor(uint32_t subtree, const SubtreeData& data) {
+    ++useClock_;
+    if (const auto it = denseIndex_.find(subtree); it != denseIndex_.end()) {
+        it->second.lastUse = useClock_;
+        return it->second.localOf.empty() ? nullptr : &it->second;
+    }
+    DenseIdIndex index;
+    index.lastUse = useClock_;
+    uint32_t lo = UINT32_MAX, hi = 0;
+    for (const TriangleGpu& t : data.triangles) {
+        lo = std::min(lo, t.originalId);
+        hi = std::max(hi, t.originalId);
+    }
+    if (!data.triangles.empty() && uint64_t(hi - lo) + 1 <= kDenseSpanFactor * uint64_t(data.triangles.size())) {
+        index.first = lo;
+        index.localOf.assign(size_t(hi - lo) + 1, UINT32_MAX);
+        for (uint32_t k = 0; k < data.triangles.size(); ++k) index.localOf[data.triangles[k].originalId - lo] = k;
+        denseBytes_ += index.localOf.size() * sizeof(uint32_t);
+    }
+    // Keep the tables within their budget: least recently used first (a few hundred entries at most).
+    while (denseBytes_ > kDenseBudgetBytes && !denseIndex_.empty()) {
+        auto oldest = denseIndex_.begin();
+        for (auto it = denseIndex_.begin(); it != denseIndex_.end(); ++it) {
+            if (it->second.lastUse < oldest->second.lastUse) oldest = it;
+        }
+        denseBytes_ -= oldest->second.localOf.size() * sizeof(uint32_t);
+        denseIndex_.erase(oldest);
+    }
+    const auto [it, inserted] = denseIndex_.emplace(subtree, std::move(index));
+    (void)inserted;
+    return it->second.localOf.empty() ? nullptr : &it->second;
+}
+
 void PrimaryResolve::resolve(const Camera& camera, const FrameTargets& t, float nearPlane) {
     const auto start = std::chrono::steady_clock::now();
     stats_ = {};
     const int w = t.width, h = t.height;
     const size_t n = size_t(w) * size_t(h);
-    std::vector<glm::uvec4> hits(n);
+    // Frame-sized buffers are kept across frames: fresh ones cost page faults on every frame.
+    std::vector<glm::uvec4>& hits = hits_;
+    hits.resize(n);
     glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
     glGetTextureImage(t.hits[0].hit.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, GLsizei(n * sizeof(glm::uvec4)), hits.data());
     pixelSubtrees_ = tracer_.chcrt().readDebugImage(); // 1 + subtree, 0 = none
@@ -105,20 +148,24 @@ void PrimaryResolve::resolve(const Camera& camera, const FrameTargets& t, float 
         }
         pixelsOf[subtreeOf[p] - 1].push_back(p);
     }
-    std::vector<glm::vec4> shading(n, glm::vec4(0.0f)), geometric(n, glm::vec4(0.0f)), albedo(n, glm::vec4(0.0f));
+    std::vector<glm::vec4>&shading = shadingRgba_, &geometric = geometricRgba_, &albedo = albedoRgba_;
+    for (std::vector<glm::vec4>* image : {&shading, &geometric, &albedo}) image->assign(n, glm::vec4(0.0f));
     SubtreeStore& store = tracer_.store();
     HitIdIndex localOf; // hit triangle id -> its index in the subtree
     for (const auto& [subtree, pixels] : pixelsOf) {
         ++stats_.subtreesRead;
         const std::shared_ptr<const SubtreeData> data = store.get(subtree);
-        localOf.reset(pixels.size());
-        for (uint32_t p : pixels) localOf.insert(hits[p].y);
-        size_t found = 0;
-        for (uint32_t k = 0; k < data->triangles.size() && found < localOf.size(); ++k) {
-            uint32_t* local = localOf.find(data->triangles[k].originalId);
-            if (local && *local == HitIdIndex::kAbsent) {
-                *local = k;
-                ++found;
+        const DenseIdIndex* dense = denseIndexFor(subtree, *data);
+        if (!dense) { // ids spread out: find the hit ones with one scan of the subtree
+            localOf.reset(pixels.size());
+            for (uint32_t p : pixels) localOf.insert(hits[p].y);
+            size_t found = 0;
+            for (uint32_t k = 0; k < data->triangles.size() && found < localOf.size(); ++k) {
+                uint32_t* local = localOf.find(data->triangles[k].originalId);
+                if (local && *local == HitIdIndex::kAbsent) {
+                    *local = k;
+                    ++found;
+                }
             }
         }
         // Neighbouring pixels mostly hit the same triangle: its per-triangle terms are computed once per run.
@@ -126,7 +173,7 @@ void PrimaryResolve::resolve(const Camera& camera, const FrameTargets& t, float 
         glm::vec3 g(0.0f), q0(0.0f), q1(0.0f), q2(0.0f);
         glm::vec4 triangleAlbedo(0.0f);
         for (uint32_t p : pixels) {
-            const uint32_t k = *localOf.find(hits[p].y);
+            const uint32_t k = dense ? dense->find(hits[p].y) : *localOf.find(hits[p].y);
             if (k == HitIdIndex::kAbsent) {
                 ++stats_.unresolvedPixels;
                 continue;

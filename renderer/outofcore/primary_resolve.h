@@ -17,6 +17,7 @@
 
 #include <glm/glm.hpp>
 
+#include <unordered_map>
 #include <vector>
 
 namespace chcrt::outofcore {
@@ -49,12 +50,28 @@ public:
     const std::vector<uint32_t>& lastPixelSubtrees() const { return pixelSubtrees_; }
 
 private:
+    // Original id -> index in the subtree, for subtrees whose ids span at most kDenseSpanFactor × their triangles.
+    struct DenseIdIndex {
+        uint32_t first = 0;
+        std::vector<uint32_t> localOf; // [id - first]; UINT32_MAX = not in the subtree; empty = ids not compact
+        uint64_t lastUse = 0;
+        uint32_t find(uint32_t id) const; // UINT32_MAX when absent
+    };
+    static constexpr uint64_t kDenseSpanFactor = 4;
+    // Kept across frames, least recently used dropped first; memory outside --host-cache-mb, so bounded here.
+    static constexpr uint64_t kDenseBudgetBytes = uint64_t(96) << 20;
+    const DenseIdIndex* denseIndexFor(uint32_t subtree, const SubtreeData& data);
+
     OutOfCoreTracer& tracer_;
+    std::unordered_map<uint32_t, DenseIdIndex> denseIndex_;
+    uint64_t denseBytes_ = 0, useClock_ = 0;
     std::vector<glm::vec3> albedos_; // per material (base colour factor; v1 files keep no textures)
     ShaderProgram program_;
     GlTexture shading_, geometric_, albedo_;
     int width_ = 0, height_ = 0;
     std::vector<uint32_t> pixelSubtrees_;
+    std::vector<glm::uvec4> hits_;                                 // read-back hits of the last resolve
+    std::vector<glm::vec4> shadingRgba_, geometricRgba_, albedoRgba_; // uploaded per-pixel attributes
     PrimaryResolveStats stats_;
 };
 
