@@ -119,6 +119,7 @@ ViewerChcrtStats chcrtFrameStats(const ChcrtStats& before, const ChcrtStats& aft
     ViewerChcrtStats f;
     f.traces = after.traces - before.traces;
     f.queries = after.queries - before.queries;
+    f.queriesSkippedExtent = after.queriesSkippedExtent - before.queriesSkippedExtent;
     f.subtreesScheduled = after.subtreesScheduled - before.subtreesScheduled;
     f.shaderCalls = after.shaderCalls - before.shaderCalls;
     f.phase1Ms = after.phase1Ms - before.phase1Ms;
@@ -132,7 +133,8 @@ ViewerChcrtStats chcrtFrameStats(const ChcrtStats& before, const ChcrtStats& aft
 nlohmann::json chcrtStatsToJson(const ViewerChcrtStats& c) {
     return {{"traces", c.traces},         {"queries", c.queries},       {"subtrees_scheduled", c.subtreesScheduled},
             {"shader_calls", c.shaderCalls}, {"phase1_ms", c.phase1Ms}, {"phase2_ms", c.phase2Ms},
-            {"phase3_ms", c.phase3Ms},     {"fallback_ms", c.fallbackMs}, {"fallback_traces", c.fallbackTraces}};
+            {"phase3_ms", c.phase3Ms},     {"fallback_ms", c.fallbackMs}, {"fallback_traces", c.fallbackTraces},
+            {"queries_skipped_extent", c.queriesSkippedExtent}};
 }
 
 double median(std::vector<double> values) {

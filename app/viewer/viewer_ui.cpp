@@ -91,9 +91,9 @@ void ViewerPanel::drawStatistics(const ViewerStatus& status) {
         row("  CHC+RT phase 2", c.phase2Ms);
         row("  CHC+RT phase 3", c.phase3Ms);
         if (c.fallbackTraces > 0) row("  CHC+RT fallback", c.fallbackMs);
-        ImGui::Text("  %llu queries, %llu subtrees scheduled, %llu shader calls",
-                    static_cast<unsigned long long>(c.queries), static_cast<unsigned long long>(c.subtreesScheduled),
-                    static_cast<unsigned long long>(c.shaderCalls));
+        ImGui::Text("  %llu queries (%llu skipped: out of the rays' reach), %llu subtrees scheduled, %llu shader calls",
+                    static_cast<unsigned long long>(c.queries), static_cast<unsigned long long>(c.queriesSkippedExtent),
+                    static_cast<unsigned long long>(c.subtreesScheduled), static_cast<unsigned long long>(c.shaderCalls));
     }
     row("shading", s.shadeMs);
     ImGui::Text("%.2f Mrays/s (%llu rays)", megaRaysPerSecond(s), static_cast<unsigned long long>(s.raysGenerated));

@@ -16,6 +16,7 @@ namespace chcrt::app {
 // CHC+RT counters of the last frame (all its traces), when the method is a CHC+RT one.
 struct ViewerChcrtStats {
     uint64_t traces = 0, queries = 0, subtreesScheduled = 0, shaderCalls = 0, fallbackTraces = 0;
+    uint64_t queriesSkippedExtent = 0; // pairs found invisible by the ray extent without a query
     double phase1Ms = 0, phase2Ms = 0, phase3Ms = 0, fallbackMs = 0;
 };
 

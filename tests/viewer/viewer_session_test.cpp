@@ -305,6 +305,9 @@ TEST_F(ViewerTest, PrimaryVisibilitySwitchesLiveAndChcrtTracesTheSameImage) {
          "expect": {"method": "chcrt", "primary": "traced", "cappedRays": 0}},
         {"set": {"chcrtAlwaysCull": true, "chcrtHeight": 6, "chcrtMultiQuery": 1, "chcrtLeafCache": false},
          "frames": 1, "screenshot": "traced_chcrt_params.png", "expect": {"method": "chcrt", "cappedRays": 0}},
+        {"set": {"chcrtRayExtent": false}, "frames": 1, "screenshot": "traced_chcrt_noextent.png",
+         "expect": {"method": "chcrt", "cappedRays": 0}},
+        {"set": {"chcrtRayExtent": true}},
         {"set": {"chcrtThreshold": 5}, "frames": 1, "expect": {"method": "bvh"}},
         {"set": {"chcrtThreshold": -1}},
         {"set": {"method": "raster"}, "frames": 1,
@@ -313,7 +316,8 @@ TEST_F(ViewerTest, PrimaryVisibilitySwitchesLiveAndChcrtTracesTheSameImage) {
                     "--no-accumulate --stats-json stats.json");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_LT(differingFraction("raster.png", "traced_bvh.png"), 0.03);
-    for (const char* chcrt : {"traced_chcrt_first.png", "traced_chcrt.png", "traced_chcrt_params.png"}) {
+    for (const char* chcrt :
+         {"traced_chcrt_first.png", "traced_chcrt.png", "traced_chcrt_params.png", "traced_chcrt_noextent.png"}) {
         const ImageDifference same = compareImages(image("traced_bvh.png"), image(chcrt));
         EXPECT_EQ(same.differingPixels, 0u) << chcrt;
         EXPECT_EQ(same.maxAbsoluteError, 0.0) << chcrt;
@@ -321,6 +325,9 @@ TEST_F(ViewerTest, PrimaryVisibilitySwitchesLiveAndChcrtTracesTheSameImage) {
     const nlohmann::json stats = json("stats.json");
     EXPECT_EQ(stats["frames"][0]["primary"], "raster");
     EXPECT_EQ(stats["frames"][1]["primary"], "traced");
+    // Always culling with the ray extent on (frame 5): bounded shadow rays leave pairs out of reach; off (frame 6): none.
+    EXPECT_GT(stats["frames"][5]["chcrt"]["queries_skipped_extent"].get<uint64_t>(), 0u) << stats["frames"][5].dump();
+    EXPECT_EQ(stats["frames"][6]["chcrt"]["queries_skipped_extent"].get<uint64_t>(), 0u) << stats["frames"][6].dump();
 
     r = view(R"([{"frames": 1, "screenshot": "flag.png", "expect": {"primary": "traced"}}])",
              "--no-accumulate --primary traced");
