@@ -22,6 +22,7 @@ nlohmann::json outOfCoreStatsJson(const outofcore::OutOfCoreStats& s, double fra
             {"cache_misses", double(s.cacheMisses) / n},
             {"cache_evictions", double(s.cacheEvictions) / n},
             {"cache_deferred", double(s.cacheDeferred) / n},
+            {"cache_postponed", double(s.cachePostponed) / n},
             {"host_reads", double(s.hostReads) / n},
             {"mb_read_from_file", double(s.hostBytesRead) * mb / n},
             {"resident_mb", double(s.residentBytes) * mb},

@@ -152,6 +152,7 @@ nlohmann::json chcrtStatsJson(const ChcrtStats& s, double frames) {
                            {"queries_traversal", s.queriesTraversal},
                            {"queries_skipped_extent", s.queriesSkippedExtent},
                            {"leaves_skipped_extent", s.leavesSkippedExtent},
+                           {"subtrees_postponed", s.subtreesPostponed},
                            {"pairs_visible", s.pairsVisible},
                            {"pairs_invisible", s.pairsInvisible},
                            {"pairs_newly_visible", s.pairsNewlyVisible},

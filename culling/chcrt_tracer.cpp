@@ -131,6 +131,7 @@ ChcrtStats& ChcrtStats::operator+=(const ChcrtStats& o) {
     queriesTraversal += o.queriesTraversal;
     queriesSkippedExtent += o.queriesSkippedExtent;
     leavesSkippedExtent += o.leavesSkippedExtent;
+    subtreesPostponed += o.subtreesPostponed;
     pairsVisible += o.pairsVisible;
     pairsInvisible += o.pairsInvisible;
     pairsNewlyVisible += o.pairsNewlyVisible;
@@ -167,30 +168,43 @@ ChcrtTracer::ChcrtTracer(CullingHierarchy hierarchy, SubtreeSource& source, Trac
     compilePrograms();
 }
 
-void ChcrtTracer::compilePrograms() {
-    if (options_.rayExtentCulling && !rayExtent_) rayExtent_ = std::make_unique<RayExtentGrid>();
+std::vector<ShaderDefine> ChcrtTracer::subtreeDefines(bool anyHit) const {
     // A subtree of height h pushes at most h entries (one per level below its root).
     const uint32_t stack = std::min<uint32_t>(hierarchy_.maxSubtreeHeight + 1, CHCRT_MAX_BVH_DEPTH);
+    std::vector<ShaderDefine> defines = {{"CHCRT_SUBTREE_STACK", std::to_string(stack)},
+                                         {"CHCRT_CULLING_LEAF_CACHE", options_.leafCache ? "1" : "0"}};
+    if (options_.subtreeDefines) {
+        for (ShaderDefine& d : options_.subtreeDefines(anyHit)) defines.push_back(std::move(d));
+    }
+    return defines;
+}
+
+void ChcrtTracer::compilePrograms() {
+    if (options_.rayExtentCulling && !rayExtent_) rayExtent_ = std::make_unique<RayExtentGrid>();
     for (int anyHit = 0; anyHit < 2; ++anyHit) {
-        std::vector<ShaderDefine> subtreeDefines = {{"CHCRT_SUBTREE_STACK", std::to_string(stack)},
-                                                    {"CHCRT_CULLING_LEAF_CACHE", options_.leafCache ? "1" : "0"}};
-        if (options_.subtreeDefines) {
-            for (ShaderDefine& d : options_.subtreeDefines(anyHit != 0)) subtreeDefines.push_back(std::move(d));
-        }
+        const std::vector<ShaderDefine> defines = subtreeDefines(anyHit != 0);
         queryPrograms_[anyHit] = makeProgram("culling/chcrt_query.frag.glsl", anyHit != 0);
-        subtreePrograms_[anyHit] = makeProgram("culling/chcrt_subtrees.frag.glsl", anyHit != 0, subtreeDefines);
-        std::vector<ShaderDefine> singleDefines = subtreeDefines;
+        subtreePrograms_[anyHit] = makeProgram("culling/chcrt_subtrees.frag.glsl", anyHit != 0, defines);
+        std::vector<ShaderDefine> singleDefines = defines;
         singleDefines.push_back({"CHCRT_CULLING_SINGLE_SUBTREE", "1"});
         singleSubtreePrograms_[anyHit] = makeProgram("culling/chcrt_subtrees.frag.glsl", anyHit != 0, singleDefines);
-        if (debugKind_ != ChcrtDebugImage::None) {
-            const ShaderDefine debug{debugDefine(debugKind_), "1"};
-            std::vector<ShaderDefine> debugDefines = subtreeDefines;
-            debugDefines.push_back(debug);
-            debugQueryPrograms_[anyHit] = makeProgram("culling/chcrt_query.frag.glsl", anyHit != 0, {debug});
-            debugSubtreePrograms_[anyHit] = makeProgram("culling/chcrt_subtrees.frag.glsl", anyHit != 0, debugDefines);
-        }
     }
-    debugCompiled_ = debugKind_;
+}
+
+// The instrumented variants of one debug image, compiled on its first use and kept: the out-of-core viewer switches
+// between two kinds every frame (its G-buffer records subtrees, its debug view another kind).
+const ChcrtTracer::DebugPrograms& ChcrtTracer::debugPrograms(ChcrtDebugImage kind) {
+    auto it = debugPrograms_.find(kind);
+    if (it != debugPrograms_.end()) return it->second;
+    DebugPrograms programs;
+    const ShaderDefine debug{debugDefine(kind), "1"};
+    for (int anyHit = 0; anyHit < 2; ++anyHit) {
+        std::vector<ShaderDefine> defines = subtreeDefines(anyHit != 0);
+        defines.push_back(debug);
+        programs.query[anyHit] = makeProgram("culling/chcrt_query.frag.glsl", anyHit != 0, {debug});
+        programs.subtree[anyHit] = makeProgram("culling/chcrt_subtrees.frag.glsl", anyHit != 0, defines);
+    }
+    return debugPrograms_.emplace(kind, std::move(programs)).first->second;
 }
 
 ChcrtTracer::~ChcrtTracer() {
@@ -199,7 +213,7 @@ ChcrtTracer::~ChcrtTracer() {
 
 void ChcrtTracer::setDebugImage(ChcrtDebugImage kind) {
     debugKind_ = kind;
-    if (kind != ChcrtDebugImage::None && kind != debugCompiled_) compilePrograms();
+    debugActive_ = kind != ChcrtDebugImage::None ? &debugPrograms(kind) : nullptr;
 }
 
 void ChcrtTracer::ensureDebugTexture(int width, int height) {
@@ -226,11 +240,11 @@ std::vector<uint32_t> ChcrtTracer::readDebugImage() const {
 }
 
 const ShaderProgram& ChcrtTracer::queryProgram(bool anyHit) const {
-    return debugKind_ != ChcrtDebugImage::None ? debugQueryPrograms_[anyHit] : queryPrograms_[anyHit];
+    return debugActive_ ? debugActive_->query[anyHit] : queryPrograms_[anyHit];
 }
 
 const ShaderProgram& ChcrtTracer::subtreeProgram(bool anyHit) const {
-    return debugKind_ != ChcrtDebugImage::None ? debugSubtreePrograms_[anyHit] : subtreePrograms_[anyHit];
+    return debugActive_ ? debugActive_->subtree[anyHit] : subtreePrograms_[anyHit];
 }
 
 VisibilityState& ChcrtTracer::stateFor(const TraceRequest& request, int width, int height) {
@@ -393,20 +407,42 @@ void ChcrtTracer::intersect(std::vector<Scheduled>& work, bool anyHit) {
     // §5.4: resident subtrees first (keeping the per-tile order among them), then the rest in later rounds.
     // The hit rule makes the result independent of the order in which subtrees are intersected.
     std::vector<uint32_t> ids, roots;
+    std::vector<std::pair<uint32_t, uint32_t>> rootOf; // (subtree, GPU root), sorted by subtree
+    std::vector<std::pair<float, uint32_t>> nearest;    // (nearest scheduled distance, subtree)
     std::vector<Scheduled> resident, rest;
     while (!work.empty()) {
+        // Each subtree once, nearest to the camera first: a source that cannot take them all (slots, or an
+        // upload budget) makes the near ones resident, which fill the depth buffer first.
+        nearest.clear();
+        for (const Scheduled& s : work) nearest.emplace_back(s.distance, s.subtree);
+        std::sort(nearest.begin(), nearest.end());
         ids.clear();
-        for (const Scheduled& s : work) ids.push_back(s.subtree);
-        std::sort(ids.begin(), ids.end());
-        ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+        rootOf.clear();
+        for (const auto& [distance, subtree] : nearest) rootOf.emplace_back(subtree, 0u);
+        std::sort(rootOf.begin(), rootOf.end());
+        rootOf.erase(std::unique(rootOf.begin(), rootOf.end()), rootOf.end());
+        std::vector<uint8_t> taken(rootOf.size(), 0);
+        const auto indexOf = [&](uint32_t subtree) {
+            return size_t(std::lower_bound(rootOf.begin(), rootOf.end(), std::make_pair(subtree, 0u)) - rootOf.begin());
+        };
+        for (const auto& [distance, subtree] : nearest) {
+            const size_t i = indexOf(subtree);
+            if (!taken[i]) ids.push_back(subtree);
+            taken[i] = 1;
+        }
         roots.assign(ids.size(), SubtreeSource::kNotResident);
         source_->acquire(ids, roots);
         ++last_.residencyRounds;
+        for (size_t i = 0; i < ids.size(); ++i) rootOf[indexOf(ids[i])].second = roots[i];
         resident.clear();
         rest.clear();
         for (Scheduled s : work) {
-            s.gpuRoot = roots[size_t(std::lower_bound(ids.begin(), ids.end(), s.subtree) - ids.begin())];
+            s.gpuRoot = rootOf[indexOf(s.subtree)].second;
             (s.gpuRoot == SubtreeSource::kNotResident ? rest : resident).push_back(s);
+        }
+        if (resident.empty() && source_->uploadBudgetExhausted()) {
+            last_.subtreesPostponed += rest.size(); // a later trace intersects them (Phase 1: still visible)
+            break;
         }
         if (resident.empty()) {
             throw InputError("chcrt: the subtree source could not make any of " + std::to_string(ids.size()) +

@@ -71,6 +71,7 @@ struct ChcrtStats {
     uint64_t queriesTraversal = 0;   // Phase 3: children of pairs that turned visible
     uint64_t queriesSkippedExtent = 0; // pairs found invisible without a query: out of their rays' reach
     uint64_t leavesSkippedExtent = 0;  // Phase 1: visible leaves not intersected, out of their rays' reach
+    uint64_t subtreesPostponed = 0;    // scheduled but left for a later trace by the source's upload budget
     uint64_t pairsVisible = 0;       // visible front after the trace
     uint64_t pairsInvisible = 0;     // invisible front after the trace
     uint64_t pairsNewlyVisible = 0;  // terminal pairs found visible in Phase 3
@@ -159,7 +160,13 @@ private:
     };
     enum class Mode { None, Query, Intersect };
 
+    struct DebugPrograms {
+        ShaderProgram query[2];   // [anyHit]
+        ShaderProgram subtree[2]; // [anyHit]
+    };
+    std::vector<ShaderDefine> subtreeDefines(bool anyHit) const;
     void compilePrograms();
+    const DebugPrograms& debugPrograms(ChcrtDebugImage kind);
     const ShaderProgram& queryProgram(bool anyHit) const;
     const ShaderProgram& subtreeProgram(bool anyHit) const;
     VisibilityState& stateFor(const TraceRequest& request, int width, int height);
@@ -192,10 +199,9 @@ private:
     ShaderProgram queryPrograms_[2];   // [anyHit]
     ShaderProgram subtreePrograms_[2]; // [anyHit]
     ShaderProgram singleSubtreePrograms_[2]; // [anyHit], for batches of one subtree (no batch loop)
-    ShaderProgram debugQueryPrograms_[2];   // instrumented variants for the selected debug image
-    ShaderProgram debugSubtreePrograms_[2];
+    std::map<ChcrtDebugImage, DebugPrograms> debugPrograms_; // instrumented variants per debug image, kept
+    const DebugPrograms* debugActive_ = nullptr;              // those of debugKind_; nullptr = none
     ChcrtDebugImage debugKind_ = ChcrtDebugImage::None;
-    ChcrtDebugImage debugCompiled_ = ChcrtDebugImage::None;
     GlTexture debugTexture_;
     int debugWidth_ = 0, debugHeight_ = 0;
     std::map<GLuint, GlFramebuffer> framebuffers_; // by depth texture id

@@ -18,6 +18,10 @@ public:
     // buffers, or kNotResident when it did not fit this time (the tracer intersects it in a later round).
     // Node and triangle records use the layout of shaders/shared/bvh_layout.h with indices into the bound buffers.
     virtual void acquire(std::span<const uint32_t> subtrees, std::span<uint32_t> gpuRoots) = 0;
+    // True when acquire() left subtrees non-resident because a per-trace upload budget ran out (an interactive
+    // viewer streaming a large scene); the tracer then postpones them to a later trace instead of waiting, and that
+    // trace is incomplete (ChcrtStats::subtreesPostponed). Sources without a budget never do.
+    virtual bool uploadBudgetExhausted() const { return false; }
 };
 
 } // namespace chcrt

@@ -301,7 +301,11 @@ Viewer::Viewer(const ViewOptions& options) : options_(options) {
     ImGui_ImplOpenGL3_Init("#version 450 core");
     display_ = std::make_unique<ViewDisplay>();
     panel_ = std::make_unique<ViewerPanel>(options.common.scene);
+    // Out of core the interactive viewer streams a cold cache over frames (at most 16 subtree uploads per trace;
+    // incomplete frames are re-rendered until complete); scripts get complete, exact frames unless they ask.
+    if (settings_.common.uploadsPerTrace < 0) settings_.common.uploadsPerTrace = scripted_ ? 0 : 16;
     CommonOptions first = options.common;
+    first.uploadsPerTrace = settings_.common.uploadsPerTrace;
     if (first.lsCache.empty() && !first.outOfCore) {
         privateCache_.create();
         first.lsCache = settings_.common.lsCache = privateCache_.path().string();
@@ -851,9 +855,11 @@ void Viewer::renderIfNeeded() {
     status_.chcrt.reset();
     if (chcrt) status_.chcrt = chcrtFrameStats(chcrtBefore, chcrt->totalStats());
     status_.outOfCore.reset();
+    bool streaming = false;
     if (outOfCore_) {
         ViewerOutOfCoreStatus o;
         o.frame = outofcore::OutOfCoreStats::difference(outOfCore_->snapshot(), outOfCoreBefore);
+        streaming = o.frame.cachePostponed > 0; // the upload limit left subtrees for later: render again
         o.gpuCacheMb = double(outOfCore_->options().gpuCacheBytes) / double(1u << 20);
         o.hostCacheMb = double(outOfCore_->options().hostCacheBytes) / double(1u << 20);
         o.fileSubtrees = outOfCore_->file().subtrees().size();
@@ -876,7 +882,7 @@ void Viewer::renderIfNeeded() {
                             cullingCost ? chcrt->debugTexture() : 0);
     }
     checkGlErrors("viewer frame");
-    dirty_ = false;
+    dirty_ = streaming;
     renderedCamera_ = camera_;
     status_.stats = stats;
     ++renderedFrames_;
@@ -1048,8 +1054,7 @@ void Viewer::sampleLoadProgress() {
 // The cost and CHC+RT debug views: the chosen ray set traced after the G-buffer (the debug image shows only
 // it, not the G-buffer's traced primary rays). Out of core the tracer records the primary rays' subtrees in
 // the debug image for the G-buffer resolve: the chosen image (for `cost`, CHC+RT's cost image) is selected here
-// and the recording paused for this one trace (switching images recompiles CHC+RT's subtree shader: slow, but
-// only in these views).
+// and the recording paused for this one trace (each image's shader variants are compiled once and kept).
 void Viewer::traceDebugRays(ChcrtTracer* chcrt, FrameStats& stats) {
     Renderer& renderer = *gpu_.renderer;
     const ChcrtDebugImage kind = chcrtDebugImageOf(settings_.viewMode);

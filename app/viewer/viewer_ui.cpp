@@ -116,6 +116,10 @@ void ViewerPanel::drawOutOfCore(const ViewerOutOfCoreStatus& o) {
     ImGui::Text("  over %.1f ms of CHC+RT tracing", f.traceMs);
     ImGui::Text("cache: %llu hits, %llu misses", count(f.cacheHits), count(f.cacheMisses));
     ImGui::Text("  %llu evictions, %llu deferred", count(f.cacheEvictions), count(f.cacheDeferred));
+    if (f.cachePostponed > 0) {
+        ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "streaming: %llu subtrees postponed (frame incomplete)",
+                           count(f.cachePostponed));
+    }
     ImGui::Text("uploaded: %.2f MB BVH", double(f.uploadedBvhBytes) * mb);
     ImGui::Text("  + %.2f MB geometry", double(f.uploadedGeometryBytes) * mb);
     ImGui::Text("GPU: %.1f MB resident / %.1f MB", double(f.residentBytes) * mb, double(f.allocatedBytes) * mb);

@@ -104,6 +104,7 @@ void GpuSubtreeCache::acquire(std::span<const uint32_t> subtrees, std::span<uint
         if (slot == kNotResident) continue;
         ++stats_.hits;
         slotPinned_[slot] = acquireCount_;
+        if (slotLastUse_[slot] <= traceStartTick_) ++slotsUsedThisTrace_;
         slotLastUse_[slot] = ++tick_;
         gpuRoots[i] = slot * slotNodes_;
     }
@@ -114,13 +115,19 @@ void GpuSubtreeCache::acquire(std::span<const uint32_t> subtrees, std::span<uint
             gpuRoots[i] = already * slotNodes_;
             continue;
         }
+        if (uploadBudgetExhausted()) {
+            ++stats_.postponed;
+            continue;
+        }
         const uint32_t slot = chooseVictim();
         if (slot == kNotResident) {
             ++stats_.deferred;
             continue;
         }
         upload(subtrees[i], slot);
+        ++uploadsThisTrace_;
         slotPinned_[slot] = acquireCount_;
+        if (slotLastUse_[slot] <= traceStartTick_) ++slotsUsedThisTrace_;
         slotLastUse_[slot] = ++tick_;
         gpuRoots[i] = slot * slotNodes_;
     }

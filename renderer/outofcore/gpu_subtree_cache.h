@@ -23,6 +23,9 @@ const char* toString(CachePolicy policy);
 struct GpuCacheOptions {
     uint64_t budgetBytes = 1024ull << 20;
     CachePolicy policy = CachePolicy::Lru;
+    // Subtrees uploaded per trace at most (0 = no limit: every trace is complete and exact). The viewer streams
+    // with a limit so that a cold cache costs several short frames instead of one long one.
+    uint32_t maxUploadsPerTrace = 0;
 };
 
 struct GpuCacheStats {
@@ -30,6 +33,7 @@ struct GpuCacheStats {
     uint64_t misses = 0;    // uploads
     uint64_t evictions = 0; // uploads that replaced a resident subtree
     uint64_t deferred = 0;  // requests answered kNotResident (all slots pinned by the same acquire)
+    uint64_t postponed = 0; // requests answered kNotResident because the per-trace upload limit was reached
     uint64_t uploadedNodeBytes = 0;     // BVH MB transferred (Table 3)
     uint64_t uploadedTriangleBytes = 0; // geometry MB transferred
     uint64_t residentBytes = 0;  // nodes + triangles of the resident subtrees
@@ -44,6 +48,17 @@ public:
     GpuSubtreeCache(SubtreeStore& store, const GpuCacheOptions& options);
 
     void acquire(std::span<const uint32_t> subtrees, std::span<uint32_t> gpuRoots) override;
+    // The limit holds only while some slot is not used by the current trace: once this trace's subtrees fill the
+    // cache, later traces could not do better (the working set exceeds the cache), so the trace completes.
+    bool uploadBudgetExhausted() const override {
+        return options_.maxUploadsPerTrace != 0 && uploadsThisTrace_ >= options_.maxUploadsPerTrace &&
+               slotsUsedThisTrace_ < stats_.slots;
+    }
+    void beginTrace() { // the per-trace upload limit starts again
+        uploadsThisTrace_ = 0;
+        slotsUsedThisTrace_ = 0;
+        traceStartTick_ = tick_;
+    }
 
     const GpuCacheStats& stats() const { return stats_; }
     void resetCounters(); // per-frame statistics: zero hits/misses/evictions/uploads, keep residency
@@ -71,6 +86,8 @@ private:
     std::vector<uint32_t> subtreeSlot_;
     uint64_t acquireCount_ = 0, tick_ = 0;
     uint32_t nextVictim_ = 0; // round-robin pointer
+    uint32_t uploadsThisTrace_ = 0, slotsUsedThisTrace_ = 0;
+    uint64_t traceStartTick_ = 0;
     GpuCacheStats stats_;
 };
 

@@ -28,6 +28,7 @@ OutOfCoreStats OutOfCoreStats::difference(const OutOfCoreStats& later, const Out
     d.cacheMisses -= earlier.cacheMisses;
     d.cacheEvictions -= earlier.cacheEvictions;
     d.cacheDeferred -= earlier.cacheDeferred;
+    d.cachePostponed -= earlier.cachePostponed;
     d.uploadedBvhBytes -= earlier.uploadedBvhBytes;
     d.uploadedGeometryBytes -= earlier.uploadedGeometryBytes;
     d.hostReads -= earlier.hostReads;
@@ -44,6 +45,7 @@ OutOfCoreStats& OutOfCoreStats::operator+=(const OutOfCoreStats& o) {
     cacheMisses += sum.cacheMisses;
     cacheEvictions += sum.cacheEvictions;
     cacheDeferred += sum.cacheDeferred;
+    cachePostponed += sum.cachePostponed;
     uploadedBvhBytes += sum.uploadedBvhBytes;
     uploadedGeometryBytes += sum.uploadedGeometryBytes;
     hostReads += sum.hostReads;
@@ -60,7 +62,8 @@ OutOfCoreTracer::OutOfCoreTracer(const std::filesystem::path& file, const OutOfC
                                  ChcrtOptions chcrt, std::string name)
     : options_(options), file_(std::make_unique<ChsFile>(file)) {
     store_ = std::make_unique<SubtreeStore>(*file_, options.hostCacheBytes);
-    cache_ = std::make_unique<GpuSubtreeCache>(*store_, GpuCacheOptions{options.gpuCacheBytes, options.policy});
+    cache_ = std::make_unique<GpuSubtreeCache>(
+        *store_, GpuCacheOptions{options.gpuCacheBytes, options.policy, options.maxUploadsPerTrace});
     chcrt.adaptive = false; // no full-scene tracer exists out of core
     chcrt_ = std::make_unique<ChcrtTracer>(buildCullingHierarchy(*file_), *cache_, nullptr, chcrt, std::move(name));
 }
@@ -86,6 +89,7 @@ void OutOfCoreTracer::trace(const TraceRequest& request, const RayTextures& rays
             chcrt_->setDebugImage(ChcrtDebugImage::Subtrees);
             chcrt_->clearDebugImage();
         }
+        cache_->beginTrace();
         chcrt_->trace(request, rays, hits, width, height, stats);
         if (record) chcrt_->setDebugImage(selected);
     } catch (...) {
@@ -109,6 +113,7 @@ OutOfCoreStats OutOfCoreTracer::snapshot() const {
     s.cacheMisses = c.misses;
     s.cacheEvictions = c.evictions;
     s.cacheDeferred = c.deferred;
+    s.cachePostponed = c.postponed;
     s.uploadedBvhBytes = c.uploadedNodeBytes;
     s.uploadedGeometryBytes = c.uploadedTriangleBytes;
     s.residentBytes = c.residentBytes;

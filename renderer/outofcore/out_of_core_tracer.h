@@ -23,6 +23,7 @@ struct OutOfCoreOptions {
     uint64_t gpuCacheBytes = 1024ull << 20; // --gpu-cache-mb
     uint64_t hostCacheBytes = 2048ull << 20; // --host-cache-mb
     CachePolicy policy = CachePolicy::Lru;   // --cache-policy
+    uint32_t maxUploadsPerTrace = 0;         // viewer streaming (GpuCacheOptions); 0 = complete, exact traces
 };
 
 // Counters in the shape of CHC+RT Table 3, for one frame or summed (difference of two snapshots).
@@ -31,6 +32,7 @@ struct OutOfCoreStats {
     uint64_t raysTraced = 0;
     double traceMs = 0.0;  // CHC+RT tracing time (phases 1-3), ms
     uint64_t cacheHits = 0, cacheMisses = 0, cacheEvictions = 0, cacheDeferred = 0;
+    uint64_t cachePostponed = 0; // requests left for a later trace by the per-trace upload limit (incomplete traces)
     uint64_t uploadedBvhBytes = 0, uploadedGeometryBytes = 0;
     uint64_t hostReads = 0, hostBytesRead = 0;
     uint64_t residentBytes = 0, allocatedBytes = 0; // GPU cache, at the snapshot

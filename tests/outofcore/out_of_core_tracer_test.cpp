@@ -94,6 +94,72 @@ TEST_F(OutOfCoreTracerTest, HitsEqualInCorePureBvhWithRoundRobinEvictions) {
     runExactness(outofcore::CachePolicy::RoundRobin);
 }
 
+// The viewer's streaming (--uploads-per-trace): a trace that may upload only 2 subtrees leaves the rest for later
+// traces (postponed, hits missing), and repeating the trace from the same camera converges: once a trace
+// postpones nothing, its hits are exactly the in-core pure BVH hits. `cacheDivisor`: the GPU cache holds
+// 1/cacheDivisor of the scene; when the trace's subtrees fill it, the limit is lifted so that the trace completes.
+void runStreaming(uint64_t cacheDivisor, bool limitHoldsEveryTrace) {
+    test::ScratchDir dir;
+    const auto file = dir.file("city.chs");
+    test::prepareSmall("city:60k", file, 1000);
+    const outofcore::LoadedPreparedScene loaded = outofcore::loadPreparedScene(file);
+    RenderSettings settings;
+    settings.width = 80;
+    settings.height = 60;
+    Renderer renderer(loaded.scene, loaded.bvh, loaded.light, settings);
+    outofcore::OutOfCoreOptions options;
+    {
+        const outofcore::ChsFile chs(file);
+        options.gpuCacheBytes = sceneGpuBytes(chs) / cacheDivisor + (1u << 20);
+    }
+    options.maxUploadsPerTrace = 2;
+    ChcrtOptions chcrt;
+    chcrt.pairs.minTileSize = 16;
+    outofcore::OutOfCoreTracer tracer(file, options, chcrt);
+    ProceduralSpec spec;
+    ASSERT_TRUE(parseProceduralSpec(loaded.source, spec));
+    const Camera camera = proceduralNearPath(spec).cameraAtFrame(0);
+    FrameStats stats;
+    renderer.generateRayPass(camera, RayType::Primary, 0, stats);
+    renderer.useTracer(nullptr);
+    renderer.traceRayPass(camera, RayType::Primary, 0, stats);
+    const std::vector<Hit> pure = renderer.readHits(0);
+    renderer.useTracer(&tracer);
+    int traces = 0;
+    uint64_t firstPostponed = 0, firstDiffering = 0;
+    for (; traces < 200; ++traces) {
+        const uint64_t uploadsBefore = tracer.cache().stats().misses;
+        renderer.traceRayPass(camera, RayType::Primary, 0, stats);
+        const ChcrtStats& last = tracer.chcrt().lastStats();
+        const uint64_t uploads = tracer.cache().stats().misses - uploadsBefore;
+        if (limitHoldsEveryTrace || last.subtreesPostponed > 0) {
+            EXPECT_LE(uploads, 2u) << "trace " << traces;
+        }
+        const HitComparison result = compareHitsExactly(renderer.readRays(0), renderer.readHits(0), pure, false);
+        if (traces == 0) {
+            firstPostponed = last.subtreesPostponed;
+            firstDiffering = result.differing;
+        }
+        if (last.subtreesPostponed == 0) {
+            EXPECT_EQ(result.differing, 0u) << "a complete trace is exact (trace " << traces << ")";
+            break;
+        }
+    }
+    EXPECT_GT(firstPostponed, 0u);
+    EXPECT_GT(firstDiffering, 0u) << "the first, incomplete trace misses hits";
+    EXPECT_GT(traces, 1);
+    EXPECT_LT(traces, 200) << "repeated traces must converge";
+    EXPECT_GT(tracer.snapshot().cachePostponed, 0u);
+}
+
+TEST_F(OutOfCoreTracerTest, UploadLimitStreamsTheWorkingSetAndRepeatedTracesConvergeToExactHits) {
+    runStreaming(1, true); // the working set fits: every trace keeps the limit
+}
+
+TEST_F(OutOfCoreTracerTest, UploadLimitIsLiftedWhenTheWorkingSetExceedsTheCache) {
+    runStreaming(4, false);
+}
+
 TEST_F(OutOfCoreTracerTest, BudgetBelowOneSubtreeIsAnInputError) {
     test::ScratchDir dir;
     const auto file = dir.file("city.chs");

@@ -658,6 +658,32 @@ TEST_F(ViewerTest, OutOfCoreSceneMatchesInCoreShowsResidencyAndTable3Statistics)
     EXPECT_EQ(r.exitCode, 2) << r.output;
 }
 
+// Streaming out of core (--uploads-per-trace; the interactive viewer's default is 16): frames that postpone
+// subtrees are incomplete and the viewer renders again while the camera stays, until a complete frame, which is the
+// exact image (the in-core one above).
+TEST_F(ViewerTest, OutOfCoreStreamingRendersAgainUntilTheFrameIsComplete) {
+    const Result prepared = run("prepare --scene city:60k -o c.chs --subtree-triangles 1000 -q", false);
+    ASSERT_EQ(prepared.exitCode, 0) << prepared.output;
+    const std::string size = " --width 160 --height 96 --render-scale 1 --no-accumulate -q --method chcrt ";
+    std::ofstream(dir_ / "in.json") << R"([{"frames": 1, "screenshot": "in0.png"}])";
+    Result r = run("view --scene c.chs --primary traced --script in.json" + size);
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    std::ofstream(dir_ / "stream.json") << R"([{"frames": 1, "screenshot": "first.png"},
+                                              {"frames": 60, "screenshot": "streamed.png"}])";
+    r = run("view --scene c.chs --out-of-core --load-in-core off --gpu-cache-mb 4 --uploads-per-trace 2 "
+            "--script stream.json --stats-json stats.json" + size);
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const nlohmann::json frames = json("stats.json")["frames"];
+    ASSERT_GE(frames.size(), 3u) << "incomplete frames are rendered again";
+    ASSERT_LT(frames.size(), 61u) << "streaming converges";
+    EXPECT_GT(frames[0]["outofcore"]["cache_postponed"].get<double>(), 0.0);
+    EXPECT_LE(frames[0]["outofcore"]["cache_misses"].get<double>(), 2.0 * 2.0); // primary + shadow traces
+    EXPECT_EQ(frames.back()["outofcore"]["cache_postponed"].get<double>(), 0.0) << frames.back().dump();
+    EXPECT_GT(differingFraction("first.png", "streamed.png"), 0.01);
+    const ImageDifference d = compareImages(image("in0.png"), image("streamed.png"), 0.0090f);
+    EXPECT_EQ(d.differingPixels, 0u) << "max difference " << d.maxAbsoluteError;
+}
+
 // The N-tree parameters of ntree+ls (soft-shadow paper; --ls-ntree N:d, --ls-ntree-level/start/near) switch
 // live: each change rebuilds the N-tree. With the shadow level >= d the occupied shafts no longer terminate
 // rays and the shadows are exact: the pure-BVH screenshot bit for bit. Bad values are refused as input errors;
