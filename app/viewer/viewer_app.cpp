@@ -158,6 +158,7 @@ private:
     void finishShaftPick();
     void startLoading(const std::string& scene);
     SceneLoader::GpuUpload workerUpload() const;
+    std::string tracerKey() const; // method, always-cull and parameters a tracer is made for
     void applyMethod();
     bool prepareMethodCache();
     void handleInteractiveInput(double seconds);
@@ -200,6 +201,9 @@ private:
     GLFWwindow* uploadWindow_ = nullptr; // shares window_'s objects; scene uploads on the loading worker
     std::unique_ptr<SceneSession> scene_;
     std::unique_ptr<Tracer> tracer_;
+    // Out of core, the first tracer of a loaded scene, made by the loading worker for premadeKey_ (tracerKey()).
+    std::unique_ptr<Tracer> premadeTracer_;
+    std::string premadeKey_;
     // tracer_ when it traces out of core (--out-of-core with a prepared scene, CHC+RT §5.4), else nullptr.
     outofcore::OutOfCoreTracer* outOfCore_ = nullptr;
     std::string activeMethod_;
@@ -313,6 +317,10 @@ Viewer::Viewer(const ViewOptions& options) : options_(options) {
     loader_.start(first, workerUpload());
 }
 
+std::string Viewer::tracerKey() const {
+    return settings_.method + (settings_.chcrtAlwaysCull ? " always-cull " : " ") + methodParameters(settings_.common);
+}
+
 // Another scene, from the panel or a script: its own default camera.
 void Viewer::startLoading(const std::string& scene) {
     CommonOptions o = settings_.common;
@@ -327,7 +335,14 @@ void Viewer::startLoading(const std::string& scene) {
 // window never waits for long work). Without that context the upload runs in finishLoading, on this thread.
 SceneLoader::GpuUpload Viewer::workerUpload() const {
     if (!uploadWindow_) return nullptr;
-    return [window = uploadWindow_](const SceneSession& session) {
+    // Out of core the method's tracer is made here as well: its GPU subtree cache is one large allocation (0.85 s
+    // for 1 GiB on llvmpipe). Its GL objects are shared ones (buffers, textures, programs); those that are not
+    // (queries, framebuffers, vertex arrays) are made on first use, on the main thread.
+    const std::string method = settings_.method;
+    const bool alwaysCull = settings_.chcrtAlwaysCull;
+    const std::string key = tracerKey();
+    const GpuSession* gpu = &gpu_;
+    return [window = uploadWindow_, method, alwaysCull, key, gpu](const SceneSession& session) {
         glfwMakeContextCurrent(window);
         struct Release { // also when the upload throws (GlError: a buffer beyond the texture-buffer limit)
             ~Release() {
@@ -335,7 +350,14 @@ SceneLoader::GpuUpload Viewer::workerUpload() const {
                 glfwMakeContextCurrent(nullptr);
             }
         } release;
-        return std::make_unique<SceneGpu>(session.scene, session.bvh);
+        SceneLoader::Uploaded uploaded;
+        uploaded.scene = std::make_unique<SceneGpu>(session.scene, session.bvh);
+        const bool outOfCore = session.options.outOfCore && outofcore::isPreparedScenePath(session.options.scene);
+        if (outOfCore && hasOutOfCoreForm(method)) {
+            uploaded.tracer = makeTracer(method, session, *gpu, alwaysCull);
+            uploaded.tracerKey = key;
+        }
+        return uploaded;
     };
 }
 
@@ -422,7 +444,10 @@ void Viewer::finishLoading() {
         return;
     }
     const double loadSeconds = loader_.elapsedSeconds();
-    std::unique_ptr<SceneGpu> uploadedScene = loader_.takeUploaded();
+    SceneLoader::Uploaded uploadedGpu = loader_.takeUploaded();
+    std::unique_ptr<SceneGpu> uploadedScene = std::move(uploadedGpu.scene);
+    premadeTracer_ = std::move(uploadedGpu.tracer);
+    premadeKey_ = uploadedGpu.tracerKey;
     const bool uploaded = uploadedScene != nullptr;
     sampleLoadProgress(); // the worker has finished: complete, 100 %
     if (pickJob_.busy()) { // it reads the previous scene's BVH
@@ -460,6 +485,7 @@ void Viewer::finishLoading() {
                                                toRenderSettings(settings_, w, h, 0), std::move(uploadedScene));
     activeMethod_.clear();
     applyMethod();
+    premadeTracer_.reset(); // not taken (the method changed during the load): freed here, with its context current
     pathFrame_ = 0;
     resetCamera();
     if (first && !options_.common.frames.empty()) { // --frames: where the path starts
@@ -510,6 +536,9 @@ void Viewer::applyMethod() {
             // Its traced primary rays use the renderer's pure BVH, which holds nothing out of core.
             if (!scene_->sceneInCore) throw InputError("method raster needs the scene in core; use chcrt");
             return std::unique_ptr<Tracer>();
+        }
+        if (premadeTracer_ && method == settings_.method && premadeKey_ == tracerKey()) {
+            return std::move(premadeTracer_); // made by the loading worker (workerUpload)
         }
         return makeTracer(method, *scene_, gpu_, settings_.chcrtAlwaysCull); // nullptr for "bvh": the renderer's own
     };

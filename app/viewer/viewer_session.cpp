@@ -13,7 +13,7 @@ void SceneLoader::start(const CommonOptions& options, GpuUpload upload) {
     assert(!busy());
     finished_ = false;
     result_.reset();
-    uploaded_.reset();
+    uploaded_ = {};
     error_ = nullptr;
     scene_ = options.scene;
     start_ = std::chrono::steady_clock::now();
