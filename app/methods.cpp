@@ -149,7 +149,6 @@ outofcore::OutOfCoreOptions outOfCoreOptions(const CommonOptions& o) {
     out.gpuCacheBytes = uint64_t(o.gpuCacheMb) << 20;
     out.hostCacheBytes = uint64_t(o.hostCacheMb) << 20;
     out.policy = outofcore::parseCachePolicy(o.cachePolicy);
-    if (o.uploadsPerTrace < -1) throw InputError("--uploads-per-trace must be 0 (no limit) or more");
     out.maxUploadsPerTrace = o.uploadsPerTrace > 0 ? uint32_t(o.uploadsPerTrace) : 0u;
     return out;
 }

@@ -79,7 +79,8 @@ void addCommonOptions(CLI::App& c, CommonOptions& o, bool withEffects) {
     c.add_option("--host-cache-mb", o.hostCacheMb, "Out of core: host subtree cache budget in MiB")->capture_default_str();
     c.add_option("--uploads-per-trace", o.uploadsPerTrace,
                  "Out of core: subtrees uploaded per trace at most; the rest waits for later frames (0 = no limit, "
-                 "exact frames; default 0, interactive viewer 16)");
+                 "exact frames; default 0, interactive viewer 16)")
+        ->check(CLI::NonNegativeNumber);
     c.add_option("--cache-policy", o.cachePolicy, "Out of core: GPU cache replacement, round-robin or lru")
         ->capture_default_str();
     c.add_option("--load-in-core", o.loadInCore,

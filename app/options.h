@@ -56,8 +56,8 @@ struct CommonOptions {
     bool outOfCore = false;         // --out-of-core: chcrt methods trace through the GPU subtree cache
     int gpuCacheMb = 1024;          // --gpu-cache-mb
     int hostCacheMb = 2048;         // --host-cache-mb
-    // --uploads-per-trace: subtrees a trace may upload at most (0 = no limit: complete, exact traces; -1 = the
-    // command's default: 0, the interactive viewer 16 — it streams a cold cache over several frames)
+    // --uploads-per-trace: subtrees a trace may upload at most (0 = no limit: complete, exact traces; -1, never
+    // given on the command line, = the command's default: 0, the interactive viewer 16 — it streams a cold cache)
     int uploadsPerTrace = -1;
     std::string cachePolicy = "lru"; // --cache-policy round-robin|lru
     std::string loadInCore = "auto"; // --load-in-core auto|on|off: also load an --out-of-core scene in core (references)

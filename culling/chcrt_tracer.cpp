@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstring>
 #include <tuple>
+#include <unordered_map>
 
 namespace chcrt {
 namespace {
@@ -407,8 +408,8 @@ void ChcrtTracer::intersect(std::vector<Scheduled>& work, bool anyHit) {
     // §5.4: resident subtrees first (keeping the per-tile order among them), then the rest in later rounds.
     // The hit rule makes the result independent of the order in which subtrees are intersected.
     std::vector<uint32_t> ids, roots;
-    std::vector<std::pair<uint32_t, uint32_t>> rootOf; // (subtree, GPU root), sorted by subtree
-    std::vector<std::pair<float, uint32_t>> nearest;    // (nearest scheduled distance, subtree)
+    std::unordered_map<uint32_t, uint32_t> rootOf;   // subtree -> GPU root of this round
+    std::vector<std::pair<float, uint32_t>> nearest; // (scheduled distance, subtree)
     std::vector<Scheduled> resident, rest;
     while (!work.empty()) {
         // Each subtree once, nearest to the camera first: a source that cannot take them all (slots, or an
@@ -418,26 +419,17 @@ void ChcrtTracer::intersect(std::vector<Scheduled>& work, bool anyHit) {
         std::sort(nearest.begin(), nearest.end());
         ids.clear();
         rootOf.clear();
-        for (const auto& [distance, subtree] : nearest) rootOf.emplace_back(subtree, 0u);
-        std::sort(rootOf.begin(), rootOf.end());
-        rootOf.erase(std::unique(rootOf.begin(), rootOf.end()), rootOf.end());
-        std::vector<uint8_t> taken(rootOf.size(), 0);
-        const auto indexOf = [&](uint32_t subtree) {
-            return size_t(std::lower_bound(rootOf.begin(), rootOf.end(), std::make_pair(subtree, 0u)) - rootOf.begin());
-        };
         for (const auto& [distance, subtree] : nearest) {
-            const size_t i = indexOf(subtree);
-            if (!taken[i]) ids.push_back(subtree);
-            taken[i] = 1;
+            if (rootOf.emplace(subtree, SubtreeSource::kNotResident).second) ids.push_back(subtree);
         }
         roots.assign(ids.size(), SubtreeSource::kNotResident);
         source_->acquire(ids, roots);
         ++last_.residencyRounds;
-        for (size_t i = 0; i < ids.size(); ++i) rootOf[indexOf(ids[i])].second = roots[i];
+        for (size_t i = 0; i < ids.size(); ++i) rootOf[ids[i]] = roots[i];
         resident.clear();
         rest.clear();
         for (Scheduled s : work) {
-            s.gpuRoot = rootOf[indexOf(s.subtree)].second;
+            s.gpuRoot = rootOf.at(s.subtree);
             (s.gpuRoot == SubtreeSource::kNotResident ? rest : resident).push_back(s);
         }
         if (resident.empty() && source_->uploadBudgetExhausted()) {

@@ -45,8 +45,6 @@ void RayExtentGrid::update(GLuint origins, GLuint directions, int width, int hei
 
 void RayExtentGrid::setCells(int width, int height, const std::vector<glm::vec4>& lower,
                              const std::vector<glm::vec4>& upper) {
-    width_ = width;
-    height_ = height;
     cellsX_ = (width + kCell - 1) / kCell;
     cellsY_ = (height + kCell - 1) / kCell;
     cells_.assign(size_t(cellsX_) * size_t(cellsY_), Cell{});

@@ -47,7 +47,7 @@ private:
     };
     ShaderProgram program_;
     GlTexture lower_, upper_;
-    int width_ = 0, height_ = 0, cellsX_ = 0, cellsY_ = 0;
+    int cellsX_ = 0, cellsY_ = 0;
     std::vector<Cell> cells_; // row-major, cell row 0 = pixel rows 0..CELL-1 (GL orientation)
     std::vector<glm::vec4> readLower_, readUpper_;
 };

@@ -307,7 +307,7 @@ Viewer::Viewer(const ViewOptions& options) : options_(options) {
     panel_ = std::make_unique<ViewerPanel>(options.common.scene);
     // Out of core the interactive viewer streams a cold cache over frames (at most 16 subtree uploads per trace;
     // incomplete frames are re-rendered until complete); scripts get complete, exact frames unless they ask.
-    if (settings_.common.uploadsPerTrace < 0) settings_.common.uploadsPerTrace = scripted_ ? 0 : 16;
+    if (settings_.common.uploadsPerTrace == -1) settings_.common.uploadsPerTrace = scripted_ ? 0 : 16;
     CommonOptions first = options.common;
     first.uploadsPerTrace = settings_.common.uploadsPerTrace;
     if (first.lsCache.empty() && !first.outOfCore) {

@@ -11,6 +11,14 @@
 namespace chcrt {
 namespace {
 
+// Vertex buffer layout of the G-buffer pass: interleaved position, normal, texcoord (32 bytes).
+struct Vertex {
+    glm::vec3 position;
+    glm::vec3 normal;
+    glm::vec2 texcoord;
+};
+static_assert(sizeof(Vertex) == 32);
+
 // Base-colour textures differ in size; a texture array needs one size, so every texture is resampled
 // (bilinear, in sRGB space: good enough for albedo) to the largest size present, capped to keep memory sane.
 constexpr uint32_t kMaxTextureArraySide = 1024;
@@ -94,13 +102,6 @@ void SceneGpu::buildClusters(const Bvh& bvh) {
 }
 
 void SceneGpu::uploadGeometry(const Scene& scene, const Bvh& bvh) {
-    // Interleaved position, normal, texcoord: 32 bytes per vertex.
-    struct Vertex {
-        glm::vec3 position;
-        glm::vec3 normal;
-        glm::vec2 texcoord;
-    };
-    static_assert(sizeof(Vertex) == sizeof(float) * kVertexFloats);
     std::vector<Vertex> vertices(scene.positions.size());
     for (size_t i = 0; i < vertices.size(); ++i) {
         vertices[i].position = scene.positions[i];
@@ -125,11 +126,9 @@ void SceneGpu::uploadGeometry(const Scene& scene, const Bvh& bvh) {
 void SceneGpu::createVertexArrayForDrawing() {
     vertexArray_ = createVertexArray();
     const GLuint vao = vertexArray_.id();
-    constexpr GLsizei stride = sizeof(float) * kVertexFloats;
-    glVertexArrayVertexBuffer(vao, 0, vertexBuffer_.id(), 0, stride);
+    glVertexArrayVertexBuffer(vao, 0, vertexBuffer_.id(), 0, sizeof(Vertex));
     glVertexArrayElementBuffer(vao, indexBuffer_.id());
-    // Interleaved position, normal, texcoord (uploadGeometry).
-    const GLuint offsets[3] = {0, sizeof(float) * 3, sizeof(float) * 6};
+    const GLuint offsets[3] = {offsetof(Vertex, position), offsetof(Vertex, normal), offsetof(Vertex, texcoord)};
     const GLint sizes[3] = {3, 3, 2};
     for (GLuint attribute = 0; attribute < 3; ++attribute) {
         glEnableVertexArrayAttrib(vao, attribute);

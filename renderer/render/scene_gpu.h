@@ -40,7 +40,6 @@ private:
         uint32_t firstTriangle = 0; // BVH order
         uint32_t triangleCount = 0;
     };
-    static constexpr int kVertexFloats = 8; // interleaved position, normal, texcoord
     void uploadGeometry(const Scene& scene, const Bvh& bvh);
     void createVertexArrayForDrawing();
     void buildClusters(const Bvh& bvh);
