@@ -71,8 +71,8 @@ private:
 
 } // namespace
 
-PrimaryResolve::PrimaryResolve(OutOfCoreTracer& tracer)
-    : tracer_(tracer),
+PrimaryResolve::PrimaryResolve(OutOfCoreTracer& tracer, uint64_t denseSpanFactor)
+    : tracer_(tracer), denseSpanFactor_(denseSpanFactor),
       program_({{GL_VERTEX_SHADER, "common/fullscreen.vert.glsl"},
                 {GL_FRAGMENT_SHADER, "outofcore/gbuffer_from_pixel_attributes.frag.glsl"}}) {
     for (const ChsMaterialRecord& m : tracer.file().materials()) albedos_.emplace_back(m.baseColor[0], m.baseColor[1], m.baseColor[2]);
@@ -103,7 +103,7 @@ const PrimaryResolve::DenseIdIndex* PrimaryResolve::denseIndexFor(uint32_t subtr
         lo = std::min(lo, t.originalId);
         hi = std::max(hi, t.originalId);
     }
-    if (!data.triangles.empty() && uint64_t(hi - lo) + 1 <= kDenseSpanFactor * uint64_t(data.triangles.size())) {
+    if (!data.triangles.empty() && uint64_t(hi - lo) + 1 <= denseSpanFactor_ * uint64_t(data.triangles.size())) {
         index.first = lo;
         index.localOf.assign(size_t(hi - lo) + 1, UINT32_MAX);
         for (uint32_t k = 0; k < data.triangles.size(); ++k) index.localOf[data.triangles[k].originalId - lo] = k;
@@ -156,6 +156,7 @@ void PrimaryResolve::resolve(const Camera& camera, const FrameTargets& t, float 
         ++stats_.subtreesRead;
         const std::shared_ptr<const SubtreeData> data = store.get(subtree);
         const DenseIdIndex* dense = denseIndexFor(subtree, *data);
+        ++(dense ? stats_.subtreesIndexed : stats_.subtreesScanned);
         if (!dense) { // ids spread out: find the hit ones with one scan of the subtree
             localOf.reset(pixels.size());
             for (uint32_t p : pixels) localOf.insert(hits[p].y);

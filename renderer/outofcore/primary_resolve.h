@@ -26,13 +26,18 @@ struct PrimaryResolveStats {
     uint64_t hitPixels = 0;
     uint64_t subtreesRead = 0;    // subtrees looked up this frame (host store gets)
     uint64_t unresolvedPixels = 0; // hits whose triangle was not found (never expected; shaded with the geometric normal 0)
+    uint64_t subtreesIndexed = 0;  // of subtreesRead: looked up through a dense id table
+    uint64_t subtreesScanned = 0;  // of subtreesRead: ids too spread for a table, the subtree was scanned
     double hostMs = 0.0;           // read-back, lookup and upload
 };
 
 class PrimaryResolve {
 public:
     // Turns on the tracer's per-pixel subtree recording for primary rays. Needs a current GL context.
-    explicit PrimaryResolve(OutOfCoreTracer& tracer);
+    // `denseSpanFactor`: subtrees whose original ids span at most this many times their triangle count get a dense
+    // id table (0: none, every subtree is scanned; tests use it to cover both lookups).
+    static constexpr uint64_t kDefaultDenseSpanFactor = 4;
+    explicit PrimaryResolve(OutOfCoreTracer& tracer, uint64_t denseSpanFactor = kDefaultDenseSpanFactor);
     ~PrimaryResolve();
     PrimaryResolve(const PrimaryResolve&) = delete;
     PrimaryResolve& operator=(const PrimaryResolve&) = delete;
@@ -50,19 +55,19 @@ public:
     const std::vector<uint32_t>& lastPixelSubtrees() const { return pixelSubtrees_; }
 
 private:
-    // Original id -> index in the subtree, for subtrees whose ids span at most kDenseSpanFactor × their triangles.
+    // Original id -> index in the subtree, for subtrees whose ids span at most denseSpanFactor_ × their triangles.
     struct DenseIdIndex {
         uint32_t first = 0;
         std::vector<uint32_t> localOf; // [id - first]; UINT32_MAX = not in the subtree; empty = ids not compact
         uint64_t lastUse = 0;
         uint32_t find(uint32_t id) const; // UINT32_MAX when absent
     };
-    static constexpr uint64_t kDenseSpanFactor = 4;
     // Kept across frames, least recently used dropped first; memory outside --host-cache-mb, so bounded here.
     static constexpr uint64_t kDenseBudgetBytes = uint64_t(96) << 20;
     const DenseIdIndex* denseIndexFor(uint32_t subtree, const SubtreeData& data);
 
     OutOfCoreTracer& tracer_;
+    uint64_t denseSpanFactor_;
     std::unordered_map<uint32_t, DenseIdIndex> denseIndex_;
     uint64_t denseBytes_ = 0, useClock_ = 0;
     std::vector<glm::vec3> albedos_; // per material (base colour factor; v1 files keep no textures)

@@ -90,6 +90,11 @@ TEST_F(CliTest, BadFlagsAreUsageErrors) {
     EXPECT_EQ(run(std::string("render --scene one-triangle --frames 3-1 -o x.png ") + kSmall).exitCode, 2);
     EXPECT_EQ(run(std::string("render --scene one-triangle --frames all:x -o x.png ") + kSmall).exitCode, 2);
     EXPECT_EQ(run(std::string("render --scene one-triangle --frames spread:0 -o x.png ") + kSmall).exitCode, 2);
+    EXPECT_EQ(run(std::string("render --scene one-triangle --uploads-per-trace -3 -o x.png ") + kSmall).exitCode, 2);
+    const Result extent =
+        run(std::string("render --scene one-triangle --method chcrt --chcrt-ray-extent maybe -o x.png ") + kSmall);
+    EXPECT_EQ(extent.exitCode, 2);
+    EXPECT_NE(extent.output.find("--chcrt-ray-extent must be on or off"), std::string::npos) << extent.output;
     EXPECT_EQ(fileCount(), 0u);
 }
 

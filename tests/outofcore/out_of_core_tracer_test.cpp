@@ -183,7 +183,7 @@ std::vector<uint32_t> readR32ui(GLuint texture, int width, int height) {
 // Primary visibility without per-triangle buffers (PrimaryResolve): the G-buffer resolved from out-of-core
 // primary hits through the recorded subtrees equals the in-core traced G-buffer (same triangles and positions,
 // normals and albedo up to float rounding), with a cache far smaller than the scene.
-TEST_F(OutOfCoreTracerTest, PrimaryResolveMatchesTheInCoreTracedGBuffer) {
+void runPrimaryResolve(uint64_t denseSpanFactor) {
     test::ScratchDir dir;
     const auto file = dir.file("city.chs");
     test::prepareSmall("city:60k", file, 1000);
@@ -200,7 +200,7 @@ TEST_F(OutOfCoreTracerTest, PrimaryResolveMatchesTheInCoreTracedGBuffer) {
         options.gpuCacheBytes = sceneGpuBytes(chs) / 15;
     }
     outofcore::OutOfCoreTracer tracer(file, options, ChcrtOptions{});
-    outofcore::PrimaryResolve resolve(tracer);
+    outofcore::PrimaryResolve resolve(tracer, denseSpanFactor);
     const float nearPlane = nearPlaneFor(loaded.scene.bounds());
     ProceduralSpec spec;
     ASSERT_TRUE(parseProceduralSpec(loaded.source, spec));
@@ -239,6 +239,22 @@ TEST_F(OutOfCoreTracerTest, PrimaryResolveMatchesTheInCoreTracedGBuffer) {
     }
     EXPECT_GT(hitPixels, uint64_t(w) * h);
     EXPECT_GT(tracer.cache().stats().evictions, 0u);
+    // The lookup the test covered: dense id tables (the default for compact ids) or scans of the subtrees.
+    const outofcore::PrimaryResolveStats& last = resolve.lastStats();
+    EXPECT_EQ(last.subtreesIndexed + last.subtreesScanned, last.subtreesRead);
+    if (denseSpanFactor == 0) {
+        EXPECT_EQ(last.subtreesIndexed, 0u);
+    } else {
+        EXPECT_GT(last.subtreesIndexed, 0u);
+    }
+}
+
+TEST_F(OutOfCoreTracerTest, PrimaryResolveMatchesTheInCoreTracedGBuffer) {
+    runPrimaryResolve(outofcore::PrimaryResolve::kDefaultDenseSpanFactor);
+}
+
+TEST_F(OutOfCoreTracerTest, PrimaryResolveByScanningSubtreesMatchesTheInCoreTracedGBuffer) {
+    runPrimaryResolve(0);
 }
 
 // A renderer WITHOUT the scene (geometry-free proxy) and out-of-core primary visibility
