@@ -321,6 +321,15 @@ std::string Viewer::tracerKey() const {
     return settings_.method + (settings_.chcrtAlwaysCull ? " always-cull " : " ") + methodParameters(settings_.common);
 }
 
+// Waits for a worker that reads the previous scene; what it made or threw no longer matters.
+void endJobOfPreviousScene(BackgroundJob& job) {
+    if (!job.busy()) return;
+    try {
+        job.take();
+    } catch (const InputError&) {
+    }
+}
+
 // Another scene, from the panel or a script: its own default camera.
 void Viewer::startLoading(const std::string& scene) {
     CommonOptions o = settings_.common;
@@ -450,23 +459,13 @@ void Viewer::finishLoading() {
     premadeKey_ = uploadedGpu.tracerKey;
     const bool uploaded = uploadedScene != nullptr;
     sampleLoadProgress(); // the worker has finished: complete, 100 %
-    if (pickJob_.busy()) { // it reads the previous scene's BVH
-        try {
-            pickJob_.take();
-        } catch (const InputError&) {
-        }
-    }
+    endJobOfPreviousScene(pickJob_); // it reads the previous scene's BVH
     shaftPick_.reset();   // a node of the previous scene: the new one starts with the centre pixel
     pickParameters_.clear();
     const auto uploadStart = Clock::now();
     // The scene is on the GPU already (uploaded by the worker, unless there is no shared context); the renderer's
     // and the method's programs are made here, on the drawing context.
-    if (cacheJob_.busy()) { // it reads the previous scene's BVH: let it end (its result stays in the disk cache)
-        try {
-            cacheJob_.take();
-        } catch (const InputError&) {
-        }
-    }
+    endJobOfPreviousScene(cacheJob_); // it reads the previous scene's BVH (its result stays in the disk cache)
     cacheWarmKey_.clear();
     tracer_.reset();
     outOfCore_ = nullptr;
