@@ -1,6 +1,7 @@
 #include "linespace/linespace_tracer.h"
 
 #include "renderer/core/error.h"
+#include "renderer/render/trace_pass.h"
 #include "shaders/shared/render_layout.h"
 
 #include <sstream>
@@ -90,15 +91,11 @@ void LineSpaceTracer::trace(const TraceRequest& request, const RayTextures& rays
     // Shadow termination only makes sense for any-hit rays; a closest-hit ray falls back to exact skipping.
     if (mode == LineSpaceMode::Shadow && !request.anyHit) mode = LineSpaceMode::Exact;
     const ShaderProgram& p = program(mode, request.anyHit);
-    glBindFramebuffer(GL_FRAMEBUFFER, hits.framebuffer.id());
-    glViewport(0, 0, width, height);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_BLEND);
-    glBindTextureUnit(CHCRT_UNIT_RAY_ORIGIN, rays.origin.id());
-    glBindTextureUnit(CHCRT_UNIT_RAY_DIRECTION, rays.direction.id());
+    beginTracePass(rays, hits, width, height);
     gpu_->bind();
     p.use();
     drawFullscreenTriangle();
+    endTracePass();
     ++stats.passes;
 }
 

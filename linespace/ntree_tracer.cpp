@@ -2,6 +2,7 @@
 
 #include "linespace/shaft_index.h"
 #include "renderer/core/error.h"
+#include "renderer/render/trace_pass.h"
 #include "shaders/linespace/ntree_layout.h"
 #include "shaders/shared/render_layout.h"
 
@@ -58,15 +59,11 @@ void NTreeTracer::trace(const TraceRequest& request, const RayTextures& rays, Hi
         bvh_.trace(request, rays, hits, width, height, stats);
         return;
     }
-    glBindFramebuffer(GL_FRAMEBUFFER, hits.framebuffer.id());
-    glViewport(0, 0, width, height);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_BLEND);
-    glBindTextureUnit(CHCRT_UNIT_RAY_ORIGIN, rays.origin.id());
-    glBindTextureUnit(CHCRT_UNIT_RAY_DIRECTION, rays.direction.id());
+    beginTracePass(rays, hits, width, height);
     gpu_->bind();
     shadowProgram_.use();
     drawFullscreenTriangle();
+    endTracePass();
     ++stats.passes;
 }
 

@@ -1,6 +1,6 @@
 #include "renderer/render/bvh_tracer.h"
 
-#include "shaders/shared/render_layout.h"
+#include "renderer/render/trace_pass.h"
 
 namespace chcrt {
 namespace {
@@ -20,14 +20,10 @@ BvhTracer::BvhTracer(unsigned iterationCap)
 
 void BvhTracer::trace(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width,
                       int height, TraceStats& stats) {
-    glBindFramebuffer(GL_FRAMEBUFFER, hits.framebuffer.id());
-    glViewport(0, 0, width, height);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_BLEND);
-    glBindTextureUnit(CHCRT_UNIT_RAY_ORIGIN, rays.origin.id());
-    glBindTextureUnit(CHCRT_UNIT_RAY_DIRECTION, rays.direction.id());
+    beginTracePass(rays, hits, width, height);
     (request.anyHit ? anyHit_ : closestHit_).use();
     drawFullscreenTriangle();
+    endTracePass();
     ++stats.passes;
 }
 

@@ -6,8 +6,9 @@ namespace {
 void makeRayTextures(RayTextures& rays, int width, int height) {
     rays.origin = createTexture2D(width, height, GL_RGBA32F);
     rays.direction = createTexture2D(width, height, GL_RGBA32F);
+    rays.active = createTexture2D(width, height, GL_DEPTH_COMPONENT16);
     const GLuint colors[2] = {rays.origin.id(), rays.direction.id()};
-    rays.framebuffer = createFramebuffer(colors, 2);
+    rays.framebuffer = createFramebuffer(colors, 2, rays.active.id());
 }
 
 void makeHitTargets(HitTargets& hits, int width, int height) {
@@ -38,6 +39,9 @@ FrameTargets::FrameTargets(int w, int h) : width(w), height(h) {
     for (int i = 0; i < 2; ++i) {
         makeRayTextures(rays[i], w, h);
         makeHitTargets(hits[i], w, h);
+        const GLuint hitColors[2] = {hits[i].hit.id(), hits[i].cost.id()};
+        hits[i].maskedFramebuffer = createFramebuffer(hitColors, 2, rays[i].active.id());
+        hits[i].maskedFor = rays[i].active.id();
     }
     accumDirectFbo = makeSingleTarget(accumDirect, w, h, GL_RGBA32F);
     accumAoFbo = makeSingleTarget(accumAo, w, h, GL_RGBA32F);

@@ -10,6 +10,12 @@ namespace chcrt {
 struct RayTextures {
     GlTexture origin;
     GlTexture direction;
+    // Active-ray mask (DEPTH_COMPONENT16, the framebuffer's depth): 1 where tmax > tmin, else 0, written with the
+    // rays by rays/raygen.frag.glsl. Tracing passes test it early (renderer/render/trace_pass.h) so that fragment
+    // groups without an active ray are not shaded at all: llvmpipe runs every branch of a shader for every group
+    // (docs/architecture.md, "llvmpipe executes every branch"), so an inactive pixel otherwise costs a pass
+    // through the whole traversal code.
+    GlTexture active;
     GlFramebuffer framebuffer;
 };
 
@@ -21,6 +27,10 @@ struct HitTargets {
     GlTexture cost;
     GlTexture depth;
     GlFramebuffer framebuffer;
+    // `hit` and `cost` with a ray set's `active` mask as depth: FrameTargets pairs rays[i] with hits[i] (ray set i
+    // is always traced into hit set i); maskedFor = that mask's texture name (0: no mask, trace unmasked).
+    GlFramebuffer maskedFramebuffer;
+    GLuint maskedFor = 0;
 };
 
 struct FrameTargets {

@@ -291,7 +291,10 @@ void Renderer::generateRays(const Camera& camera, int rayProgram, int sampleInde
 
     glBindFramebuffer(GL_FRAMEBUFFER, t.rays[raySet].framebuffer.id());
     glViewport(0, 0, t.width, t.height);
-    glDisable(GL_DEPTH_TEST);
+    // The shader writes the active-ray mask (RayTextures::active) as depth: no test, just the write.
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_ALWAYS);
+    glDepthMask(GL_TRUE);
     glDisable(GL_BLEND);
     sceneGpu_->bindForShading();
     glBindTextureUnit(CHCRT_UNIT_GBUFFER_POSITION, t.gbufferPosition.id());
@@ -303,6 +306,8 @@ void Renderer::generateRays(const Camera& camera, int rayProgram, int sampleInde
     glBindTextureUnit(CHCRT_UNIT_RAY_DIRECTION, t.rays[0].direction.id());
     glBindTextureUnit(CHCRT_UNIT_BOUNCE_HIT, t.hits[0].hit.id());
     drawFullscreenTriangle();
+    glDepthFunc(GL_LESS);
+    glDisable(GL_DEPTH_TEST);
     glFinish();
     stats.raygenMs += millisecondsSince(start);
     stats.raysGenerated += uint64_t(t.width) * t.height;

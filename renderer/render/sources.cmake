@@ -3,6 +3,7 @@ chcrt_add_library(chcrt_render
   render/camera_math.cpp
   render/scene_gpu.cpp
   render/frame_targets.cpp
+  render/trace_pass.cpp
   render/bvh_tracer.cpp
   render/renderer.cpp
   render/hit_comparison.cpp

@@ -68,7 +68,7 @@ void emitShadowRay(vec3 origin, vec3 geometricNormal, uvec2 pixel, vec2 lightSam
     outDirection = vec4(direction, distance);
 }
 
-void main() {
+void generateRay() {
     uvec2 pixel = uvec2(gl_FragCoord.xy);
 
 #if RAY_TYPE == CHCRT_RAY_PRIMARY
@@ -126,4 +126,11 @@ void main() {
     outDirection = vec4(direction, rayLength);
 #endif
 #endif
+}
+
+void main() {
+    generateRay();
+    // RayTextures::active: the tracers' early depth test skips what this marks 0, with the condition every tracer
+    // uses for an active ray (tmax > tmin; a NaN bound counts as inactive in both places).
+    gl_FragDepth = outDirection.w > outOrigin.w ? 1.0f : 0.0f;
 }

@@ -12,6 +12,10 @@ layout(binding = CHCRT_ATOMIC_BINDING_CAPPED_RAYS, offset = 0) uniform atomic_ui
 layout(location = CHCRT_TRACE_OUT_HIT) out uvec4 outHit;
 layout(location = CHCRT_TRACE_OUT_COST) out uvec4 outCost;
 
+// Early depth test against the active-ray mask (renderer/render/trace_pass.h); also keeps the test early although
+// the shader has a side effect (the capped-ray counter).
+layout(early_fragment_tests) in;
+
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     vec4 originTmin = texelFetch(rayOrigins, pixel, 0);

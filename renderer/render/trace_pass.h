@@ -1,0 +1,22 @@
+#pragma once
+// The render state of a full-screen tracing pass (pure BVH, Line Space and N-tree tracers, CHC+RT's pure passes):
+// the hit targets bound for drawing, the ray textures bound for reading, and — when the ray set carries its
+// active-ray mask — an early depth test against that mask, so that fragment groups without an active ray are not
+// shaded. Why it pays: llvmpipe executes every branch and at least one iteration of every loop of a shader for
+// each fragment group, so an inactive pixel (sky, a surface facing away from the light) otherwise costs a pass
+// through the whole traversal code; the early test is the one place where it skips a group
+// (docs/architecture.md, "llvmpipe executes every branch", has the measurements). The shaders declare
+// layout(early_fragment_tests).
+#include "renderer/render/frame_targets.h"
+
+namespace chcrt {
+
+// Binds `hits` (with the mask of `rays` when FrameTargets paired them) and `rays`, sets the viewport and the
+// depth state. Pixels the mask skips are cleared to what a tracer writes for an inactive ray (a miss with
+// t = CHCRT_NO_HIT_T and zero cost), so the results do not depend on whether the mask was used.
+void beginTracePass(const RayTextures& rays, HitTargets& hits, int width, int height);
+
+// Restores the depth state beginTracePass changed (test off, writes on).
+void endTracePass();
+
+} // namespace chcrt
