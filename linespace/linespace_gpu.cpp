@@ -66,6 +66,7 @@ LineSpaceGpu::LineSpaceGpu(const LineSpaces& spaces, const Bvh& bvh, const Scene
         throw InputError("Line Spaces were built for another BVH (" + std::to_string(spaces.spaceOfBvhNode.size()) +
                          " vs " + std::to_string(bvh.nodes.size()) + " nodes)");
     }
+    for (uint32_t node : spaces.bvhNodes) hasLeafSpaces_ = hasLeafSpaces_ || bvh.isLeaf(node);
     spaceOfNode_ = uploadWords(spaces.spaceOfBvhNode);
     binaryWords_ = uploadWords(spaces.binaryWords);
     gpuBytes_ = spaceOfNode_.bytes + binaryWords_.bytes;

@@ -38,12 +38,15 @@ public:
     std::vector<ShaderDefine> defines(LineSpaceMode mode, float maxNormalAngleDegrees,
                                       CandidateFaces faces = CandidateFaces::Both) const;
     bool hasCandidates() const { return hasCandidates_; }
+    // Is any Line Space node a BVH leaf (a subtree below T triangles that ended the cut above depth D)?
+    bool hasLeafSpaces() const { return hasLeafSpaces_; }
     uint64_t gpuBytes() const { return gpuBytes_; }
     uint32_t n() const { return n_; }
 
 private:
     uint32_t n_ = 0;
     bool hasCandidates_ = false;
+    bool hasLeafSpaces_ = false;
     TextureBuffer spaceOfNode_;
     TextureBuffer binaryWords_;
     TextureBuffer candidateWords_;

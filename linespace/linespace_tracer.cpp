@@ -77,6 +77,10 @@ const ShaderProgram& LineSpaceTracer::program(LineSpaceMode mode, bool anyHit) {
     if (!slot) {
         std::vector<ShaderDefine> defines = gpu_->defines(mode, maxAngle_, modes_.candidateFaces);
         defines.push_back({"TRACE_ANY_HIT", anyHit ? "1" : "0"});
+        // From the root, candidate traversal reaches triangles only through Line Space nodes that are leaves.
+        if (mode == LineSpaceMode::Candidate && !gpu_->hasLeafSpaces() && !keepUnreachableLeafTest) {
+            defines.push_back({"CHCRT_LS_CANDIDATE_NO_LEAVES", "1"});
+        }
         if (iterationCap_ != 0) defines.push_back({"CHCRT_TRACE_ITERATION_CAP", std::to_string(iterationCap_) + "u"});
         slot = std::make_unique<ShaderProgram>(std::vector<ShaderStage>{{GL_VERTEX_SHADER, "common/fullscreen.vert.glsl"},
                                                                         {GL_FRAGMENT_SHADER, "trace/trace_bvh.frag.glsl"}},

@@ -51,6 +51,9 @@ public:
     LineSpaceStats buildStats;
     std::string cacheOutcome;
     std::string paramsText; // LineSpaceParams::toString()
+    // Candidate passes compile the leaf test out when no Line Space node is a BVH leaf (no ray can reach one; same
+    // hits, CHCRT_LS_CANDIDATE_NO_LEAVES). Tests set this before the first trace to keep it and compare.
+    bool keepUnreachableLeafTest = false;
 
 private:
     const ShaderProgram& program(LineSpaceMode mode, bool anyHit);

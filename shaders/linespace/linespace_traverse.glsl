@@ -11,6 +11,11 @@
 //   CHCRT_LS_CANDIDATE_START_EXACT     1: the node a candidate ray starts in is traversed exactly (default 0)
 //   CHCRT_LS_CANDIDATE_FRONT_ONLY      candidate planes count only when the ray meets their front side: 0 never
 //                                      (default, the paper), 1 in the node the ray starts in, 2 in every node
+//   CHCRT_LS_CANDIDATE_NO_LEAVES       1: candidate traversal from the BVH root over Line Spaces none of which is a
+//                                      BVH leaf, so no ray reaches a leaf and the leaf test is compiled out (default
+//                                      0). Same hits; llvmpipe runs the leaf loop's body once per outer iteration
+//                                      even when no ray is at a leaf (docs/architecture.md). Not for CHC+RT
+//                                      subtrees, whose roots below the cut traverse down to leaves.
 // Needs bvhTriangles and TraceHit from bvh_traverse.glsl (include it from there, after both).
 #include "linespace/linespace_bindings.h"
 #include "shared/linespace_layout.h"
@@ -21,6 +26,12 @@
 #endif
 #ifndef CHCRT_LS_CANDIDATE_FRONT_ONLY
 #define CHCRT_LS_CANDIDATE_FRONT_ONLY 0
+#endif
+#ifndef CHCRT_LS_CANDIDATE_NO_LEAVES
+#define CHCRT_LS_CANDIDATE_NO_LEAVES 0
+#endif
+#if CHCRT_LS_CANDIDATE_NO_LEAVES && (CHCRT_LS_MODE != CHCRT_LS_MODE_CANDIDATE || CHCRT_LS_CANDIDATE_START_EXACT)
+#error "CHCRT_LS_CANDIDATE_NO_LEAVES needs candidate mode without exact start nodes"
 #endif
 
 layout(binding = CHCRT_UNIT_LS_SPACE_OF_NODE) uniform usamplerBuffer lsSpaceOfNode;
@@ -246,12 +257,15 @@ void traverseBvh(uint root, vec3 origin, vec3 direction, float tmin, inout Trace
                 continue; // back into the inner loop with this node's children (or to its leaf)
             }
             nodeCount = 0u; // nothing to test here: pop
-        } else if (traversing && nodeCount != 0u) {
+        }
+#if !CHCRT_LS_CANDIDATE_NO_LEAVES
+        else if (traversing && nodeCount != 0u) {
             ++cost.leaves;
             if (intersectLeaf(nodeFirst, nodeCount, origin, direction, tmin, best, cost)) {
                 return;
             }
         }
+#endif
         // Pop the next node whose entry is not beyond the closest hit found so far.
         traversing = false;
         while (stackSize > 0 && cost.iterations < CHCRT_TRACE_ITERATION_CAP) {

@@ -168,6 +168,58 @@ TEST_P(LineSpaceTraceTest, ApproximateModesKeepTheirGuarantees) {
     EXPECT_GT(candidateHits, 0u);
 }
 
+// Without Line Space nodes that are BVH leaves, candidate passes compile the leaf test out
+// (CHCRT_LS_CANDIDATE_NO_LEAVES): every pixel's hit, bits of t and cost must equal those of the same tracer with
+// the leaf test kept, for AO, diffuse and (any-hit) shadow rays with candidates.
+class LineSpaceLeafTestVariantTest : public LineSpaceTraceTest {};
+
+TEST_P(LineSpaceLeafTestVariantTest, CandidatePassesWithoutTheUnreachableLeafTestGiveTheSameHits) {
+    const TraceCase c = GetParam();
+    RenderSettings settings;
+    settings.width = 96;
+    settings.height = 72;
+    Renderer& renderer = makeProceduralRenderer(c.scene, settings);
+    // A shallow cut, so that no Line Space node is a leaf; the case's own depth must have leaf spaces for the
+    // variant to matter there (checked below).
+    TraceCase shallow = c;
+    shallow.depth = 3;
+    const std::shared_ptr<ls::LineSpaceGpu> gpu = buildGpu(shallow, true);
+    ASSERT_FALSE(gpu->hasLeafSpaces()) << c.scene << " has leaf Line Spaces even at depth 3";
+    ls::LineSpaceModes modes;
+    modes.ao = modes.diffuse = modes.shadow = ls::LineSpaceMode::Candidate;
+    ls::LineSpaceTracer without("bvh+ls", gpu, modes, 30.0f), with("bvh+ls", gpu, modes, 30.0f);
+    with.keepUnreachableLeafTest = true;
+    const Camera camera = proceduralNearPath(spec_).cameraAtFrame(2);
+    FrameStats stats;
+    renderer.renderGBuffer(camera, stats);
+    uint64_t hitsSeen = 0;
+    for (RayType type : {RayType::Shadow, RayType::Ao, RayType::Diffuse}) {
+        renderer.generateRayPass(camera, type, 0, stats);
+        std::vector<Hit> hits[2];
+        std::vector<glm::uvec4> cost[2];
+        for (int k = 0; k < 2; ++k) {
+            renderer.useTracer(k == 0 ? &without : &with);
+            renderer.traceRayPass(camera, type, 0, stats);
+            hits[k] = renderer.readHits(0);
+            const FrameTargets& t = renderer.targets();
+            cost[k].resize(size_t(t.width) * t.height);
+            glGetTextureImage(t.hits[0].cost.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
+                              GLsizei(cost[k].size() * sizeof(cost[k][0])), cost[k].data());
+        }
+        renderer.useTracer(nullptr);
+        for (size_t i = 0; i < hits[0].size(); ++i) {
+            ASSERT_EQ(hits[0][i].triangleId, hits[1][i].triangleId) << toString(type) << " pixel " << i;
+            ASSERT_EQ(std::memcmp(&hits[0][i].t, &hits[1][i].t, sizeof(float)), 0) << toString(type) << " pixel " << i;
+            ASSERT_EQ(cost[0][i], cost[1][i]) << toString(type) << " pixel " << i;
+            hitsSeen += hits[0][i].triangleId != CHCRT_NO_HIT_ID ? 1 : 0;
+        }
+    }
+    EXPECT_GT(hitsSeen, 0u);
+    EXPECT_EQ(stats.cappedRays, 0u);
+    // At the case's own depth the cut ends in leaves somewhere (so the leaf test stays in those passes).
+    EXPECT_TRUE(buildGpu(c, false)->hasLeafSpaces()) << c.scene << " D=" << c.depth;
+}
+
 // A closed convex mesh with smooth normals: no ray leaving its surface can hit it again, so every candidate hit
 // there is false self-occlusion (the neighbouring triangles' extended planes of RC Algorithm 1). A ray leaving a
 // convex surface meets those planes from behind, so faces=front removes this error, faces=front-start (only in
@@ -271,6 +323,12 @@ std::string caseName(const ::testing::TestParamInfo<TraceCase>& info) {
 INSTANTIATE_TEST_SUITE_P(ProceduralScenes, LineSpaceTraceTest,
                          ::testing::Values(TraceCase{"city:30k", 6, 10}, TraceCase{"interior:30k", 6, 10},
                                            TraceCase{"plant:30k", 3, 9}, TraceCase{"plane-and-box", 8, 3}),
+                         caseName);
+
+// (Not plane-and-box: its few triangles end the cut in leaves already at depth 3.)
+INSTANTIATE_TEST_SUITE_P(ProceduralScenes, LineSpaceLeafTestVariantTest,
+                         ::testing::Values(TraceCase{"city:30k", 6, 10}, TraceCase{"interior:30k", 6, 10},
+                                           TraceCase{"plant:30k", 3, 9}),
                          caseName);
 
 } // namespace
