@@ -14,16 +14,19 @@
 #                  node skipped as SS §4.1) for (N:d) in CHCRT_LS_NTREE ("4:4 6:3 8:3"), --ls-ntree-near
 #                  CHCRT_LS_NTREE_NEAR (0 = the paper); trees cached in CHCRT_LS_CACHE like the Line Spaces (the
 #                  JSON's ntree.build_s is the stored build time, ntree.cache says whether it was loaded).
+#   SS candidates  (opt-in table "sscand") the same 25 shadow rays per pixel with representative candidates
+#                  (--ls-modes shadow=candidate: a candidate plane hit ends the ray) for the N:D pairs in
+#                  CHCRT_LS_SS_CANDIDATE ("7:11 8:11", the dragon's soft-shadow target, linespace/README.md).
 #   AO candidates  (opt-in table "ao") AO rays only, bvh+ls with ao=candidate (the start node acts as a leaf, RC)
 #                  for faces=both (the paper) and faces=front-start, D in CHCRT_LS_DEPTHS; shadows and diffuse exact,
 #                  so the image error is the AO approximation's alone.
-# CHCRT_LS_TABLES selects the tables ("rc ss ntree", default; add "ao" for the AO table).
+# CHCRT_LS_TABLES selects the tables ("rc ss ntree", default; add "ao" / "sscand" for the opt-in tables).
 # Usage: scripts/bench_linespace.sh [build dir (build)] [out dir (out/bench/linespace)] [scene ...]
 #   scenes: city interior bunny dragon castle (default: all; the last three only when ../shared/scenes has them)
 # Environment: CHCRT_BENCH_SIZE (256), CHCRT_BENCH_FRAMES (0,5), CHCRT_BENCH_RUNS (3), CHCRT_LS_DEPTHS ("6 9"),
 #   CHCRT_LS_N (6), CHCRT_LS_SS_N ("4 6"), CHCRT_LS_SS_DEPTH (9), CHCRT_LS_CACHE (out/cache/linespace).
 # Output: <out>/<scene>_rc_D<d>.json, <out>/<scene>_ss_N<n>.json, <out>/<scene>_ntree_<N>_<d>[_near<K>].json,
-#   <out>/<scene>_ao_D<d>_<faces>.json (bench rows), <out>/linespace_tables.md, <out>/summary.md (compact RC
+#   <out>/<scene>_ao_D<d>_<faces>.json, <out>/<scene>_ss_N<n>_D<d>_candidate.json (bench rows), <out>/linespace_tables.md, <out>/summary.md (compact RC
 #   Table 1 with indirect = AO + diffuse, SS Table 1, AO table), <out>/*.csv (scripts/linespace_tables.py).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -42,6 +45,7 @@ ss_n=${CHCRT_LS_SS_N:-"4 6"}
 ss_depth=${CHCRT_LS_SS_DEPTH:-9}
 cache=${CHCRT_LS_CACHE:-out/cache/linespace}
 ntree=${CHCRT_LS_NTREE:-"4:4 6:3 8:3"}
+ss_candidate=${CHCRT_LS_SS_CANDIDATE:-"7:11 8:11"}
 tables=${CHCRT_LS_TABLES:-"rc ss ntree"}
 ntree_near=${CHCRT_LS_NTREE_NEAR:-0}
 near_suffix=""; [[ $ntree_near == 0 ]] || near_suffix="_near${ntree_near}"
@@ -88,6 +92,13 @@ for scene in "${scenes[@]}"; do
     "$chcrt" bench "${common[@]}" --method bvh,bvh+ls --ray-type shadow --spp 25 --effects shadow \
       --ls-n "$sn" --ls-depth "$ss_depth" --ls-modes ao=exact,diffuse=exact \
       --json "$out/${scene}_ss_N${sn}.json"
+  done
+  for nd in $ss_candidate; do
+    [[ " $tables " == *" sscand "* ]] || break
+    echo "bench_linespace: $scene SS table with candidates, N:D=$nd"
+    "$chcrt" bench "${common[@]}" --method bvh,bvh+ls --ray-type shadow --spp 25 --effects shadow \
+      --ls-n "${nd%%:*}" --ls-depth "${nd##*:}" --ls-modes shadow=candidate,ao=exact,diffuse=exact \
+      --json "$out/${scene}_ss_N${nd%%:*}_D${nd##*:}_candidate.json"
   done
 done
 python3 scripts/linespace_tables.py "$out"
