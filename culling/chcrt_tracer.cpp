@@ -616,8 +616,13 @@ bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& ra
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
     dirtyTiles_.clear();
 
-    // Where the rays can reach (culling/ray_extent_grid.h), for skipping pairs out of reach in every phase.
-    if (rayExtent_) rayExtent_->update(rays.origin.id(), rays.direction.id(), width, height);
+    // Where the rays can reach (culling/ray_extent_grid.h), for skipping pairs out of reach in every phase. Primary
+    // rays are unbounded by construction (tmax = CHCRT_NO_HIT_T), so every cell would say so: no reduction pass and
+    // read-back for them.
+    if (rayExtent_) {
+        if (request.rayType == RayType::Primary && !request.bounceShadow) rayExtent_->forget();
+        else rayExtent_->update(rays.origin.id(), rays.direction.id(), width, height);
+    }
 
     // Phase 1 (Algorithm 1, lines 1-4): intersect the previously visible leaves, initialising depth.
     std::vector<int32_t> visibleLeaves, invisibleLeaves;

@@ -34,6 +34,9 @@ public:
     // means no ray of the tile can hit anything inside them. Tiles are in pixels of the ray set, GL orientation.
     bool mayReach(const Tile& tile, const glm::vec3* lower, const glm::vec3* upper, int count) const;
 
+    // Drops the cells: nothing is known, mayReach is true everywhere (for ray sets known to be unbounded).
+    void forget() { cells_.clear(); }
+
     int cellsX() const { return cellsX_; }
     int cellsY() const { return cellsY_; }
 

@@ -69,6 +69,13 @@ TEST(RayExtentGrid, BoxesAreTouchedWithinTheRoundingPadAndUnboundedCellsReachEve
 TEST(RayExtentGrid, WithoutCellsEverythingIsReachable) {
     RayExtentGrid grid;
     EXPECT_TRUE(reach(grid, Tile{0, 0, 16, 16}, glm::vec3(0.0f), glm::vec3(1.0f)));
+    // forget() (the tracer's primary rays) drops cells that excluded a box: reachable again.
+    Cells cells;
+    cells.set(0, 0, glm::vec3(0.0f), glm::vec3(1.0f));
+    grid.setCells(64, 32, cells.lower, cells.upper);
+    EXPECT_FALSE(reach(grid, Tile{0, 0, 16, 16}, glm::vec3(5.0f), glm::vec3(6.0f)));
+    grid.forget();
+    EXPECT_TRUE(reach(grid, Tile{0, 0, 16, 16}, glm::vec3(5.0f), glm::vec3(6.0f)));
 }
 
 } // namespace
