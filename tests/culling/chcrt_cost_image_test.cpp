@@ -18,11 +18,7 @@ namespace {
 
 // The pure tracer's cost target of hit set 0 (inner nodes, leaves, triangles, capped), GL rows bottom to top.
 std::vector<glm::uvec4> readCostTarget(const Renderer& renderer) {
-    const int w = renderer.settings().width, h = renderer.settings().height;
-    std::vector<glm::uvec4> cost(size_t(w) * size_t(h));
-    glGetTextureImage(renderer.targets().hits[0].cost.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
-                      GLsizei(cost.size() * sizeof(glm::uvec4)), cost.data());
-    return cost;
+    return readUvec4Image(renderer.targets().hits[0].cost.id(), renderer.settings().width, renderer.settings().height);
 }
 
 bool isActive(const Ray& ray) { return ray.tmax > ray.tmin; } // as the shaders test it

@@ -43,11 +43,8 @@ protected:
     // Sum of the triangles tested per ray (cost target .z) of the last pass.
     uint64_t trianglesTested(Renderer& renderer) {
         const FrameTargets& t = renderer.targets();
-        std::vector<glm::uvec4> cost(size_t(t.width) * t.height);
-        glGetTextureImage(t.hits[0].cost.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
-                          GLsizei(cost.size() * sizeof(cost[0])), cost.data());
         uint64_t sum = 0;
-        for (const glm::uvec4& c : cost) sum += c.z;
+        for (const glm::uvec4& c : readUvec4Image(t.hits[0].cost.id(), t.width, t.height)) sum += c.z;
         return sum;
     }
     ls::LineSpaces spaces_;
@@ -202,9 +199,7 @@ TEST_P(LineSpaceLeafTestVariantTest, CandidatePassesWithoutTheUnreachableLeafTes
             renderer.traceRayPass(camera, type, 0, stats);
             hits[k] = renderer.readHits(0);
             const FrameTargets& t = renderer.targets();
-            cost[k].resize(size_t(t.width) * t.height);
-            glGetTextureImage(t.hits[0].cost.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
-                              GLsizei(cost[k].size() * sizeof(cost[k][0])), cost[k].data());
+            cost[k] = readUvec4Image(t.hits[0].cost.id(), t.width, t.height);
         }
         renderer.useTracer(nullptr);
         for (size_t i = 0; i < hits[0].size(); ++i) {

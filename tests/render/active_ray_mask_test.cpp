@@ -10,13 +10,6 @@
 namespace chcrt::test {
 namespace {
 
-std::vector<uint32_t> readUint4Image(GLuint texture, int width, int height) {
-    std::vector<uint32_t> texels(size_t(width) * height * 4);
-    glGetTextureImage(texture, 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, GLsizei(texels.size() * sizeof(uint32_t)),
-                      texels.data());
-    return texels;
-}
-
 // Fills both hit attachments with a pattern no tracer writes, so that unwritten pixels show.
 void poison(const HitTargets& hits) {
     const GLuint garbage[4] = {0xDEADBEEFu, 0x12345678u, 0xCAFEBABEu, 0x0BADF00Du};
@@ -76,29 +69,29 @@ TEST_P(ActiveRayMaskTest, MaskMarksActiveRaysAndMaskedTracingWritesEveryPixelAsU
     ASSERT_NE(own.hits[0].maskedFor, 0u);
     poison(own.hits[0]);
     tracer.trace(request, own.rays[0], own.hits[0], w, h, traceStats);
-    const std::vector<uint32_t> maskedHit = readUint4Image(own.hits[0].hit.id(), w, h);
-    const std::vector<uint32_t> maskedCost = readUint4Image(own.hits[0].cost.id(), w, h);
+    const std::vector<glm::uvec4> maskedHit = readUvec4Image(own.hits[0].hit.id(), w, h);
+    const std::vector<glm::uvec4> maskedCost = readUvec4Image(own.hits[0].cost.id(), w, h);
     own.hits[0].maskedFor = 0; // no mask: every fragment is shaded
     poison(own.hits[0]);
     tracer.trace(request, own.rays[0], own.hits[0], w, h, traceStats);
-    const std::vector<uint32_t> fullHit = readUint4Image(own.hits[0].hit.id(), w, h);
-    const std::vector<uint32_t> fullCost = readUint4Image(own.hits[0].cost.id(), w, h);
+    const std::vector<glm::uvec4> fullHit = readUvec4Image(own.hits[0].hit.id(), w, h);
+    const std::vector<glm::uvec4> fullCost = readUvec4Image(own.hits[0].cost.id(), w, h);
     ASSERT_EQ(glGetError(), GLenum(GL_NO_ERROR));
     size_t differing = 0, poisoned = 0;
     for (size_t i = 0; i < maskedHit.size(); ++i) {
         differing += maskedHit[i] != fullHit[i] || maskedCost[i] != fullCost[i] ? 1 : 0;
-        poisoned += maskedHit[i] == 0xDEADBEEFu || maskedHit[i] == 0x12345678u ? 1 : 0;
+        for (int c = 0; c < 4; ++c) poisoned += maskedHit[i][c] == 0xDEADBEEFu || maskedHit[i][c] == 0x12345678u ? 1 : 0;
     }
     EXPECT_EQ(differing, 0u);
     EXPECT_EQ(poisoned, 0u);
     // The masked result is also the renderer's own (which traced with the mask).
     const std::vector<Hit> rendererHits = renderer.readHits(0);
-    ASSERT_EQ(rendererHits.size() * 4, maskedHit.size());
+    ASSERT_EQ(rendererHits.size(), maskedHit.size());
     for (size_t i = 0; i < rendererHits.size(); ++i) {
         uint32_t tBits = 0;
         std::memcpy(&tBits, &rendererHits[i].t, sizeof(tBits));
-        ASSERT_EQ(tBits, maskedHit[4 * i]) << "pixel " << i;
-        ASSERT_EQ(rendererHits[i].triangleId, maskedHit[4 * i + 1]) << "pixel " << i;
+        ASSERT_EQ(tBits, maskedHit[i].x) << "pixel " << i;
+        ASSERT_EQ(rendererHits[i].triangleId, maskedHit[i].y) << "pixel " << i;
     }
 }
 

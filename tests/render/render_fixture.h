@@ -10,8 +10,17 @@
 #include <gtest/gtest.h>
 
 #include <memory>
+#include <vector>
 
 namespace chcrt::test {
+
+// Reads a whole RGBA32UI texture (the hit and cost targets), rows bottom to top as GL stores them.
+inline std::vector<glm::uvec4> readUvec4Image(GLuint texture, int width, int height) {
+    std::vector<glm::uvec4> texels(size_t(width) * size_t(height));
+    glGetTextureImage(texture, 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, GLsizei(texels.size() * sizeof(glm::uvec4)),
+                      texels.data());
+    return texels;
+}
 
 class RenderTest : public ::testing::Test {
 protected:
