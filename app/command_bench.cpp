@@ -35,6 +35,7 @@ struct MethodResult {
     ChcrtStats chcrt;          // CHC+RT counters over the timed runs (chcrt methods only)
     outofcore::OutOfCoreStats outOfCore; // --out-of-core: Table 3 counters over the timed runs
     nlohmann::json outOfCoreFrames = nlohmann::json::array(); // per trace of the first timed run
+    uint64_t steps = 0, stepRays = 0; // --steps: traversal steps over the active rays of the first timed run
 };
 
 double median(std::vector<double> values) {
@@ -46,6 +47,19 @@ double median(std::vector<double> values) {
 
 uint64_t countActive(const std::vector<Ray>& rays) {
     return uint64_t(std::count_if(rays.begin(), rays.end(), [](const Ray& r) { return r.tmax > r.tmin; }));
+}
+
+// Adds the steps of the active rays (encoding of ChcrtDebugImage::Cost); a capped ray's count is incomplete.
+void addSteps(const std::vector<Ray>& rays, const std::vector<uint32_t>& steps, const std::string& method,
+              MethodResult& result) {
+    for (size_t i = 0; i < rays.size() && i < steps.size(); ++i) {
+        if (!(rays[i].tmax > rays[i].tmin)) continue;
+        if (steps[i] & kChcrtCostCappedBit) {
+            throw std::runtime_error("rays reached the shader loop cap while counting steps (" + method + ")");
+        }
+        result.steps += steps[i] & kChcrtCostStepMask;
+        ++result.stepRays;
+    }
 }
 
 } // namespace
@@ -104,6 +118,7 @@ int runBench(const BenchOptions& options) {
     Table table;
     table.header = {"scene", "path", "ray_type", "method", "size", "spp", "ms/frame", "Mrays/s", "speedup", "diff_px",
                     "PSNR dB"};
+    if (options.steps) table.header.push_back("steps/ray");
     nlohmann::json rowsJson = nlohmann::json::array();
     const int totalRuns = options.warmupRuns + options.runs;
     session.progress->begin("Benchmarking", uint64_t(rayTypes.size()) * totalRuns * frames.size());
@@ -153,20 +168,37 @@ int runBench(const BenchOptions& options) {
                             throw std::runtime_error("rays reached the shader loop cap during the benchmark (" + m + ")");
                         }
                         runMs[m] += methodStats.traceMs();
+                        ChcrtTracer* c = nullptr;
                         if (m != "bvh") {
-                            auto* c = dynamic_cast<ChcrtTracer*>(tracers[m].get());
+                            c = dynamic_cast<ChcrtTracer*>(tracers[m].get());
                             if (auto* ooc = dynamic_cast<outofcore::OutOfCoreTracer*>(tracers[m].get())) c = &ooc->chcrt();
                             if (c) {
                                 if (timed) results[m].chcrt += c->totalStats(); // CHC+RT counters (no warm-up)
                                 c->resetStats();
                             }
                         }
-                        if (!comparing) continue;
+                        if (comparing) {
+                            if (m == "bvh") {
+                                bvhHits = renderer.readHits(0);
+                            } else {
+                                results[m].comparison.differing +=
+                                    compareHitsExactly(rays, renderer.readHits(0), bvhHits, isAnyHit(type)).differing;
+                            }
+                        }
+                        if (!options.steps || !compare) continue;
+                        // Work, not time: pure BVH's cost target of the timed trace; CHC+RT counts only with its
+                        // cost debug image, so it traces the pass once more, untimed (its fronts advance once
+                        // more; debug traces do not feed the adaptive choice).
                         if (m == "bvh") {
-                            bvhHits = renderer.readHits(0);
-                        } else {
-                            results[m].comparison.differing +=
-                                compareHitsExactly(rays, renderer.readHits(0), bvhHits, isAnyHit(type)).differing;
+                            addSteps(rays, renderer.readTraceSteps(0), m, results[m]);
+                        } else if (c) {
+                            c->setDebugImage(ChcrtDebugImage::Cost);
+                            c->clearDebugImage();
+                            FrameStats untimed;
+                            renderer.traceRayPass(camera, type, sample, untimed);
+                            addSteps(rays, c->readDebugImage(), m, results[m]);
+                            c->setDebugImage(ChcrtDebugImage::None);
+                            c->resetStats();
                         }
                     }
                     renderer.useTracer(nullptr);
@@ -208,6 +240,9 @@ int runBench(const BenchOptions& options) {
                                   std::to_string(settings.samplesPerPixel), formatFixed(ms, 1), formatFixed(mrays, 2),
                                   formatFixed(speedup, 2), session.sceneInCore ? std::to_string(diff) : "-",
                                   imageErrors.count(m) ? formatFixed(imageErrors[m].finalPsnrDb, 1) : "-"});
+            const bool stepsCounted = options.steps && r.stepRays > 0;
+            const double stepsPerRay = stepsCounted ? double(r.steps) / double(r.stepRays) : 0.0;
+            if (options.steps) table.rows.back().push_back(stepsCounted ? formatFixed(stepsPerRay, 1) : "-");
             rowsJson.push_back({{"scene", session.scene.name},
                                 {"path", session.path.name},
                                 {"ray_type", toString(type)},
@@ -224,7 +259,8 @@ int runBench(const BenchOptions& options) {
                                 {"speedup_vs_bvh", speedup},
                                 {"diff_pixels", session.sceneInCore ? nlohmann::json(diff) : nlohmann::json(nullptr)},
                                 {"edge_cases", m == "bvh" ? 0 : r.comparison.edgeCases},
-                                {"psnr_db", nullptr}});
+                                {"psnr_db", nullptr},
+                                {"steps_per_ray", stepsCounted ? nlohmann::json(stepsPerRay) : nlohmann::json(nullptr)}});
             if (imageErrors.count(m)) {
                 const ls::ImageError& e = imageErrors[m];
                 nlohmann::json& row = rowsJson.back();

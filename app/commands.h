@@ -26,6 +26,7 @@ struct BenchOptions {
     std::string rayTypes = "primary";
     int runs = 5;
     int warmupRuns = 1;
+    bool steps = false; // --steps: BVH traversal steps per active ray of bvh and CHC+RT (untimed extra traces)
     std::string jsonFile, csvFile, markdownFile;
 };
 int runBench(const BenchOptions& options);

@@ -54,6 +54,10 @@ int run(int argc, char** argv) {
         ->capture_default_str();
     benchCommand->add_option("--runs", bench.runs, "Timed runs (the median is reported)")->capture_default_str();
     benchCommand->add_option("--warmup", bench.warmupRuns, "Untimed warm-up runs")->capture_default_str();
+    benchCommand->add_flag("--steps", bench.steps,
+                           "Also count BVH traversal steps (inner nodes + leaves + triangles) per active ray for bvh and the "
+                           "chcrt methods, in the first timed run (CHC+RT: one extra untimed trace per pass; column "
+                           "steps/ray, JSON steps_per_ray)");
     benchCommand->add_option("--json", bench.jsonFile, "Write the table as JSON ({\"rows\": [...]})");
     benchCommand->add_option("--csv", bench.csvFile, "Write the table as CSV");
     benchCommand->add_option("--markdown", bench.markdownFile, "Write the table as markdown");

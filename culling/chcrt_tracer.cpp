@@ -567,7 +567,9 @@ void ChcrtTracer::trace(const TraceRequest& request, const RayTextures& rays, Hi
     const auto start = Clock::now();
     if (cull) {
         const bool warm = traceCulled(request, rays, hits, width, height);
-        choice.culled(millisecondsSince(start), warm); // traceCulled ends with glFinish
+        // traceCulled ends with glFinish. A debug trace's time includes the instrumentation: not a sample of
+        // culling's cost for the choice.
+        if (debugKind_ == ChcrtDebugImage::None) choice.culled(millisecondsSince(start), warm);
         stats.passes += 1 + last_.shaderCalls + last_.queries;
     } else {
         fullTracer_->trace(request, rays, hits, width, height, stats);

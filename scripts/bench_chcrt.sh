@@ -7,6 +7,9 @@
 #   Table 4  aggressive thresholds 0/20/100/200 rays (chcrt-aggressive --chcrt-threshold T), near path, primary and
 #            AO, with the differing hit pixels (the image error of culled hits);
 #   Table 5  per-pixel sample rotation 0/18/36/360 degrees (--rotation), near path, AO and diffuse.
+#   work     (opt-in, CHCRT_BENCH_TABLES="work") how much traversal culling can save: BVH traversal steps per
+#            active ray (`bench --steps`) of pure BVH and always-culling CHC+RT per termination height
+#            (CHCRT_BENCH_HEIGHTS, default "24 18 14 10 8 6"), near path, 1 spp per ray type, next to the times.
 # Usage: scripts/bench_chcrt.sh [build dir (build)] [out dir (out/bench/chcrt)] [scene ...]
 #   scenes: city interior plant castle (default: all; castle only when ../shared/scenes/intel_castle exists)
 # Environment: CHCRT_BENCH_SIZE (256: width = height), CHCRT_BENCH_FRAMES (0-15: consecutive frames, so that
@@ -14,7 +17,7 @@
 #   castle is one view, so its runs are what temporal coherence and the adaptive rule see), CHCRT_BENCH_TABLES
 #   ("2 4 5").
 # Output: <out>/<scene>_<table>_*.json (bench rows), and <out>/<scene>_table2.md|csv, _figure8.md|csv,
-#   _table4.md|csv, _table5.md|csv.
+#   _table4.md|csv, _table5.md|csv, _work.md|csv.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
@@ -77,6 +80,17 @@ for scene in "${scenes[@]}"; do
         # shellcheck disable=SC2046
         "$chcrt" bench "${common[@]}" $(path_args "$path") --ray-type "$ray" --spp "$(spp_of $ray)" \
           --rotation "$r" --method bvh,chcrt,chcrt-noadapt --json "$out/${scene}_table5_${ray}_r${r}.json"
+      done
+    done
+  fi
+  if [[ " $tables " == *" work "* ]]; then
+    path=${paths[0]}
+    for h in ${CHCRT_BENCH_HEIGHTS:-24 18 14 10 8 6}; do
+      for ray in primary shadow ao diffuse; do
+        echo "bench_chcrt: $scene work, height $h, $ray"
+        # shellcheck disable=SC2046
+        "$chcrt" bench "${common[@]}" $(path_args "$path") --ray-type "$ray" --spp 1 --chcrt-height "$h" --steps \
+          --method bvh,chcrt-noadapt --json "$out/${scene}_work_h${h}_${ray}.json"
       done
     done
   fi

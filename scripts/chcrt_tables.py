@@ -36,6 +36,12 @@ def setup(data):
         r["width"], r["height"], r["frames"], r["runs"], data.get("gl_renderer", "?"))
 
 
+def work_setup(data):
+    r = data["rows"][0]
+    return "%dx%d, 1 spp per ray type, %d frame(s), median of %d run(s) after 1 warm-up, %s" % (
+        r["width"], r["height"], r["frames"], r["runs"], data.get("gl_renderer", "?"))
+
+
 def main():
     out, scene = sys.argv[1], sys.argv[2]
     f2 = sorted(glob.glob(os.path.join(out, scene + "_table2_*.json")))
@@ -110,6 +116,29 @@ def main():
         write(out, scene + "_table5", ["ray type", "rotation (deg)", "bvh ms", "chcrt ms", "chcrt speedup",
                                        "noadapt ms", "noadapt speedup", "diff px"], rows,
               "CHC+RT Table 5 (per-pixel sample rotation), %s (%s)." % (scene, setup(load(f5[0]))))
+    fw = sorted(glob.glob(os.path.join(out, scene + "_work_h*.json")))
+    if fw:
+        rows = []
+        order = {"primary": 0, "shadow": 1, "ao": 2, "diffuse": 3}
+        for path in fw:
+            d = load(path)
+            m = rows_by_method(d)
+            b, n = m["bvh"], m["chcrt-noadapt"]
+            h = int(os.path.basename(path).split("_work_h", 1)[1].split("_")[0])
+            p = n["chcrt"]["per_frame"]
+            rows.append([b["ray_type"], h, "%.1f" % b["steps_per_ray"], "%.1f" % n["steps_per_ray"],
+                         "%.2f" % (b["steps_per_ray"] / n["steps_per_ray"]), "%.1f" % b["ms_median"],
+                         "%.1f" % n["ms_median"], "%.2f" % n["speedup_vs_bvh"], "%.1f" % p["phase1_ms"],
+                         "%.1f" % (p["phase2_ms"] + p["phase3_ms"]), "%.0f" % p["queries"],
+                         "%.0f" % p["subtrees_scheduled"], b["diff_pixels"] + n["diff_pixels"]])
+        rows.sort(key=lambda r: (order.get(r[0], 9), -r[1]))
+        write(out, scene + "_work", ["ray type", "height", "bvh steps/ray", "chcrt steps/ray", "steps ratio",
+                                     "bvh ms", "noadapt ms", "noadapt speedup", "phase 1 ms", "phase 2+3 ms",
+                                     "queries", "subtrees traced", "diff px"], rows,
+              "How much traversal culling can save, %s (%s): steps = BVH inner nodes + leaves + triangles per active "
+              "ray (chcrt bench --steps) of pure BVH and always-culling CHC+RT (chcrt-noadapt) at termination height "
+              "H; per frame: ms, phase times, queries, subtrees traced (scheduled (tile, subtree) pairs)."
+              % (scene, work_setup(load(fw[0]))))
 
 
 if __name__ == "__main__":

@@ -5,6 +5,7 @@
 #include "renderer/render/halton.h"
 #include "shaders/shared/render_layout.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 
@@ -450,6 +451,18 @@ std::vector<Hit> Renderer::readHits(int set) const {
         std::memcpy(&hits[i].v, &data[i * 4 + 3], sizeof(float));
     }
     return hits;
+}
+
+std::vector<uint32_t> Renderer::readTraceSteps(int set) const {
+    const int w = targets_->width, h = targets_->height;
+    const std::vector<uint32_t> data =
+        readTexture<uint32_t>(targets_->hits[set].cost.id(), w, h, GL_RGBA_INTEGER, GL_UNSIGNED_INT);
+    std::vector<uint32_t> steps(size_t(w) * h);
+    for (size_t i = 0; i < steps.size(); ++i) {
+        const uint64_t sum = uint64_t(data[i * 4]) + data[i * 4 + 1] + data[i * 4 + 2];
+        steps[i] = uint32_t(std::min<uint64_t>(sum, 0x7fffffffu)) | (data[i * 4 + 3] != 0 ? 0x80000000u : 0u);
+    }
+    return steps;
 }
 
 } // namespace chcrt

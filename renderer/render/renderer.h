@@ -80,6 +80,10 @@ public:
     ImageRgba32f readIndirectImage();
     std::vector<Ray> readRays(int set) const;
     std::vector<Hit> readHits(int set) const;
+    // BVH traversal steps per pixel of the last full-screen trace into hit set `set` (inner nodes + leaves +
+    // triangles of its cost target), bit 31 set where the ray reached the loop cap: the encoding of CHC+RT's
+    // cost debug image (culling/chcrt_tracer.h), so that `chcrt bench --steps` compares the two per ray.
+    std::vector<uint32_t> readTraceSteps(int set) const;
     const FrameTargets& targets() const { return *targets_; }
     // Frustum culling of BVH clusters in the G-buffer pass (on by default; off only for tests and comparisons).
     void setFrustumCulling(bool enabled) { frustumCulling_ = enabled; }

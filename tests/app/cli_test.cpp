@@ -189,6 +189,32 @@ TEST_F(CliTest, BenchWritesTheDocumentedJsonSchema) {
     EXPECT_TRUE(exists("b.csv"));
 }
 
+// --steps counts work next to time. With the whole BVH as one termination subtree and the query testing the
+// subtree root's own box, CHC+RT traverses exactly what pure BVH does per ray (tests/culling/
+// chcrt_cost_image_test.cpp), so the two counts must agree; with more subtrees they may not.
+TEST_F(CliTest, BenchStepsOfOneSubtreeChcrtEqualPureBvhSteps) {
+    const std::string common = "bench --scene city:30k --ray-type primary,shadow --method bvh,chcrt-noadapt --frames 0,2 "
+                               "--runs 1 --warmup 0 --width 64 --height 48 --chcrt-height 64 --chcrt-tighter-bounds off "
+                               "--chcrt-min-tile 16 -q ";
+    const Result r = run(common + "--steps --json s.json");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("steps/ray"), std::string::npos);
+    const nlohmann::json j = readJson("s.json");
+    ASSERT_EQ(j["rows"].size(), 4u);
+    for (size_t i = 0; i < 4; i += 2) {
+        const nlohmann::json& pure = j["rows"][i];
+        const nlohmann::json& culled = j["rows"][i + 1];
+        ASSERT_EQ(pure["method"], "bvh");
+        ASSERT_EQ(culled["method"], "chcrt-noadapt");
+        EXPECT_GT(pure["steps_per_ray"].get<double>(), 1.0) << pure["ray_type"];
+        EXPECT_EQ(pure["steps_per_ray"].get<double>(), culled["steps_per_ray"].get<double>()) << pure["ray_type"];
+    }
+    const Result plain = run(common + "--json p.json");
+    ASSERT_EQ(plain.exitCode, 0) << plain.output;
+    EXPECT_EQ(plain.output.find("steps/ray"), std::string::npos);
+    EXPECT_TRUE(readJson("p.json")["rows"][0]["steps_per_ray"].is_null());
+}
+
 TEST_F(CliTest, InfoReportsGlAndScene) {
     const Result r = run("info --scene interior:20k -q");
     ASSERT_EQ(r.exitCode, 0) << r.output;
