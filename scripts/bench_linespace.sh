@@ -18,12 +18,15 @@
 #                  (--ls-modes shadow=candidate: a candidate plane hit ends the ray) for the N:D pairs in
 #                  CHCRT_LS_SS_CANDIDATE ("7:11 8:11", the dragon's soft-shadow target, linespace/README.md).
 #   AO candidates  (opt-in table "ao") AO rays only, bvh+ls with ao=candidate (the start node acts as a leaf, RC)
-#                  for faces=both (the paper) and faces=front-start, D in CHCRT_LS_DEPTHS; shadows and diffuse exact,
-#                  so the image error is the AO approximation's alone.
+#                  for faces=both (the paper) and faces=front-start, and ao=candidate-exact-start (the node the ray
+#                  starts in traversed exactly), D in CHCRT_LS_DEPTHS; shadows and diffuse exact, so the image error
+#                  is the AO approximation's alone.
 # CHCRT_LS_TABLES selects the tables ("rc ss ntree", default; add "ao" / "sscand" for the opt-in tables).
 # Usage: scripts/bench_linespace.sh [build dir (build)] [out dir (out/bench/linespace)] [scene ...]
 #   scenes: city interior bunny dragon castle (default: all; the last three only when ../shared/scenes has them)
 # Environment: CHCRT_BENCH_SIZE (256), CHCRT_BENCH_FRAMES (0,5), CHCRT_BENCH_RUNS (3), CHCRT_LS_DEPTHS ("6 9"),
+#   CHCRT_LS_SPP (1: samples per pixel of the RC and AO tables; every pixel of a pass shares one Halton direction,
+#   CHC+RT §5.3, so a 1-spp image error depends on that one direction: use 4 or more for error figures),
 #   CHCRT_LS_N (6), CHCRT_LS_SS_N ("4 6"), CHCRT_LS_SS_DEPTH (9), CHCRT_LS_CACHE (out/cache/linespace).
 # Output: <out>/<scene>_rc_D<d>.json, <out>/<scene>_ss_N<n>.json, <out>/<scene>_ntree_<N>_<d>[_near<K>].json,
 #   <out>/<scene>_ao_D<d>_<faces>.json, <out>/<scene>_ss_N<n>_D<d>_candidate.json (bench rows), <out>/linespace_tables.md, <out>/summary.md (compact RC
@@ -39,6 +42,7 @@ chcrt="$build/bin/chcrt"
 size=${CHCRT_BENCH_SIZE:-256}
 frames=${CHCRT_BENCH_FRAMES:-0,5}
 runs=${CHCRT_BENCH_RUNS:-3}
+spp=${CHCRT_LS_SPP:-1}
 depths=${CHCRT_LS_DEPTHS:-"6 9"}
 n=${CHCRT_LS_N:-6}
 ss_n=${CHCRT_LS_SS_N:-"4 6"}
@@ -66,17 +70,20 @@ for scene in "${scenes[@]}"; do
   for d in $depths; do
     [[ " $tables " == *" rc "* ]] || break
     echo "bench_linespace: $scene RC table, D=$d"
-    "$chcrt" bench "${common[@]}" --method bvh,bvh+ls-exact,bvh+ls --ray-type primary,ao,diffuse --spp 1 \
+    "$chcrt" bench "${common[@]}" --method bvh,bvh+ls-exact,bvh+ls --ray-type primary,ao,diffuse --spp "$spp" \
       --effects shadow,ao,diffuse --ls-n "$n" --ls-depth "$d" --ls-modes shadow=exact,bounce=exact \
       --json "$out/${scene}_rc_D${d}.json"
   done
   for d in $depths; do
     [[ " $tables " == *" ao "* ]] || break
-    for faces in both front-start; do
-      echo "bench_linespace: $scene AO candidates, D=$d, faces=$faces"
-      "$chcrt" bench "${common[@]}" --method bvh,bvh+ls --ray-type ao --spp 1 --effects shadow,ao,diffuse \
-        --ls-n "$n" --ls-depth "$d" --ls-modes shadow=exact,bounce=exact,diffuse=exact,ao=candidate,faces=$faces \
-        --json "$out/${scene}_ao_D${d}_${faces}.json"
+    for variant in both front-start exact-start; do
+      # exact-start: candidate-exact-start (the node the ray starts in traversed exactly), faces=front-start.
+      mode=candidate faces=$variant
+      [[ $variant == exact-start ]] && mode=candidate-exact-start faces=front-start
+      echo "bench_linespace: $scene AO candidates, D=$d, $variant"
+      "$chcrt" bench "${common[@]}" --method bvh,bvh+ls --ray-type ao --spp "$spp" --effects shadow,ao,diffuse \
+        --ls-n "$n" --ls-depth "$d" --ls-modes shadow=exact,bounce=exact,diffuse=exact,ao=$mode,faces=$faces \
+        --json "$out/${scene}_ao_D${d}_${variant}.json"
     done
   done
   for nd in $ntree; do

@@ -124,7 +124,7 @@ def summary(folder):
         with open(path) as f:
             return json.load(f)
     out = ["# Line Space summary", "",
-           "RC Table 1 shape: indirect = AO + diffuse rays (1 spp each) with the bvh+ls modes of the run; shadows exact.",
+           "RC Table 1 shape: indirect = AO + diffuse rays (the run's spp each) with the bvh+ls modes of the run; shadows exact.",
            "The AO column of bvh+ls is pure BVH tracing unless the modes say otherwise (then it shows the run's noise).", "",
            "| scene | D | spaces | build s (bin + cand) | LS MB | BVH MB | ms AO+diffuse BVH -> LS | indirect speedup | AO | diffuse | final PSNR dB | indirect (diffuse) PSNR dB | modes |",
            "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
