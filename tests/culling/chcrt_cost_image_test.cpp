@@ -98,6 +98,37 @@ TEST_F(ChcrtCostImageTest, SingleSubtreeCostEqualsPureBvhCostPerPixel) {
     EXPECT_GT(chcrt.totalStats().subtreesScheduled, 1u);
 }
 
+// A debug trace's time includes the instrumentation (and `bench --steps` adds such traces next to timed ones), so it
+// must not become a sample of culling's cost. The rule traces culled until culling's time is known, then measures a
+// pure pass: after three warm debug traces the first plain trace must still cull.
+TEST_F(ChcrtCostImageTest, DebugTracesDoNotFeedTheAdaptiveChoice) {
+    RenderSettings settings;
+    settings.width = 64;
+    settings.height = 48;
+    Renderer& renderer = makeProceduralRenderer("city:30k", settings);
+    ChcrtOptions options;
+    options.adaptive = true;
+    ChcrtTracer chcrt(bvh_, options);
+    const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
+    FrameStats stats;
+    renderer.renderGBuffer(camera, stats);
+    renderer.generateRayPass(camera, RayType::Primary, 0, stats);
+    renderer.useTracer(&chcrt);
+    chcrt.setDebugImage(ChcrtDebugImage::Cost);
+    for (int i = 0; i < 4; ++i) { // one cold trace, three warm ones
+        renderer.traceRayPass(camera, RayType::Primary, 0, stats);
+        EXPECT_EQ(chcrt.lastStats().fallbackTraces, 0u);
+    }
+    chcrt.setDebugImage(ChcrtDebugImage::None);
+    renderer.traceRayPass(camera, RayType::Primary, 0, stats);
+    EXPECT_EQ(chcrt.lastStats().fallbackTraces, 0u) << "debug traces were counted as culling's time";
+    // The control: three plain warm traces make culling's time known, and the next trace measures a pure pass.
+    for (int i = 0; i < 2; ++i) renderer.traceRayPass(camera, RayType::Primary, 0, stats);
+    renderer.traceRayPass(camera, RayType::Primary, 0, stats);
+    renderer.useTracer(nullptr);
+    EXPECT_EQ(chcrt.lastStats().fallbackTraces, 1u);
+}
+
 TEST_F(ChcrtCostImageTest, ManySubtreesKeepHitsExactAndCountEveryPass) {
     RenderSettings settings;
     settings.width = 64;
