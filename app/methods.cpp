@@ -172,6 +172,7 @@ std::unique_ptr<Tracer> makeChcrtTracer(const std::string& name, const SceneSess
     };
     onOff(o.chcrtTighterBounds, "--chcrt-tighter-bounds", options.tighterBounds);
     onOff(o.chcrtLeafCache, "--chcrt-leaf-cache", options.leafCache);
+    onOff(o.chcrtMergedBatch, "--chcrt-merged-batch", options.mergedBatch);
     onOff(o.chcrtRayExtent, "--chcrt-ray-extent", options.rayExtentCulling);
     if (name != "chcrt-aggressive" && options.visibleThreshold > 0) {
         throw InputError("--chcrt-threshold > 0 makes culling approximate: use --method chcrt-aggressive");

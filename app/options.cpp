@@ -48,6 +48,8 @@ void addCommonOptions(CLI::App& c, CommonOptions& o, bool withEffects) {
                  "CHC+RT: previously invisible pairs per multi-query (default 4, 1 = off)");
     c.add_option("--chcrt-tighter-bounds", o.chcrtTighterBounds, "CHC+RT: query the children's boxes (on|off, default on)");
     c.add_option("--chcrt-leaf-cache", o.chcrtLeafCache, "CHC+RT: 2-entry leaf cache in subtree traversal (on|off, default off)");
+    c.add_option("--chcrt-merged-batch", o.chcrtMergedBatch,
+                 "CHC+RT: traverse a batch's subtrees as one traversal instead of one after another (on|off, default on)");
     c.add_option("--chcrt-ray-extent", o.chcrtRayExtent,
                  "CHC+RT: skip pairs out of reach of their tile's bounded rays (on|off, default on)");
     c.add_flag("-q,--quiet", o.quiet, "No progress bars");

@@ -40,6 +40,7 @@ struct CommonOptions {
     int chcrtMultiQuery = -1;       // --chcrt-multi-query: §5.1 pairs per multi-query (1 = off)
     std::string chcrtTighterBounds; // --chcrt-tighter-bounds on|off (§5.1)
     std::string chcrtLeafCache;     // --chcrt-leaf-cache on|off (§5.2)
+    std::string chcrtMergedBatch;   // --chcrt-merged-batch on|off (§5.2 batches as one traversal)
     std::string chcrtRayExtent;     // --chcrt-ray-extent on|off (culling/ray_extent_grid.h)
     // Line Space methods (bvh+ls-exact, bvh+ls; linespace/README.md)
     uint32_t lsN = 6;             // --ls-n: patches per face edge

@@ -41,6 +41,10 @@ struct ChcrtOptions {
     // §5.2: 2-entry leaf cache in the subtree traversal (delayed leaf tests). Off by default: on llvmpipe it made
     // CHC+RT traces 1.17-1.30x slower than without (city 1M, culling/README.md); the paper's GPU gained ~30%.
     bool leafCache = false;
+    // §5.2 batches traversed as one: the roots of a batch's subtrees share one traversal stack and loop instead of a
+    // loop per subtree (our change for llvmpipe, culling/README.md "Merged batch traversal"; same hits). Not with the
+    // leaf cache or Line Space traversal, which keep the loop per subtree.
+    bool mergedBatch = true;
     // Pairs out of reach of every bounded ray of their tile are invisible without a query, and such visible leaves
     // are not intersected (our addition; culling/ray_extent_grid.h). Exact.
     bool rayExtentCulling = true;

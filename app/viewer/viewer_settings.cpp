@@ -73,6 +73,7 @@ std::string commonArguments(const ViewerSettings& s, const Camera& camera, int w
         if (!c.chcrtTighterBounds.empty()) line += " --chcrt-tighter-bounds " + c.chcrtTighterBounds;
         if (!c.chcrtRayExtent.empty()) line += " --chcrt-ray-extent " + c.chcrtRayExtent;
         if (!c.chcrtLeafCache.empty()) line += " --chcrt-leaf-cache " + c.chcrtLeafCache;
+        if (!c.chcrtMergedBatch.empty()) line += " --chcrt-merged-batch " + c.chcrtMergedBatch;
     }
     if (s.method.find("+ls") != std::string::npos) { // Line Space parameters changed in the panel
         const CommonOptions d;
@@ -155,6 +156,8 @@ void applySettings(ViewerSettings& settings, const nlohmann::json& changes) {
             s.common.chcrtTighterBounds = jsonValue<bool>(value, key) ? "on" : "off";
         } else if (key == "chcrtLeafCache") {
             s.common.chcrtLeafCache = jsonValue<bool>(value, key) ? "on" : "off";
+        } else if (key == "chcrtMergedBatch") {
+            s.common.chcrtMergedBatch = jsonValue<bool>(value, key) ? "on" : "off";
         } else if (key == "chcrtRayExtent") {
             s.common.chcrtRayExtent = jsonValue<bool>(value, key) ? "on" : "off";
         } else if (key == "lsN") {
@@ -206,7 +209,7 @@ void applySettings(ViewerSettings& settings, const nlohmann::json& changes) {
         } else {
             throw InputError("unknown viewer setting '" + key +
                              "' (method, viewMode, primary, chcrtAlwaysCull, chcrtThreshold, chcrtMinTile, "
-                             "chcrtHeight, chcrtMultiQuery, chcrtTighterBounds, chcrtLeafCache, chcrtRayExtent, lsN, lsDepth, lsT, "
+                             "chcrtHeight, chcrtMultiQuery, chcrtTighterBounds, chcrtLeafCache, chcrtMergedBatch, chcrtRayExtent, lsN, lsDepth, lsT, "
                              "lsAngle, lsNtree, lsNtreeLevel, lsNtreeStart, lsNtreeNear, effects, spp, seed, "
                              "rotation, aoLength, exposure, renderScale, "
                              "accumulate, maxAccumulatedFrames, refineWithFullRotation, costRayType, costScale)");
@@ -239,7 +242,7 @@ void applySettings(ViewerSettings& settings, const nlohmann::json& changes) {
 std::string methodParameters(const CommonOptions& c) {
     std::ostringstream out;
     out << c.chcrtThreshold << ' ' << c.chcrtMinTile << ' ' << c.chcrtHeight << ' ' << c.chcrtMultiQuery << ' '
-        << c.chcrtTighterBounds << ' ' << c.chcrtLeafCache << ' ' << c.chcrtRayExtent << ' ' << c.lsN << ' ' << c.lsDepth << ' ' << c.lsT << ' '
+        << c.chcrtTighterBounds << ' ' << c.chcrtLeafCache << ' ' << c.chcrtMergedBatch << ' ' << c.chcrtRayExtent << ' ' << c.lsN << ' ' << c.lsDepth << ' ' << c.lsT << ' '
         << c.lsAngle << ' ' << c.lsNtree << ' ' << c.lsNtreeLevel << ' ' << c.lsNtreeStart << ' ' << c.lsNtreeNear
         << ' ' << c.lsModes;
     return out.str();
@@ -252,6 +255,7 @@ void copyMethodParameters(const CommonOptions& from, CommonOptions& to) {
     to.chcrtMultiQuery = from.chcrtMultiQuery;
     to.chcrtTighterBounds = from.chcrtTighterBounds;
     to.chcrtLeafCache = from.chcrtLeafCache;
+    to.chcrtMergedBatch = from.chcrtMergedBatch;
     to.chcrtRayExtent = from.chcrtRayExtent;
     to.lsN = from.lsN;
     to.lsDepth = from.lsDepth;

@@ -181,6 +181,9 @@ void ViewerPanel::drawSettings(ViewerSettings& settings, ViewerActions& actions)
         ImGui::SameLine();
         bool leafCache = c.chcrtLeafCache == "on"; // default off (culling/README.md: slower on llvmpipe)
         if (ImGui::Checkbox("leaf cache", &leafCache)) changes["chcrtLeafCache"] = leafCache;
+        ImGui::SameLine();
+        bool merged = c.chcrtMergedBatch != "off"; // default on (culling/README.md, "Merged batch traversal")
+        if (ImGui::Checkbox("merged batches", &merged)) changes["chcrtMergedBatch"] = merged;
         bool rayExtent = c.chcrtRayExtent != "off"; // culling/ray_extent_grid.h
         if (ImGui::Checkbox("ray extent culling", &rayExtent)) changes["chcrtRayExtent"] = rayExtent;
         if (settings.method == "chcrt-aggressive") {

@@ -5,6 +5,7 @@
 // meets with the project's exact hit rule (trace/bvh_traverse.glsl), so the final hits are those of pure BVH
 // tracing. Changed rays store their hit and write depthFromDistance(t) for later occlusion queries.
 // Host defines: TRACE_ANY_HIT (0 | 1), CHCRT_CULLING_SINGLE_SUBTREE (0 | 1: the variant for batches of one),
+// CHCRT_CULLING_MERGED_BATCH (0 | 1: the batch as one traversal, culling/subtree_batch_traverse.glsl),
 // CHCRT_CULLING_LEAF_CACHE (0 | 1: §5.2 2-entry leaf cache,
 // subtree_traverse_cached.glsl), CHCRT_SUBTREE_STACK (traversal stack entries: the partition's maximum
 // subtree height + 1, §5.2; on llvmpipe 25 vs 64 entries measured no difference, see culling/README.md),
@@ -29,6 +30,16 @@
 #if CHCRT_CULLING_LEAF_CACHE
 #include "culling/subtree_traverse_cached.glsl"
 #endif
+// One traversal for the whole batch (default, ChcrtOptions::mergedBatch); the loop over subtrees stays for the
+// leaf cache and Line Space traversals (whose traversals take one root) and for the subtree-id debug image (which
+// needs to know which subtree changed the hit).
+#if defined(CHCRT_CULLING_MERGED_BATCH) && CHCRT_CULLING_MERGED_BATCH && !CHCRT_CULLING_LEAF_CACHE && \
+    !(defined(CHCRT_LS_MODE) && CHCRT_LS_MODE != 0) && !defined(CHCRT_CULLING_DEBUG_SUBTREES) && \
+    !CHCRT_CULLING_SINGLE_SUBTREE
+#define CHCRT_CULLING_TRAVERSE_MERGED 1
+#else
+#define CHCRT_CULLING_TRAVERSE_MERGED 0
+#endif
 
 layout(binding = CHCRT_UNIT_RAY_ORIGIN) uniform sampler2D rayOrigins;
 layout(binding = CHCRT_UNIT_RAY_DIRECTION) uniform sampler2D rayDirections;
@@ -37,6 +48,9 @@ layout(binding = CHCRT_ATOMIC_BINDING_CAPPED_RAYS, offset = 0) uniform atomic_ui
 
 uniform uvec4 subtreeRoots[CHCRT_CULLING_MAX_BATCH / 4];
 uniform int subtreeCount;
+#if CHCRT_CULLING_TRAVERSE_MERGED
+#include "culling/subtree_batch_traverse.glsl"
+#endif
 #if defined(CHCRT_CULLING_DEBUG_SUBTREES) || defined(CHCRT_CULLING_DEBUG_BATCHES) || defined(CHCRT_CULLING_DEBUG_COST)
 layout(binding = CHCRT_CULLING_IMAGE_DEBUG, r32ui) uniform coherent uimage2D debugImage;
 #endif
@@ -98,6 +112,10 @@ void main() {
 #else
     int batchCount = subtreeCount;
 #endif
+#if CHCRT_CULLING_TRAVERSE_MERGED
+    traverseSubtreeBatch(min(batchCount, CHCRT_CULLING_MAX_BATCH), originTmin.xyz, directionTmax.xyz, originTmin.w,
+                         best, cost);
+#else
     // batchCount <= CHCRT_CULLING_MAX_BATCH; the iterations still count towards the cap (PLATFORM.md).
     for (int i = 0; i < batchCount && i < CHCRT_CULLING_MAX_BATCH && cost.iterations < CHCRT_TRACE_ITERATION_CAP;
          ++i) {
@@ -122,6 +140,7 @@ void main() {
         }
 #endif
     }
+#endif
     if (cost.iterations >= CHCRT_TRACE_ITERATION_CAP) {
         atomicCounterIncrement(cappedRays);
     }

@@ -19,6 +19,7 @@ struct ExactnessCase {
     bool adaptive = false;     // the adaptive fallback switches between culling and pure passes per ray set
     bool leafCache = false;    // §5.2 2-entry leaf cache (off by default: slower on llvmpipe)
     bool rayExtent = true;     // pairs out of their rays' reach skipped (culling/ray_extent_grid.h)
+    bool mergedBatch = true;   // a batch's subtrees as one traversal (false: one after another)
 };
 
 class ChcrtExactnessTest : public RenderTest, public ::testing::WithParamInterface<ExactnessCase> {};
@@ -43,6 +44,7 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
     options.adaptive = c.adaptive;
     options.leafCache = c.leafCache;
     options.rayExtentCulling = c.rayExtent;
+    options.mergedBatch = c.mergedBatch;
     ChcrtTracer chcrt(bvh_, options);
     const CameraPath path = proceduralNearPath(spec_);
 
@@ -209,7 +211,7 @@ std::string caseName(const ::testing::TestParamInfo<ExactnessCase>& info) {
     return scene + "_h" + std::to_string(info.param.maxSubtreeHeight) + "_tile" + std::to_string(info.param.minTileSize) +
            (info.param.tighterBounds ? "" : "_loose") + "_multi" + std::to_string(info.param.multiQueryPairs) +
            (info.param.adaptive ? "_adaptive" : "") + (info.param.leafCache ? "_leafcache" : "") +
-           (info.param.rayExtent ? "" : "_noextent");
+           (info.param.rayExtent ? "" : "_noextent") + (info.param.mergedBatch ? "" : "_persubtree");
 }
 
 // Subtree height 8, well below the BVH depth at 60k triangles, so that object-space splits happen; tiles small enough for
@@ -226,7 +228,10 @@ INSTANTIATE_TEST_SUITE_P(ProceduralScenes, ChcrtExactnessTest,
                                            // adaptive fallback on: culled and pure traces mix per ray set
                                            ExactnessCase{"plant:60k", 8, 16, true, 4, true},
                                            // no ray extent culling (on by default)
-                                           ExactnessCase{"city:60k", 8, 16, true, 4, false, false, false}),
+                                           ExactnessCase{"city:60k", 8, 16, true, 4, false, false, false},
+                                           // batches traversed subtree by subtree (merged by default)
+                                           ExactnessCase{"plant:60k", 8, 16, true, 4, false, false, true, false},
+                                           ExactnessCase{"city:60k", 8, 16, true, 4, false, false, true, false}),
                          caseName);
 
 } // namespace
