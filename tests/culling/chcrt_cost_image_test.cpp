@@ -122,8 +122,8 @@ TEST_F(ChcrtCostImageTest, DebugTracesDoNotFeedTheAdaptiveChoice) {
     chcrt.setDebugImage(ChcrtDebugImage::None);
     renderer.traceRayPass(camera, RayType::Primary, 0, stats);
     EXPECT_EQ(chcrt.lastStats().fallbackTraces, 0u) << "debug traces were counted as culling's time";
-    // The control: three plain warm traces make culling's time known, and the next trace measures a pure pass.
-    for (int i = 0; i < 2; ++i) renderer.traceRayPass(camera, RayType::Primary, 0, stats);
+    // The control: that plain warm trace made culling's time known, so the next one measures a pure pass (what
+    // follows that one depends on the two times, i.e. on the machine's load).
     renderer.traceRayPass(camera, RayType::Primary, 0, stats);
     renderer.useTracer(nullptr);
     EXPECT_EQ(chcrt.lastStats().fallbackTraces, 1u);
