@@ -293,7 +293,8 @@ TEST_F(ViewerTest, ResizingTheWindowResizesTheRenderTargets) {
 // Primary visibility switches live: raster → traced keeps the image close (the same surfaces; edge pixels and
 // secondary-ray origins differ slightly), and under traced primary visibility CHC+RT (exact) gives the pure-BVH
 // screenshot bit for bit, frames after its visibility fronts started and changed CHC+RT parameters (the tracer
-// is recreated) included; a parameter exact CHC+RT refuses falls back to bvh. `--primary traced` starts traced.
+// is recreated: subtree height, multi-queries, leaf cache, ray extent, merged batches) included; a parameter exact
+// CHC+RT refuses falls back to bvh. `--primary traced` starts traced.
 TEST_F(ViewerTest, PrimaryVisibilitySwitchesLiveAndChcrtTracesTheSameImage) {
     Result r = view(R"([
         {"frames": 1, "screenshot": "raster.png", "expect": {"primary": "raster", "tracePasses": {"primary": 0}}},
@@ -308,6 +309,9 @@ TEST_F(ViewerTest, PrimaryVisibilitySwitchesLiveAndChcrtTracesTheSameImage) {
         {"set": {"chcrtRayExtent": false}, "frames": 1, "screenshot": "traced_chcrt_noextent.png",
          "expect": {"method": "chcrt", "cappedRays": 0}},
         {"set": {"chcrtRayExtent": true}},
+        {"set": {"chcrtMergedBatch": false}, "frames": 1, "screenshot": "traced_chcrt_loop.png",
+         "expect": {"method": "chcrt", "cappedRays": 0}},
+        {"set": {"chcrtMergedBatch": true}},
         {"set": {"chcrtThreshold": 5}, "frames": 1, "expect": {"method": "bvh"}},
         {"set": {"chcrtThreshold": -1}},
         {"set": {"method": "raster"}, "frames": 1,
@@ -317,7 +321,8 @@ TEST_F(ViewerTest, PrimaryVisibilitySwitchesLiveAndChcrtTracesTheSameImage) {
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_LT(differingFraction("raster.png", "traced_bvh.png"), 0.03);
     for (const char* chcrt :
-         {"traced_chcrt_first.png", "traced_chcrt.png", "traced_chcrt_params.png", "traced_chcrt_noextent.png"}) {
+         {"traced_chcrt_first.png", "traced_chcrt.png", "traced_chcrt_params.png", "traced_chcrt_noextent.png",
+          "traced_chcrt_loop.png"}) {
         const ImageDifference same = compareImages(image("traced_bvh.png"), image(chcrt));
         EXPECT_EQ(same.differingPixels, 0u) << chcrt;
         EXPECT_EQ(same.maxAbsoluteError, 0.0) << chcrt;
