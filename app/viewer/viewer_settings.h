@@ -49,7 +49,8 @@ RenderSettings toRenderSettings(const ViewerSettings& settings, int width, int h
 
 // Applies {"name": value, ...} (names as in docs: method, viewMode, primary (raster | traced), chcrtAlwaysCull,
 // the method parameters chcrtThreshold, chcrtMinTile, chcrtHeight, chcrtMultiQuery (ints), chcrtTighterBounds,
-// chcrtLeafCache (bools), lsN, lsDepth, lsT (ints), lsAngle, the N-tree parameters of ntree+ls lsNtree ("N:d"),
+// chcrtLeafCache, chcrtRayExtent, chcrtMergedBatch (bools), lsN, lsDepth, lsT (ints), lsAngle, the N-tree
+// parameters of ntree+ls lsNtree ("N:d"),
 // lsNtreeLevel (int, -1 = d-1), lsNtreeStart ("skip" | "exact"), lsNtreeNear, effects, spp, seed, rotation, aoLength,
 // exposure, renderScale, accumulate, maxAccumulatedFrames, costRayType, costScale, refineWithFullRotation).
 // Validates everything before changing anything; throws InputError naming the key.
