@@ -3,6 +3,7 @@
 #include "culling/bvh_subtree_source.h"
 #include "renderer/core/error.h"
 #include "renderer/render/bvh_tracer.h"
+#include "renderer/render/trace_pass.h"
 #include "shaders/culling/culling_layout.h"
 #include "shaders/shared/render_layout.h"
 
@@ -10,7 +11,6 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <tuple>
 #include <unordered_map>
 
@@ -60,11 +60,9 @@ void validate(const ChcrtOptions& o) {
     if (o.adaptiveProbeInterval < 1) throw InputError("chcrt: adaptive probe interval must be at least 1");
 }
 
-GLuint floatBitsOf(float value) {
-    GLuint bits;
-    std::memcpy(&bits, &value, sizeof(bits));
-    return bits;
-}
+// The cost debug image and Renderer::readTraceSteps share one layout (bench --steps compares them per ray).
+static_assert(kChcrtCostCappedBit == CHCRT_CULLING_COST_CAPPED && kChcrtCostCappedBit == CHCRT_TRACE_STEPS_CAPPED);
+static_assert(kChcrtCostStepMask == CHCRT_CULLING_COST_STEPS && kChcrtCostStepMask == CHCRT_TRACE_STEPS_COUNT);
 
 const char* debugDefine(ChcrtDebugImage kind) {
     switch (kind) {
@@ -607,8 +605,7 @@ bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& ra
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_ALWAYS);
     glDepthMask(GL_TRUE);
-    const GLuint miss[4] = {floatBitsOf(CHCRT_NO_HIT_T), CHCRT_NO_HIT_ID, 0u, 0u};
-    glClearTexImage(hits.hit.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, miss);
+    glClearTexImage(hits.hit.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, missHitTexel().data());
     const GLfloat farDepth = 1.0f;
     glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &farDepth);
     glBindTextureUnit(CHCRT_UNIT_RAY_ORIGIN, rays.origin.id());

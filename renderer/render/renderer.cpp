@@ -460,7 +460,8 @@ std::vector<uint32_t> Renderer::readTraceSteps(int set) const {
     std::vector<uint32_t> steps(size_t(w) * h);
     for (size_t i = 0; i < steps.size(); ++i) {
         const uint64_t sum = uint64_t(data[i * 4]) + data[i * 4 + 1] + data[i * 4 + 2];
-        steps[i] = uint32_t(std::min<uint64_t>(sum, 0x7fffffffu)) | (data[i * 4 + 3] != 0 ? 0x80000000u : 0u);
+        steps[i] = uint32_t(std::min<uint64_t>(sum, CHCRT_TRACE_STEPS_COUNT)) |
+                   (data[i * 4 + 3] != 0 ? CHCRT_TRACE_STEPS_CAPPED : 0u);
     }
     return steps;
 }

@@ -14,11 +14,9 @@ void beginTracePass(const RayTextures& rays, HitTargets& hits, int width, int he
     glViewport(0, 0, width, height);
     glDisable(GL_BLEND);
     if (masked) {
-        // The trace shaders' inactive output (trace/trace_bvh.frag.glsl): t = CHCRT_NO_HIT_T, no triangle, zero
-        // barycentrics and cost.
-        const GLuint miss[4] = {std::bit_cast<GLuint>(float(CHCRT_NO_HIT_T)), CHCRT_NO_HIT_ID, 0u, 0u};
+        // The trace shaders' inactive output (trace/trace_bvh.frag.glsl): a miss and zero cost.
         const GLuint zero[4] = {0u, 0u, 0u, 0u};
-        glClearNamedFramebufferuiv(framebuffer, GL_COLOR, CHCRT_TRACE_OUT_HIT, miss);
+        glClearNamedFramebufferuiv(framebuffer, GL_COLOR, CHCRT_TRACE_OUT_HIT, missHitTexel().data());
         glClearNamedFramebufferuiv(framebuffer, GL_COLOR, CHCRT_TRACE_OUT_COST, zero);
         // The full-screen triangle lies at depth 0 or 0.5 (either clip-control convention): it passes where the
         // mask holds 1 (active) and fails where it holds 0. The mask itself is never written here.
@@ -30,6 +28,10 @@ void beginTracePass(const RayTextures& rays, HitTargets& hits, int width, int he
     }
     glBindTextureUnit(CHCRT_UNIT_RAY_ORIGIN, rays.origin.id());
     glBindTextureUnit(CHCRT_UNIT_RAY_DIRECTION, rays.direction.id());
+}
+
+std::array<GLuint, 4> missHitTexel() {
+    return {std::bit_cast<GLuint>(float(CHCRT_NO_HIT_T)), CHCRT_NO_HIT_ID, 0u, 0u};
 }
 
 void endTracePass() {

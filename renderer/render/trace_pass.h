@@ -9,6 +9,8 @@
 // layout(early_fragment_tests).
 #include "renderer/render/frame_targets.h"
 
+#include <array>
+
 namespace chcrt {
 
 // Binds `hits` (with the mask of `rays` when FrameTargets paired them) and `rays`, sets the viewport and the
@@ -18,5 +20,9 @@ void beginTracePass(const RayTextures& rays, HitTargets& hits, int width, int he
 
 // Restores the depth state beginTracePass changed (test off, writes on).
 void endTracePass();
+
+// The hit-target texel (CHCRT_TRACE_OUT_HIT layout) of a ray that is not traced or hits nothing: t =
+// CHCRT_NO_HIT_T, no triangle, zero barycentrics. Tracers clear to it before they trace only some pixels.
+std::array<GLuint, 4> missHitTexel();
 
 } // namespace chcrt
