@@ -95,6 +95,10 @@ TEST_F(CliTest, BadFlagsAreUsageErrors) {
         run(std::string("render --scene one-triangle --method chcrt --chcrt-ray-extent maybe -o x.png ") + kSmall);
     EXPECT_EQ(extent.exitCode, 2);
     EXPECT_NE(extent.output.find("--chcrt-ray-extent must be on or off"), std::string::npos) << extent.output;
+    const Result merged =
+        run(std::string("render --scene one-triangle --method chcrt --chcrt-merged-batch 1 -o x.png ") + kSmall);
+    EXPECT_EQ(merged.exitCode, 2);
+    EXPECT_NE(merged.output.find("--chcrt-merged-batch must be on or off"), std::string::npos) << merged.output;
     EXPECT_EQ(fileCount(), 0u);
 }
 
