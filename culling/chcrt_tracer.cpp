@@ -4,7 +4,7 @@
 #include "renderer/core/error.h"
 #include "renderer/render/bvh_tracer.h"
 #include "renderer/render/trace_pass.h"
-#include "shaders/culling/culling_layout.h"
+#include "shaders/shared/culling_layout.h"
 #include "shaders/shared/render_layout.h"
 
 #include <algorithm>
@@ -18,7 +18,7 @@ namespace chcrt {
 namespace {
 
 static_assert(kChcrtCostCappedBit == CHCRT_CULLING_COST_CAPPED && kChcrtCostStepMask == CHCRT_CULLING_COST_STEPS,
-              "the cost debug image layout must match shaders/culling/culling_layout.h");
+              "the cost debug image layout must match shaders/shared/culling_layout.h");
 
 using Clock = std::chrono::steady_clock;
 double millisecondsSince(Clock::time_point start) {
@@ -27,7 +27,7 @@ double millisecondsSince(Clock::time_point start) {
 
 ShaderProgram makeProgram(const char* fragment, bool anyHit, std::vector<ShaderDefine> defines = {}) {
     defines.push_back({"TRACE_ANY_HIT", anyHit ? "1" : "0"});
-    return ShaderProgram({{GL_VERTEX_SHADER, "common/fullscreen.vert.glsl"}, {GL_FRAGMENT_SHADER, fragment}},
+    return ShaderProgram({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"}, {GL_FRAGMENT_SHADER, fragment}},
                          defines);
 }
 

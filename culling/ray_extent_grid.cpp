@@ -1,6 +1,6 @@
 #include "culling/ray_extent_grid.h"
 
-#include "shaders/culling/culling_layout.h"
+#include "shaders/shared/culling_layout.h"
 #include "shaders/shared/render_layout.h"
 
 #include <algorithm>

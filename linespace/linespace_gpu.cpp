@@ -2,7 +2,7 @@
 
 #include "linespace/shaft_index.h"
 #include "renderer/core/error.h"
-#include "shaders/linespace/linespace_bindings.h"
+#include "shaders/shared/linespace_bindings.h"
 
 #include <glm/gtc/packing.hpp>
 

@@ -1,7 +1,7 @@
 #pragma once
 // Line Spaces on the GPU: the pools of linespace_build.h uploaded as texture buffers (PLATFORM.md), bound to
-// the units of shaders/linespace/linespace_bindings.h, plus the shader defines a traversal compiles with.
-// Any shader that includes shaders/trace/bvh_traverse.glsl (the pure tracer, CHC+RT subtrees) uses Line Spaces
+// the units of shaders/shared/linespace_bindings.h, plus the shader defines a traversal compiles with.
+// Any shader that includes shaders/render/bvh_traverse.glsl (the pure tracer, CHC+RT subtrees) uses Line Spaces
 // by compiling with defines(mode, ...) and calling bind() before drawing.
 #include "linespace/linespace_build.h"
 #include "renderer/gl/gl_objects.h"
@@ -14,7 +14,7 @@
 
 namespace chcrt::ls {
 
-// CHCRT_LS_MODE_* of shaders/linespace/linespace_bindings.h.
+// CHCRT_LS_MODE_* of shaders/shared/linespace_bindings.h.
 // CandidateExactStart: candidates, but the node a ray starts in is traversed exactly (SS §4.1's rule applied
 // to candidates: removes most self-occlusion by neighbouring candidate planes, costs speed).
 enum class LineSpaceMode { Off = 0, Exact = 1, Shadow = 2, Candidate = 3, CandidateExactStart = 4 };

@@ -82,8 +82,8 @@ const ShaderProgram& LineSpaceTracer::program(LineSpaceMode mode, bool anyHit) {
             defines.push_back({"CHCRT_LS_CANDIDATE_NO_LEAVES", "1"});
         }
         if (iterationCap_ != 0) defines.push_back({"CHCRT_TRACE_ITERATION_CAP", std::to_string(iterationCap_) + "u"});
-        slot = std::make_unique<ShaderProgram>(std::vector<ShaderStage>{{GL_VERTEX_SHADER, "common/fullscreen.vert.glsl"},
-                                                                        {GL_FRAGMENT_SHADER, "trace/trace_bvh.frag.glsl"}},
+        slot = std::make_unique<ShaderProgram>(std::vector<ShaderStage>{{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
+                                                                        {GL_FRAGMENT_SHADER, "render/trace_bvh.frag.glsl"}},
                                                defines);
     }
     return *slot;

@@ -1,6 +1,6 @@
 #pragma once
 // Line Space tracing methods (`bvh+ls-exact`, `bvh+ls`): the pure BVH tracer's fragment pass
-// (shaders/trace/trace_bvh.frag.glsl) compiled with Line Space defines per ray type, see
+// (shaders/render/trace_bvh.frag.glsl) compiled with Line Space defines per ray type, see
 // shaders/linespace/linespace_traverse.glsl. Which ray type uses which mode is a parameter (LineSpaceModes).
 #include "linespace/linespace_gpu.h"
 #include "renderer/render/tracer.h"

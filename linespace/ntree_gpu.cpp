@@ -1,7 +1,7 @@
 #include "linespace/ntree_gpu.h"
 
 #include "linespace/shaft_index.h"
-#include "shaders/linespace/ntree_layout.h"
+#include "shaders/shared/ntree_layout.h"
 
 #include <cstdio>
 #include <string>

@@ -1,6 +1,6 @@
 #pragma once
 // The N-tree with binary Line Spaces on the GPU (soft-shadow paper §3.1, Figure 3): node, tree, Line Space,
-// leaf and triangle-reference pools as texture buffers (layout: shaders/linespace/ntree_layout.h), bound to the
+// leaf and triangle-reference pools as texture buffers (layout: shaders/shared/ntree_layout.h), bound to the
 // units CHCRT_UNIT_NT_*, and the defines of shaders/linespace/ntree_traverse.glsl.
 #include "linespace/ntree.h"
 #include "renderer/gl/gl_objects.h"

@@ -3,7 +3,7 @@
 #include "linespace/shaft_index.h"
 #include "renderer/core/error.h"
 #include "renderer/render/trace_pass.h"
-#include "shaders/linespace/ntree_layout.h"
+#include "shaders/shared/ntree_layout.h"
 #include "shaders/shared/render_layout.h"
 
 #include <cstdlib>
@@ -47,7 +47,7 @@ NTreeParams parseNTreeParams(const std::string& text) {
 NTreeTracer::NTreeTracer(std::string name, std::shared_ptr<const NTreeGpu> gpu, NTreeShadowOptions options,
                          unsigned iterationCap)
     : name_(std::move(name)), gpu_(std::move(gpu)), options_(options),
-      shadowProgram_({{GL_VERTEX_SHADER, "common/fullscreen.vert.glsl"},
+      shadowProgram_({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
                       {GL_FRAGMENT_SHADER, "linespace/trace_ntree.frag.glsl"}},
                      shadowDefines(*gpu_, options_, iterationCap)),
       bvh_(iterationCap) {}

@@ -4,7 +4,7 @@
 // the CPU: the pick traces the pixel's primary ray with the CPU twin of the GLSL tracer, the node is the Line
 // Space node of the cut (depth D, threshold T) whose subtree holds the hit triangle, and its bitset is computed
 // with the same builder and dilation as linespace/linespace_build.cpp, so the bits are those the bvh+ls* methods
-// use for that node with the same N/D/T. Each pixel's primary ray (as shaders/rays/raygen.frag.glsl makes it) is
+// use for that node with the same N/D/T. Each pixel's primary ray (as shaders/render/raygen.frag.glsl makes it) is
 // classified into its shaft of the node's box (shaftIndexForRay): green = empty shaft (a Line Space traversal
 // skips the node for that ray), red = filled; the box's edges are drawn in white.
 #include "renderer/bvh/bvh.h"

@@ -2,7 +2,7 @@
 
 #include "renderer/render/frame_targets.h"
 #include "shaders/shared/render_layout.h"
-#include "shaders/viewer/viewer_layout.h"
+#include "shaders/shared/viewer_layout.h"
 
 #include <algorithm>
 
@@ -13,10 +13,10 @@ static_assert(int(ViewMode::Shaded) == CHCRT_VIEW_SHADED && int(ViewMode::Positi
               int(ViewMode::Normal) == CHCRT_VIEW_NORMAL && int(ViewMode::Albedo) == CHCRT_VIEW_ALBEDO &&
               int(ViewMode::TriangleId) == CHCRT_VIEW_TRIANGLE && int(ViewMode::Depth) == CHCRT_VIEW_DEPTH &&
               int(ViewMode::Cost) == CHCRT_VIEW_COST,
-              "ViewMode must match shaders/viewer/viewer_layout.h");
+              "ViewMode must match shaders/shared/viewer_layout.h");
 
 ShaderProgram makeFullscreenProgram(const char* fragment) {
-    return ShaderProgram({{GL_VERTEX_SHADER, "common/fullscreen.vert.glsl"}, {GL_FRAGMENT_SHADER, fragment}});
+    return ShaderProgram({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"}, {GL_FRAGMENT_SHADER, fragment}});
 }
 
 } // namespace

@@ -1,4 +1,4 @@
-// Scalar CPU twin of the GLSL BVH tracer. Written so that shaders/trace/bvh_traverse.glsl can mirror it line
+// Scalar CPU twin of the GLSL BVH tracer. Written so that shaders/render/bvh_traverse.glsl can mirror it line
 // by line: fixed-size stack arrays instead of containers, the intersection functions of
 // shaders/shared/intersect.h, the node and triangle fields of shaders/shared/bvh_layout.h, no recursion.
 //

@@ -1,5 +1,5 @@
 #pragma once
-// Scalar CPU twin of the GLSL BVH tracer (shaders/trace/bvh_traverse.glsl): same node layout, same
+// Scalar CPU twin of the GLSL BVH tracer (shaders/render/bvh_traverse.glsl): same node layout, same
 // intersection arithmetic (shaders/shared/intersect.h), same tie-break (lower original id wins on equal t).
 // It is the naive reference that tests compare the GLSL tracer and Embree against; not optimised.
 #include "renderer/bvh/bvh.h"

@@ -66,7 +66,7 @@ TextureBuffer createTextureBuffer(const void* data, size_t bytes, GLenum interna
 // attachment; throws GlError when incomplete.
 GlFramebuffer createFramebuffer(const GLuint* colorTextures, int colorCount, GLuint depthTexture = 0);
 
-// Draws one triangle covering the viewport (vertex shader "common/fullscreen.vert.glsl" derives positions from
+// Draws one triangle covering the viewport (vertex shader "render/fullscreen.vert.glsl" derives positions from
 // gl_VertexID); binds an empty VAO owned by the current thread's context.
 void drawFullscreenTriangle();
 

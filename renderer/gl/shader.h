@@ -22,7 +22,7 @@ struct ShaderDefine {
 
 struct ShaderStage {
     GLenum type;      // GL_VERTEX_SHADER, GL_FRAGMENT_SHADER, GL_COMPUTE_SHADER
-    std::string path; // relative to shaders/, e.g. "trace/trace_bvh.frag.glsl"
+    std::string path; // relative to shaders/, e.g. "render/trace_bvh.frag.glsl"
 };
 
 // Preprocessed source of one stage, and the table mapping GLSL source-string numbers (used in #line) to
@@ -34,7 +34,7 @@ struct PreprocessedShader {
 PreprocessedShader preprocessShader(const std::string& path, const std::vector<ShaderDefine>& defines);
 
 // Rewrites a driver's compile log ("0:12(5): error ..." Mesa, "0(12) : error ..." NVIDIA) so that
-// source-string numbers become file names: "trace/trace_bvh.frag.glsl:12(5): error ...".
+// source-string numbers become file names: "render/trace_bvh.frag.glsl:12(5): error ...".
 std::string mapShaderLog(const std::string& log, const std::vector<std::string>& files);
 
 // A linked program. Move-only; deletes the GL object on destruction. Uniform locations are cached.

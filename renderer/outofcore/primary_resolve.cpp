@@ -73,7 +73,7 @@ private:
 
 PrimaryResolve::PrimaryResolve(OutOfCoreTracer& tracer, uint64_t denseSpanFactor)
     : tracer_(tracer), denseSpanFactor_(denseSpanFactor),
-      program_({{GL_VERTEX_SHADER, "common/fullscreen.vert.glsl"},
+      program_({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
                 {GL_FRAGMENT_SHADER, "outofcore/gbuffer_from_pixel_attributes.frag.glsl"}}) {
     for (const ChsMaterialRecord& m : tracer.file().materials()) albedos_.emplace_back(m.baseColor[0], m.baseColor[1], m.baseColor[2]);
     if (albedos_.empty()) albedos_.emplace_back(glm::vec3(Material{}.baseColorFactor));

@@ -8,8 +8,8 @@ namespace {
 ShaderProgram makeTraceProgram(bool anyHit, unsigned iterationCap) {
     std::vector<ShaderDefine> defines = {{"TRACE_ANY_HIT", anyHit ? "1" : "0"}};
     if (iterationCap != 0) defines.push_back({"CHCRT_TRACE_ITERATION_CAP", std::to_string(iterationCap) + "u"});
-    return ShaderProgram({{GL_VERTEX_SHADER, "common/fullscreen.vert.glsl"},
-                          {GL_FRAGMENT_SHADER, "trace/trace_bvh.frag.glsl"}},
+    return ShaderProgram({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
+                          {GL_FRAGMENT_SHADER, "render/trace_bvh.frag.glsl"}},
                          defines);
 }
 

@@ -1,6 +1,6 @@
 #pragma once
 // Pure BVH tracing in GLSL (the baseline): one full-screen fragment pass per ray texture, stack-based
-// while-while traversal of the whole BVH (shaders/trace/trace_bvh.frag.glsl).
+// while-while traversal of the whole BVH (shaders/render/trace_bvh.frag.glsl).
 #include "renderer/gl/shader.h"
 #include "renderer/render/tracer.h"
 

@@ -19,7 +19,7 @@ double millisecondsSince(Clock::time_point start) {
 }
 
 ShaderProgram makeFullscreenProgram(const char* fragment, std::vector<ShaderDefine> defines = {}) {
-    return ShaderProgram({{GL_VERTEX_SHADER, "common/fullscreen.vert.glsl"}, {GL_FRAGMENT_SHADER, fragment}},
+    return ShaderProgram({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"}, {GL_FRAGMENT_SHADER, fragment}},
                          defines);
 }
 
@@ -75,16 +75,16 @@ Renderer::Renderer(const Scene& scene, const Bvh& bvh, const AreaLight& light, c
     bvhTracer_ = std::make_unique<BvhTracer>();
     activeTracer_ = bvhTracer_.get();
     gbufferProgram_ = ShaderProgram(
-        {{GL_VERTEX_SHADER, "raster/gbuffer.vert.glsl"}, {GL_FRAGMENT_SHADER, "raster/gbuffer.frag.glsl"}});
-    gbufferFromHitsProgram_ = makeFullscreenProgram("raster/gbuffer_from_hits.frag.glsl");
+        {{GL_VERTEX_SHADER, "render/gbuffer.vert.glsl"}, {GL_FRAGMENT_SHADER, "render/gbuffer.frag.glsl"}});
+    gbufferFromHitsProgram_ = makeFullscreenProgram("render/gbuffer_from_hits.frag.glsl");
     for (int type = 0; type < int(raygenPrograms_.size()); ++type) {
-        raygenPrograms_[type] = makeFullscreenProgram("rays/raygen.frag.glsl", {{"RAY_TYPE", std::to_string(type)}});
+        raygenPrograms_[type] = makeFullscreenProgram("render/raygen.frag.glsl", {{"RAY_TYPE", std::to_string(type)}});
     }
-    accumulateShadow_ = makeFullscreenProgram("shading/accumulate.frag.glsl", {{"ACCUMULATE", "CHCRT_RAY_SHADOW"}});
-    accumulateAo_ = makeFullscreenProgram("shading/accumulate.frag.glsl", {{"ACCUMULATE", "CHCRT_RAY_AO"}});
+    accumulateShadow_ = makeFullscreenProgram("render/accumulate.frag.glsl", {{"ACCUMULATE", "CHCRT_RAY_SHADOW"}});
+    accumulateAo_ = makeFullscreenProgram("render/accumulate.frag.glsl", {{"ACCUMULATE", "CHCRT_RAY_AO"}});
     accumulateDiffuse_ =
-        makeFullscreenProgram("shading/accumulate.frag.glsl", {{"ACCUMULATE", "CHCRT_RAY_DIFFUSE"}});
-    composeProgram_ = makeFullscreenProgram("shading/compose.frag.glsl");
+        makeFullscreenProgram("render/accumulate.frag.glsl", {{"ACCUMULATE", "CHCRT_RAY_DIFFUSE"}});
+    composeProgram_ = makeFullscreenProgram("render/compose.frag.glsl");
     const uint32_t zero = 0;
     cappedRayCounter_ = createBuffer(sizeof(uint32_t), &zero, GL_DYNAMIC_STORAGE_BIT);
     setSettings(settings);
@@ -98,7 +98,7 @@ void Renderer::setOutOfCorePrimary(OutOfCorePrimaryResolve resolve) {
     if (!outOfCorePrimary_ || pixelNormalRaygenPrograms_[0].id() != 0) return;
     for (int type = 0; type < int(pixelNormalRaygenPrograms_.size()); ++type) {
         pixelNormalRaygenPrograms_[type] = makeFullscreenProgram(
-            "rays/raygen.frag.glsl", {{"RAY_TYPE", std::to_string(type)}, {"CHCRT_PIXEL_GEOMETRIC_NORMALS", "1"}});
+            "render/raygen.frag.glsl", {{"RAY_TYPE", std::to_string(type)}, {"CHCRT_PIXEL_GEOMETRIC_NORMALS", "1"}});
     }
 }
 

@@ -170,7 +170,7 @@ void SceneGpu::uploadAttributes(const Scene& scene) {
             uv2 = scene.texcoords[tri.z];
         }
         // Texture-space scale: sqrt(uv area / world area), so that the traced G-buffer can choose the mip level
-        // rasterisation's derivatives would (shaders/raster/gbuffer_from_hits.frag.glsl).
+        // rasterisation's derivatives would (shaders/render/gbuffer_from_hits.frag.glsl).
         const float uvArea = std::abs((uv1.x - uv0.x) * (uv2.y - uv0.y) - (uv2.x - uv0.x) * (uv1.y - uv0.y));
         const float uvScale = length > 0.0f ? std::sqrt(uvArea / length) : 0.0f; // length = 2 × world area
         texels[i * 3 + 0] = glm::vec4(n, materialBits);

@@ -10,7 +10,7 @@
 #include "shared/render_layout.h"
 #include "shared/bvh_layout.h"
 #include "shared/intersect.h"
-#include "culling/culling_layout.h"
+#include "shared/culling_layout.h"
 
 layout(binding = CHCRT_UNIT_RAY_ORIGIN) uniform sampler2D rayOrigins;
 layout(binding = CHCRT_UNIT_RAY_DIRECTION) uniform sampler2D rayDirections;

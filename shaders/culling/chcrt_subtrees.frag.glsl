@@ -14,13 +14,13 @@
 // traversal steps per pixel summed over all passes, bit 31 = capped, layout in culling/culling_layout.h).
 #include "shared/render_layout.h"
 #include "shared/bvh_layout.h"
-#include "culling/culling_layout.h"
+#include "shared/culling_layout.h"
 // bvh_traverse.glsl sizes its stack with CHCRT_MAX_BVH_DEPTH; subtrees are bounded by the termination height.
 #ifdef CHCRT_SUBTREE_STACK
 #undef CHCRT_MAX_BVH_DEPTH
 #define CHCRT_MAX_BVH_DEPTH CHCRT_SUBTREE_STACK
 #endif
-#include "trace/bvh_traverse.glsl"
+#include "render/bvh_traverse.glsl"
 // With Line Space traversal (CHCRT_LS_MODE, linespace/README.md) traverseBvh is the Line Space one; the leaf-cache
 // traversal has no Line Space form, so it is not used then.
 #if defined(CHCRT_LS_MODE) && CHCRT_LS_MODE != 0

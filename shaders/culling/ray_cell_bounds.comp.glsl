@@ -3,7 +3,7 @@
 // pixels writes the box around the segments [origin + tmin·d, origin + tmax·d] of the cell's active rays (a ray
 // is active when tmax > tmin, as in every tracing pass), or marks the cell empty or unbounded.
 #include "shared/render_layout.h"
-#include "culling/culling_layout.h"
+#include "shared/culling_layout.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 

@@ -40,5 +40,5 @@ void traverseSubtreeBatch(int count, vec3 origin, vec3 direction, float tmin, in
             traversing = true;
         }
     }
-#include "trace/bvh_traverse_loop.glsl"
+#include "render/bvh_traverse_loop.glsl"
 }

@@ -1,4 +1,4 @@
-// Line Space use inside BVH traversal (shaders/trace/bvh_traverse.glsl includes this when CHCRT_LS_MODE is not
+// Line Space use inside BVH traversal (shaders/render/bvh_traverse.glsl includes this when CHCRT_LS_MODE is not
 // CHCRT_LS_MODE_OFF). A Line Space node is a BVH node of the cut chosen by depth D and triangle threshold T
 // (linespace/linespace_build.h); traversal asks lsVisitNode() what to do when the ray reaches one.
 //
@@ -17,7 +17,7 @@
 //                                      even when no ray is at a leaf (docs/architecture.md). Not for CHC+RT
 //                                      subtrees, whose roots below the cut traverse down to leaves.
 // Needs bvhTriangles and TraceHit from bvh_traverse.glsl (include it from there, after both).
-#include "linespace/linespace_bindings.h"
+#include "shared/linespace_bindings.h"
 #include "shared/linespace_layout.h"
 #include "linespace/shaft_index_fast.glsl"
 
@@ -181,7 +181,7 @@ bool lsVisitNode(uint space, vec3 boxMin, vec3 boxMax, bool isLeaf, vec2 entryEx
 // Stack entries of nodes below the Line Space cut carry this bit (node indices stay below 2^31).
 #define CHCRT_LS_BELOW_CUT_BIT 0x80000000u
 
-// traverseBvh of shaders/trace/bvh_traverse.glsl with Line Space nodes. The while-while structure of the pure
+// traverseBvh of shaders/render/bvh_traverse.glsl with Line Space nodes. The while-while structure of the pure
 // tracer is kept, and a Line Space node ends the inner (descending) loop like a leaf does: its shaft is handled
 // in one place after the loop, where the rays of a SIMD group that reached such nodes do it together (Aila and
 // Laine's reason for the while-while loop; handling both children in the inner loop measured 1.7x slower for

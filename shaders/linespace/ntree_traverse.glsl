@@ -23,8 +23,8 @@
 //   CHCRT_NT_NEAR                    float: shadow-level nodes entered closer than NEAR node edges to the origin
 //                                    are handled like the start node (default 0.0f = the paper)
 // Needs bvhTriangles, TraceHit, TraceCost and intersectRayTriangle from trace/bvh_traverse.glsl (include it first).
-#include "linespace/linespace_bindings.h"
-#include "linespace/ntree_layout.h"
+#include "shared/linespace_bindings.h"
+#include "shared/ntree_layout.h"
 #include "linespace/shaft_index_fast.glsl"
 
 #ifndef CHCRT_NT_START_EXACT

@@ -4,7 +4,7 @@
 // types of the method use the pure BVH pass. Host defines: those of linespace/ntree_traverse.glsl.
 #include "shared/render_layout.h"
 #define TRACE_ANY_HIT 1
-#include "trace/bvh_traverse.glsl"
+#include "render/bvh_traverse.glsl"
 #include "linespace/ntree_traverse.glsl"
 
 layout(binding = CHCRT_UNIT_RAY_ORIGIN) uniform sampler2D rayOrigins;

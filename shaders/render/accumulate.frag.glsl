@@ -8,8 +8,8 @@
 //           radiance albedo · mean(incoming), applied in compose.frag.glsl.
 #include "shared/render_layout.h"
 #include "shared/bvh_layout.h"
-#include "common/material.glsl"
-#include "shading/light.glsl"
+#include "render/material.glsl"
+#include "render/light.glsl"
 
 layout(binding = CHCRT_UNIT_GBUFFER_NORMAL) uniform sampler2D gbufferNormal;
 layout(binding = CHCRT_UNIT_GBUFFER_ALBEDO) uniform sampler2D gbufferAlbedo;

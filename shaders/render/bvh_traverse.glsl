@@ -87,6 +87,6 @@ void traverseBvh(uint root, vec3 origin, vec3 direction, float tmin, inout Trace
     float stackEntry[CHCRT_MAX_BVH_DEPTH];
     int stackSize = 0;
     bool traversing = true;
-#include "trace/bvh_traverse_loop.glsl"
+#include "render/bvh_traverse_loop.glsl"
 }
 #endif

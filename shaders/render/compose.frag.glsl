@@ -7,7 +7,7 @@
 // the sRGB transfer function).
 #include "shared/render_layout.h"
 #include "shared/bvh_layout.h"
-#include "shading/light.glsl"
+#include "render/light.glsl"
 
 layout(binding = CHCRT_UNIT_GBUFFER_POSITION) uniform sampler2D gbufferPosition;
 layout(binding = CHCRT_UNIT_GBUFFER_NORMAL) uniform sampler2D gbufferNormal;

@@ -1,7 +1,7 @@
 #version 450 core
 #include "shared/render_layout.h"
 #include "shared/bvh_layout.h"
-#include "common/material.glsl"
+#include "render/material.glsl"
 
 in vec3 worldPosition;
 in vec3 worldNormal;

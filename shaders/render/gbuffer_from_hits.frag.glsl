@@ -6,7 +6,7 @@
 // out-of-core scenes rely on. Misses write the G-buffer's clear values (background).
 #include "shared/render_layout.h"
 #include "shared/bvh_layout.h"
-#include "common/material.glsl"
+#include "render/material.glsl"
 
 layout(binding = CHCRT_UNIT_RAY_ORIGIN) uniform sampler2D rayOrigins;
 layout(binding = CHCRT_UNIT_RAY_DIRECTION) uniform sampler2D rayDirections;

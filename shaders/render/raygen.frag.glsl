@@ -3,9 +3,9 @@
 // Host defines: RAY_TYPE (one of CHCRT_RAY_* from shared/render_layout.h).
 #include "shared/render_layout.h"
 #include "shared/bvh_layout.h"
-#include "common/random.glsl"
-#include "common/sampling.glsl"
-#include "common/material.glsl"
+#include "render/random.glsl"
+#include "render/sampling.glsl"
+#include "render/material.glsl"
 
 layout(binding = CHCRT_UNIT_GBUFFER_POSITION) uniform sampler2D gbufferPosition;
 layout(binding = CHCRT_UNIT_GBUFFER_NORMAL) uniform sampler2D gbufferNormal;

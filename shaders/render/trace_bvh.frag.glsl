@@ -2,7 +2,7 @@
 // Pure BVH tracing (the baseline every method is compared with): one full-screen fragment pass traces the ray
 // of each pixel from the ray textures through the whole BVH. Host defines: TRACE_ANY_HIT (0 | 1).
 #include "shared/render_layout.h"
-#include "trace/bvh_traverse.glsl"
+#include "render/bvh_traverse.glsl"
 
 layout(binding = CHCRT_UNIT_RAY_ORIGIN) uniform sampler2D rayOrigins;
 layout(binding = CHCRT_UNIT_RAY_DIRECTION) uniform sampler2D rayDirections;

@@ -1,7 +1,7 @@
 #ifndef CHCRT_SHARED_CULLING_LAYOUT_H
 #define CHCRT_SHARED_CULLING_LAYOUT_H
 // Constants shared by the CHC+RT passes (culling/chcrt_tracer.cpp) and their shaders (shaders/culling/*).
-#include "../shared/shared_begin.h"
+#include "shared_begin.h"
 
 // Image unit of the hit buffer (RGBA32UI, layout of CHCRT_TRACE_OUT_HIT). Subtree passes over the same pixels
 // read and update it with image load/store, separated by glMemoryBarrier (see culling/README.md).
@@ -57,5 +57,5 @@ CHCRT_INLINE float depthFromDistance(float t) {
 }
 
 #undef CHCRT_INLINE
-#include "../shared/shared_end.h"
+#include "shared_end.h"
 #endif

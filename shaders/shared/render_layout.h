@@ -21,7 +21,7 @@
 #define CHCRT_UNIT_ACCUM_AO 13       // sampler2D RGBA32F: r = sum of unoccluded AO samples, a = count
 #define CHCRT_UNIT_ACCUM_INDIRECT 14 // sampler2D RGBA32F: sum of one-bounce diffuse radiance (rgb), count
 #define CHCRT_UNIT_BOUNCE_HIT 15     // usampler2D RGBA32UI: the diffuse pass's hit buffer (for its shadow rays)
-// Units 16-21: Line Space (shaders/linespace/linespace_bindings.h).
+// Units 16-21: Line Space (shaders/shared/linespace_bindings.h).
 #define CHCRT_UNIT_TRI_NORMALS 22    // usamplerBuffer, RGBA16UI ((n * 0.5 + 0.5) * 65535), per original id
 #define CHCRT_UNIT_PIXEL_GEOMETRIC_NORMAL 23 // sampler2D RGBA32F: out of core, the G-buffer pixels' geometric normals
 

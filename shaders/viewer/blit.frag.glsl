@@ -2,7 +2,7 @@
 // Draws the display image (linear display values, internal resolution) to the window, bilinearly scaled, with
 // the sRGB transfer function applied here: the default framebuffer is not assumed to be sRGB-capable, and
 // this matches what writeImage does for PNG screenshots.
-#include "viewer/viewer_layout.h"
+#include "shared/viewer_layout.h"
 
 layout(binding = CHCRT_VIEWER_UNIT_SOURCE) uniform sampler2D displayImage;
 in vec2 screenUv;

@@ -3,8 +3,8 @@
 // PNG writing apply the sRGB transfer function). One mode per view mode of app/viewer/view_modes.h.
 #include "shared/render_layout.h"
 #include "shared/bvh_layout.h"
-#include "viewer/viewer_layout.h"
-#include "culling/culling_layout.h"
+#include "shared/viewer_layout.h"
+#include "shared/culling_layout.h"
 
 layout(binding = CHCRT_VIEWER_UNIT_DISPLAY) uniform sampler2D renderedDisplay;
 layout(binding = CHCRT_VIEWER_UNIT_ACCUM) uniform sampler2D accumulatedHdr;

@@ -1,7 +1,7 @@
 // The ray-distance -> depth mapping of the generalized occlusion queries (CHC+RT §4.1) must be conservative:
 // entry <= hit t implies depth(entry) <= depth(hit t), so the GL_LEQUAL test never culls a box that could
 // hold a hit at the current nearest t (entry equal to the hit, rays starting inside the box, rounding).
-#include "shaders/culling/culling_layout.h"
+#include "shaders/shared/culling_layout.h"
 
 #include <gtest/gtest.h>
 

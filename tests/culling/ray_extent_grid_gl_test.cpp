@@ -3,7 +3,7 @@
 // multiple of the cell.
 #include "culling/ray_extent_grid.h"
 #include "renderer/gl/context.h"
-#include "shaders/culling/culling_layout.h"
+#include "shaders/shared/culling_layout.h"
 
 #include <gtest/gtest.h>
 

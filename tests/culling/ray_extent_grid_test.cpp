@@ -1,7 +1,7 @@
 // RayExtentGrid (culling/ray_extent_grid.h): the CPU side's decisions from given cell boxes (unit), and the GPU
 // reduction against the same boxes computed on the CPU from the rays (GL).
 #include "culling/ray_extent_grid.h"
-#include "shaders/culling/culling_layout.h"
+#include "shaders/shared/culling_layout.h"
 
 #include <gtest/gtest.h>
 

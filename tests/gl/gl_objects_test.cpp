@@ -31,7 +31,7 @@ Target makeTarget(int width, int height) {
 }
 
 ShaderProgram fullscreenProgram(const std::string& fragment, const std::vector<ShaderDefine>& defines = {}) {
-    return ShaderProgram({{GL_VERTEX_SHADER, "common/fullscreen.vert.glsl"}, {GL_FRAGMENT_SHADER, fragment}},
+    return ShaderProgram({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"}, {GL_FRAGMENT_SHADER, fragment}},
                          defines);
 }
 

@@ -164,7 +164,7 @@ TEST_F(GlTest, IntersectGlslMatchesCppTwin) {
     GlTexture triangleOut = createTexture2D(kWidth, kHeight, GL_RGBA32F);
     const GLuint targets[2] = {boxOut.id(), triangleOut.id()};
     GlFramebuffer framebuffer = createFramebuffer(targets, 2);
-    ShaderProgram program({{GL_VERTEX_SHADER, "common/fullscreen.vert.glsl"},
+    ShaderProgram program({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
                            {GL_FRAGMENT_SHADER, "test/intersect_twin.frag.glsl"}},
                           {{"TWIN_TEXELS_PER_CASE", std::to_string(kTexelsPerCase)}});
     program.set("width", kWidth);

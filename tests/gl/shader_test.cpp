@@ -116,9 +116,9 @@ TEST(ShaderPreprocess, EmbeddedTableServesTheRepositoryShaders) {
 }
 
 TEST(ShaderLog, MapsMesaNvidiaAndGlslangFormats) {
-    const std::vector<std::string> files = {"trace/trace_bvh.frag.glsl", "shared/intersect.h"};
+    const std::vector<std::string> files = {"render/trace_bvh.frag.glsl", "shared/intersect.h"};
     EXPECT_EQ(mapShaderLog("0:12(5): error: `x' undeclared\n1:3(10): warning: unused\n", files),
-              "trace/trace_bvh.frag.glsl:12(5): error: `x' undeclared\nshared/intersect.h:3(10): warning: unused\n");
+              "render/trace_bvh.frag.glsl:12(5): error: `x' undeclared\nshared/intersect.h:3(10): warning: unused\n");
     EXPECT_EQ(mapShaderLog("1(42) : error C1008: undefined variable \"y\"\n", files),
               "shared/intersect.h:42: error C1008: undefined variable \"y\"\n");
     EXPECT_EQ(mapShaderLog("ERROR: 1:7: 'z' : undeclared identifier\n", files),
@@ -195,7 +195,7 @@ TEST_F(GlTest, MissingShaderFileThrows) {
 
 TEST_F(GlTest, ProgramsMoveAndIgnoreUnknownUniforms) {
     test::ScopedEnv env("CHCRT_SHADER_DIR", std::nullopt);
-    ShaderProgram program({{GL_VERTEX_SHADER, "common/fullscreen.vert.glsl"},
+    ShaderProgram program({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
                            {GL_FRAGMENT_SHADER, "test/solid_colour.frag.glsl"}});
     EXPECT_GE(program.uniformLocation("colour"), 0);
     EXPECT_EQ(program.uniformLocation("noSuchUniform"), -1);

@@ -8,7 +8,7 @@
 #include "culling/chcrt_tracer.h"
 #include "linespace/linespace_build.h"
 #include "linespace/linespace_gpu.h"
-#include "shaders/linespace/linespace_bindings.h"
+#include "shaders/shared/linespace_bindings.h"
 #include "renderer/scene/camera_path.h"
 
 #include <cstring>

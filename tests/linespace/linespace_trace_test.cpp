@@ -13,7 +13,7 @@
 #include "linespace/linespace_gpu.h"
 #include "linespace/linespace_tracer.h"
 #include "renderer/scene/camera_path.h"
-#include "shaders/linespace/linespace_bindings.h"
+#include "shaders/shared/linespace_bindings.h"
 #include "tests/linespace/linespace_test_util.h"
 
 #include <array>

@@ -16,8 +16,8 @@
 #include "linespace/ntree_tracer.h"
 #include "renderer/core/error.h"
 #include "renderer/scene/camera_path.h"
-#include "shaders/linespace/linespace_bindings.h"
-#include "shaders/linespace/ntree_layout.h"
+#include "shaders/shared/linespace_bindings.h"
+#include "shaders/shared/ntree_layout.h"
 
 namespace chcrt::test {
 namespace {

@@ -96,7 +96,7 @@ void checkShaftIndexTwin(const std::vector<ShaderDefine>& defines) {
     GlTexture shaftsOut = createTexture2D(kWidth, kHeight, GL_RGBA32UI);
     const GLuint targets[2] = {patchesOut.id(), shaftsOut.id()};
     GlFramebuffer framebuffer = createFramebuffer(targets, 2);
-    ShaderProgram program({{GL_VERTEX_SHADER, "common/fullscreen.vert.glsl"},
+    ShaderProgram program({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
                            {GL_FRAGMENT_SHADER, "linespace/shaft_index_twin.frag.glsl"}},
                           defines);
     program.set("width", kWidth);
@@ -183,7 +183,7 @@ TEST_F(GlTest, LineSpaceLookupGlslMatchesCpp) {
     GlTexture output = createTexture2D(kWidth, kHeight, GL_RGBA32UI);
     const GLuint target = output.id();
     GlFramebuffer framebuffer = createFramebuffer(&target, 1);
-    ShaderProgram program({{GL_VERTEX_SHADER, "common/fullscreen.vert.glsl"},
+    ShaderProgram program({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
                            {GL_FRAGMENT_SHADER, "linespace/linespace_lookup_twin.frag.glsl"}},
                           {{"LS_N", std::to_string(params.n)}});
     program.set("width", kWidth);
