@@ -170,9 +170,13 @@ ChcrtTracer::ChcrtTracer(CullingHierarchy hierarchy, SubtreeSource& source, Trac
 std::vector<ShaderDefine> ChcrtTracer::subtreeDefines(bool anyHit) const {
     // A subtree of height h pushes at most h entries (one per level below its root).
     const uint32_t stack = std::min<uint32_t>(hierarchy_.maxSubtreeHeight + 1, CHCRT_MAX_BVH_DEPTH);
-    std::vector<ShaderDefine> defines = {{"CHCRT_SUBTREE_STACK", std::to_string(stack)},
-                                         {"CHCRT_CULLING_LEAF_CACHE", options_.leafCache ? "1" : "0"},
-                                         {"CHCRT_CULLING_MERGED_BATCH", options_.mergedBatch ? "1" : "0"}};
+    // The leaf cache and merged batches have only a pure form: a traversal the options name instead (Line Space
+    // traversal, subtreeDefines) takes one root at a time.
+    const bool pureTraversal = !options_.subtreeDefines;
+    std::vector<ShaderDefine> defines = {
+        {"CHCRT_SUBTREE_STACK", std::to_string(stack)},
+        {"CHCRT_CULLING_LEAF_CACHE", options_.leafCache && pureTraversal ? "1" : "0"},
+        {"CHCRT_CULLING_MERGED_BATCH", options_.mergedBatch && pureTraversal ? "1" : "0"}};
     if (options_.subtreeDefines) {
         for (ShaderDefine& d : options_.subtreeDefines(anyHit)) defines.push_back(std::move(d));
     }

@@ -57,7 +57,7 @@ struct ChcrtOptions {
     uint32_t adaptiveProbeInterval = 8;
     // Extra defines of the subtree-intersection shader per any-hit (e.g. Line Space traversal, methods
     // chcrt+ls*: linespace/README.md) and the binding of what they read, called before subtree draws. Empty =
-    // pure subtree traversal. The leaf-cache variant is not used when CHCRT_LS_MODE is set (the shader says why).
+    // pure subtree traversal; a traversal named there (CHCRT_BVH_TRAVERSAL) turns the leaf cache and merged batches off.
     std::function<std::vector<ShaderDefine>(bool anyHit)> subtreeDefines;
     std::function<void()> bindSubtreeResources;
 };

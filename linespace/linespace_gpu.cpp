@@ -113,7 +113,8 @@ std::vector<ShaderDefine> LineSpaceGpu::defines(LineSpaceMode mode, float maxNor
     std::snprintf(cosText, sizeof(cosText), "%.9g", std::cos(double(maxNormalAngleDegrees) * 3.14159265358979323846 / 180.0));
     std::string cosValue = cosText;
     if (cosValue.find_first_of(".e") == std::string::npos) cosValue += ".0";
-    return {{"CHCRT_LS_MODE", std::to_string(candidate ? int(LineSpaceMode::Candidate) : int(mode))},
+    return {{"CHCRT_BVH_TRAVERSAL", "\"linespace/linespace_traverse.glsl\""}, // replaces the pure traversal
+            {"CHCRT_LS_MODE", std::to_string(candidate ? int(LineSpaceMode::Candidate) : int(mode))},
             {"CHCRT_LS_CANDIDATE_START_EXACT", mode == LineSpaceMode::CandidateExactStart ? "1" : "0"},
             {"CHCRT_LS_CANDIDATE_FRONT_ONLY", std::to_string(candidate ? int(faces) : 0)},
             {"CHCRT_LS_N", std::to_string(n_) + "u"},

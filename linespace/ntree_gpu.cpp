@@ -72,7 +72,9 @@ void NTreeGpu::bind() const {
 std::vector<ShaderDefine> NTreeGpu::defines(const NTreeShadowOptions& options) const {
     char nearText[32];
     std::snprintf(nearText, sizeof(nearText), "%.6ff", double(options.nearEdges));
-    return {{"CHCRT_NT_N", std::to_string(n_) + "u"},
+    return {{"CHCRT_BVH_TRAVERSAL", "\"linespace/ntree_traverse.glsl\""}, // the full-screen tracer's traversal
+            {"TRACE_ANY_HIT", "1"}, // shadow rays only
+            {"CHCRT_NT_N", std::to_string(n_) + "u"},
             {"CHCRT_NT_BINARY_WORDS_PER_SPACE", std::to_string(lsWordCount(n_, true)) + "u"},
             {"CHCRT_NT_SHADOW_LEVEL", std::to_string(options.shadowLevel)},
             {"CHCRT_NT_START_EXACT", options.startExact ? "1" : "0"},

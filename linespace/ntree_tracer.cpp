@@ -48,7 +48,7 @@ NTreeTracer::NTreeTracer(std::string name, std::shared_ptr<const NTreeGpu> gpu, 
                          unsigned iterationCap)
     : name_(std::move(name)), gpu_(std::move(gpu)), options_(options),
       shadowProgram_({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
-                      {GL_FRAGMENT_SHADER, "linespace/trace_ntree.frag.glsl"}},
+                      {GL_FRAGMENT_SHADER, "render/trace_bvh.frag.glsl"}},
                      shadowDefines(*gpu_, options_, iterationCap)),
       bvh_(iterationCap) {}
 

@@ -1,6 +1,6 @@
 #pragma once
 // Method `ntree+ls` (soft-shadow paper, "SS"): shadow and bounce-shadow rays traverse the N-tree with binary
-// Line Spaces (shaders/linespace/trace_ntree.frag.glsl, SS Algorithm 1), every other ray type the pure BVH
+// Line Spaces (shaders/linespace/ntree_traverse.glsl as the traversal of the full-screen tracer, SS Algorithm 1), every other ray type the pure BVH
 // (the paper uses the N-tree for shadows only; primary visibility is rasterized there).
 #include "linespace/ntree_gpu.h"
 #include "renderer/render/bvh_tracer.h"

@@ -3,7 +3,10 @@
 // runs from anywhere); CHCRT_SHADER_DIR=<dir> loads them from disk instead (the viewer's reload key uses it).
 // The loader pastes #include "..." (paths relative to shaders/, include guards honoured via #pragma once or
 // #ifndef), keeps #version first, inserts the variant #defines after it and emits #line directives so that
-// compile errors are reported with the real file name and line.
+// compile errors are reported with the real file name and line. `#include NAME` pastes the file a define names:
+// a variant define whose value is a quoted path ({"CHCRT_BVH_TRAVERSAL", "\"linespace/linespace_traverse.glsl\""}),
+// else the shader's own `#define NAME "path"` (its default). So a pass can take a traversal from a library above
+// its own without naming it: the dependency points from the extension to the pass.
 #include "renderer/gl/gl.h"
 
 #include <glm/glm.hpp>

@@ -159,8 +159,13 @@ public:
                 break;
             }
         }
-        // Step 2: the variant's defines.
+        // Step 2: the variant's defines. Those whose value is a quoted path name a file for `#include NAME` and
+        // are resolved here, not passed on (GLSL has no string literals).
         for (const ShaderDefine& define : defines) {
+            if (!define.value.empty() && define.value.front() == '"') {
+                includeNames_[define.name] = unquote(define.value, "define " + define.name);
+                continue;
+            }
             result_.text += "#define " + define.name + (define.value.empty() ? "" : " " + define.value) + "\n";
         }
         // Step 3: the root and everything it includes, with #line directives.
@@ -168,6 +173,26 @@ public:
     }
 
 private:
+    static std::string unquote(std::string_view text, const std::string& where) {
+        const size_t close = text.size() > 1 ? text.find('"', 1) : std::string_view::npos;
+        if (text.empty() || text[0] != '"' || close == std::string_view::npos) {
+            throw GlError("malformed quoted path at " + where);
+        }
+        return std::string(text.substr(1, close - 1));
+    }
+
+    static bool isIdentifierStart(std::string_view text) {
+        return !text.empty() && (std::isalpha(static_cast<unsigned char>(text[0])) || text[0] == '_');
+    }
+
+    static std::string_view identifier(std::string_view text) {
+        size_t end = 0;
+        while (end < text.size() && (std::isalnum(static_cast<unsigned char>(text[end])) || text[end] == '_')) {
+            ++end;
+        }
+        return text.substr(0, end);
+    }
+
     int fileIndex(const std::string& path) {
         auto it = std::find(result_.files.begin(), result_.files.end(), path);
         if (it != result_.files.end()) {
@@ -216,14 +241,20 @@ private:
             const std::string_view directive = commentedOut ? std::string_view() : directiveName(line, rest);
             if (isRoot && static_cast<int>(i) == versionLine_) {
                 result_.text += "\n";
-            } else if (directive == "include" && !rest.empty() && rest[0] == '"') {
-                const size_t close = rest.find('"', 1);
-                if (close == std::string_view::npos) {
-                    throw GlError("malformed #include at " + path + ":" + std::to_string(lineNumber));
-                }
-                pasteInclude(std::string(rest.substr(1, close - 1)), path, lineNumber);
+            } else if (directive == "include" && !rest.empty() && (rest[0] == '"' || isIdentifierStart(rest))) {
+                const std::string where = path + ":" + std::to_string(lineNumber);
+                const std::string name = rest[0] == '"' ? unquote(rest, "#include at " + where) : includeName(rest, where);
+                pasteInclude(name, path, lineNumber);
                 emitLine(lineNumber + 1, index);
                 pastedInclude = true;
+            } else if (directive == "define" && isIdentifierStart(rest) &&
+                       trimLeft(rest.substr(identifier(rest).size())).substr(0, 1) == "\"") {
+                // `#define NAME "path"`: the file `#include NAME` pastes unless the host defines NAME (the usual
+                // `#ifndef NAME` guard around it therefore reads as it behaves).
+                const std::string name(identifier(rest));
+                const std::string value = unquote(trimLeft(rest.substr(name.size())), path + ":" + std::to_string(lineNumber));
+                includeDefaults_.try_emplace(name, value);
+                result_.text += "\n";
             } else if (directive == "pragma" && rest.substr(0, 4) == "once") {
                 pragmaOnce_.push_back(path);
                 result_.text += "\n";
@@ -262,7 +293,17 @@ private:
         appendFile(path, text, false);
     }
 
+    // `#include NAME`: the path the host's define NAME gives, else the file's own `#define NAME "path"`.
+    std::string includeName(std::string_view rest, const std::string& where) const {
+        const std::string name(identifier(rest));
+        if (auto it = includeNames_.find(name); it != includeNames_.end()) return it->second;
+        if (auto it = includeDefaults_.find(name); it != includeDefaults_.end()) return it->second;
+        throw GlError("#include " + name + " at " + where + ": " + name + " names no file (define it as \"path\")");
+    }
+
     PreprocessedShader& result_;
+    std::unordered_map<std::string, std::string> includeNames_;    // host defines with a quoted path
+    std::unordered_map<std::string, std::string> includeDefaults_; // #define NAME "path" in the files
     std::vector<std::string> stack_;
     std::vector<std::string> pragmaOnce_;
     int versionLine_ = -1;

@@ -2,7 +2,7 @@
 // CHC+RT §5.2 subtree intersection with by-tile batching: the viewport is one screen tile; the uniforms list up
 // to CHCRT_CULLING_MAX_BATCH termination-subtree roots (approximately front to back). Each ray continues from
 // the nearest hit stored so far (image load/store on the hit buffer) and traverses every subtree whose box it
-// meets with the project's exact hit rule (trace/bvh_traverse.glsl), so the final hits are those of pure BVH
+// meets with the project's exact hit rule (render/bvh_nodes.glsl), so the final hits are those of pure BVH
 // tracing. Changed rays store their hit and write depthFromDistance(t) for later occlusion queries.
 // Host defines: TRACE_ANY_HIT (0 | 1), CHCRT_CULLING_SINGLE_SUBTREE (0 | 1: the variant for batches of one),
 // CHCRT_CULLING_MERGED_BATCH (0 | 1: the batch as one traversal, culling/subtree_batch_traverse.glsl),
@@ -15,18 +15,18 @@
 #include "shared/render_layout.h"
 #include "shared/bvh_layout.h"
 #include "shared/culling_layout.h"
-// bvh_traverse.glsl sizes its stack with CHCRT_MAX_BVH_DEPTH; subtrees are bounded by the termination height.
+// The traversals size their stacks with CHCRT_MAX_BVH_DEPTH; subtrees are bounded by the termination height.
 #ifdef CHCRT_SUBTREE_STACK
 #undef CHCRT_MAX_BVH_DEPTH
 #define CHCRT_MAX_BVH_DEPTH CHCRT_SUBTREE_STACK
 #endif
-#include "render/bvh_traverse.glsl"
-// With Line Space traversal (CHCRT_LS_MODE, linespace/README.md) traverseBvh is the Line Space one; the leaf-cache
-// traversal has no Line Space form, so it is not used then.
-#if defined(CHCRT_LS_MODE) && CHCRT_LS_MODE != 0
-#undef CHCRT_CULLING_LEAF_CACHE
-#define CHCRT_CULLING_LEAF_CACHE 0
+#include "render/bvh_nodes.glsl"
+// traverseBvh: the pure traversal, or the one the host names (Line Space traversal, methods chcrt+ls*; the host
+// then turns the leaf cache and merged batches off, which have only a pure form).
+#ifndef CHCRT_BVH_TRAVERSAL
+#define CHCRT_BVH_TRAVERSAL "render/bvh_traverse.glsl"
 #endif
+#include CHCRT_BVH_TRAVERSAL
 #if CHCRT_CULLING_LEAF_CACHE
 #include "culling/subtree_traverse_cached.glsl"
 #endif
@@ -34,8 +34,7 @@
 // leaf cache and Line Space traversals (whose traversals take one root) and for the subtree-id debug image (which
 // needs to know which subtree changed the hit).
 #if defined(CHCRT_CULLING_MERGED_BATCH) && CHCRT_CULLING_MERGED_BATCH && !CHCRT_CULLING_LEAF_CACHE && \
-    !(defined(CHCRT_LS_MODE) && CHCRT_LS_MODE != 0) && !defined(CHCRT_CULLING_DEBUG_SUBTREES) && \
-    !CHCRT_CULLING_SINGLE_SUBTREE
+    !defined(CHCRT_CULLING_DEBUG_SUBTREES) && !CHCRT_CULLING_SINGLE_SUBTREE
 #define CHCRT_CULLING_TRAVERSE_MERGED 1
 #else
 #define CHCRT_CULLING_TRAVERSE_MERGED 0

@@ -1,5 +1,5 @@
-// Line Space use inside BVH traversal (shaders/render/bvh_traverse.glsl includes this when CHCRT_LS_MODE is not
-// CHCRT_LS_MODE_OFF). A Line Space node is a BVH node of the cut chosen by depth D and triangle threshold T
+// Line Space use inside BVH traversal: a replacement of render/bvh_traverse.glsl that the Line Space methods name
+// as the passes' traversal (CHCRT_BVH_TRAVERSAL, defines of linespace/linespace_gpu.h). A Line Space node is a BVH node of the cut chosen by depth D and triangle threshold T
 // (linespace/linespace_build.h); traversal asks lsVisitNode() what to do when the ray reaches one.
 //
 // Host defines (linespace/linespace_gpu.h LineSpaceGpu::defines()):
@@ -16,7 +16,7 @@
 //                                      0). Same hits; llvmpipe runs the leaf loop's body once per outer iteration
 //                                      even when no ray is at a leaf (docs/architecture.md). Not for CHC+RT
 //                                      subtrees, whose roots below the cut traverse down to leaves.
-// Needs bvhTriangles and TraceHit from bvh_traverse.glsl (include it from there, after both).
+// Needs render/bvh_nodes.glsl (included first by the pass).
 #include "shared/linespace_bindings.h"
 #include "shared/linespace_layout.h"
 #include "linespace/shaft_index_fast.glsl"
@@ -181,21 +181,40 @@ bool lsVisitNode(uint space, vec3 boxMin, vec3 boxMax, bool isLeaf, vec2 entryEx
 // Stack entries of nodes below the Line Space cut carry this bit (node indices stay below 2^31).
 #define CHCRT_LS_BELOW_CUT_BIT 0x80000000u
 
-// traverseBvh of shaders/render/bvh_traverse.glsl with Line Space nodes. The while-while structure of the pure
-// tracer is kept, and a Line Space node ends the inner (descending) loop like a leaf does: its shaft is handled
-// in one place after the loop, where the rays of a SIMD group that reached such nodes do it together (Aila and
-// Laine's reason for the while-while loop; handling both children in the inner loop measured 1.7x slower for
-// primary rays, docs/benchmarks.md). Same determinism rules as the pure tracer: nodes are pruned only beyond
-// pruneLimit(best t), ties go to the lower original id. Above the cut, each node entered fetches its space.
+// The traversal's visit of Line Space node `space` (BVH node `node`, whose header count is `nodeCount`): an action
+// of render/bvh_traverse_loop.glsl. Descending goes below the cut (no further Line Space nodes).
+int lsVisitCutNode(uint node, inout uint space, inout bool aboveCut, uint nodeCount, vec3 origin, vec3 direction,
+                   vec3 invDir, float tmin, inout TraceHit best) {
+    int texel = int(node) * CHCRT_BVH_TEXELS_PER_NODE;
+    vec3 boxMin = texelFetch(bvhNodes, texel).xyz;
+    vec3 boxMax = texelFetch(bvhNodes, texel + 1).xyz;
+    bool stop = false;
+    bool descend = lsVisitNode(space, boxMin, boxMax, nodeCount != 0u, intersectRayAabb(origin, invDir, boxMin, boxMax),
+                               origin, direction, invDir, tmin, best, stop);
+    space = CHCRT_LS_NO_SPACE;
+    if (stop) {
+        return 0; // TRAVERSE_ACTION_RETURN
+    }
+    if (descend) {
+        aboveCut = false;
+        return 1; // TRAVERSE_ACTION_DESCEND
+    }
+    return 2; // TRAVERSE_ACTION_POP
+}
+
+// traverseBvh of render/bvh_traverse.glsl with Line Space nodes. The while-while loop of the pure tracer
+// (render/bvh_traverse_loop.glsl) with hooks: a Line Space node ends the inner (descending) loop like a leaf does,
+// and its shaft is handled in one place after the loop, where the rays of a SIMD group that reached such nodes do
+// it together (Aila and Laine's reason for the while-while loop; handling both children in the inner loop measured
+// 1.7x slower for primary rays, docs/benchmarks.md). Same determinism rules as the pure tracer: nodes are pruned
+// only beyond pruneLimit(best t), ties go to the lower original id. Above the cut, each node entered fetches its
+// space.
 void traverseBvh(uint root, vec3 origin, vec3 direction, float tmin, inout TraceHit best, inout TraceCost cost) {
     vec3 invDir = safeInverseDirection(direction);
-    vec4 root0 = texelFetch(bvhNodes, int(root) * CHCRT_BVH_TEXELS_PER_NODE);
-    vec4 root1 = texelFetch(bvhNodes, int(root) * CHCRT_BVH_TEXELS_PER_NODE + 1);
-    if (!rayHitsAabb(intersectRayAabb(origin, invDir, root0.xyz, root1.xyz), tmin, pruneLimit(best.t))) {
+    uint nodeFirst, nodeCount;
+    if (!enterRoot(root, origin, invDir, tmin, best.t, nodeFirst, nodeCount)) {
         return;
     }
-    uint nodeFirst = floatBitsToUint(root0.w);
-    uint nodeCount = floatBitsToUint(root1.w);
     uint currentNode = root;
     uint currentSpace = lsSpaceOf(root);
     bool aboveCut = currentSpace == CHCRT_LS_NO_SPACE;
@@ -203,84 +222,18 @@ void traverseBvh(uint root, vec3 origin, vec3 direction, float tmin, inout Trace
     float stackEntry[CHCRT_MAX_BVH_DEPTH];
     int stackSize = 0;
     bool traversing = true;
-
-    while (traversing && cost.iterations < CHCRT_TRACE_ITERATION_CAP) {
-        // Inner loop: descend until a leaf or a Line Space node is reached or nothing is left.
-        while (nodeCount == 0u && currentSpace == CHCRT_LS_NO_SPACE && cost.iterations < CHCRT_TRACE_ITERATION_CAP) {
-            ++cost.iterations;
-            ++cost.innerNodes;
-            int texel = int(nodeFirst) * CHCRT_BVH_TEXELS_PER_NODE;
-            vec4 a0 = texelFetch(bvhNodes, texel);
-            vec4 a1 = texelFetch(bvhNodes, texel + 1);
-            vec4 b0 = texelFetch(bvhNodes, texel + 2);
-            vec4 b1 = texelFetch(bvhNodes, texel + 3);
-            vec2 entryExitA = intersectRayAabb(origin, invDir, a0.xyz, a1.xyz);
-            vec2 entryExitB = intersectRayAabb(origin, invDir, b0.xyz, b1.xyz);
-            float limit = pruneLimit(best.t);
-            bool hitA = rayHitsAabb(entryExitA, tmin, limit);
-            bool hitB = rayHitsAabb(entryExitB, tmin, limit);
-            if (hitA && hitB) {
-                bool aFirst = entryExitA.x <= entryExitB.x;
-                stackNode[stackSize] = (aFirst ? nodeFirst + 1u : nodeFirst) | (aboveCut ? 0u : CHCRT_LS_BELOW_CUT_BIT);
-                stackEntry[stackSize] = aFirst ? entryExitB.x : entryExitA.x;
-                ++stackSize;
-                currentNode = aFirst ? nodeFirst : nodeFirst + 1u;
-                nodeFirst = floatBitsToUint(aFirst ? a0.w : b0.w);
-                nodeCount = floatBitsToUint(aFirst ? a1.w : b1.w);
-            } else if (hitA || hitB) {
-                currentNode = hitA ? nodeFirst : nodeFirst + 1u;
-                nodeFirst = floatBitsToUint(hitA ? a0.w : b0.w);
-                nodeCount = floatBitsToUint(hitA ? a1.w : b1.w);
-            } else {
-                traversing = false;
-                break;
-            }
-            if (aboveCut) {
-                currentSpace = lsSpaceOf(currentNode);
-            }
-        }
-        if (traversing && currentSpace != CHCRT_LS_NO_SPACE) {
-            // A Line Space node (RC §3.2, SS §4.1): skip it, end the ray, or traverse it exactly below the cut.
-            int texel = int(currentNode) * CHCRT_BVH_TEXELS_PER_NODE;
-            vec3 boxMin = texelFetch(bvhNodes, texel).xyz;
-            vec3 boxMax = texelFetch(bvhNodes, texel + 1).xyz;
-            bool stop = false;
-            bool descend = lsVisitNode(currentSpace, boxMin, boxMax, nodeCount != 0u,
-                                       intersectRayAabb(origin, invDir, boxMin, boxMax), origin, direction, invDir,
-                                       tmin, best, stop);
-            if (stop) {
-                return;
-            }
-            currentSpace = CHCRT_LS_NO_SPACE;
-            if (descend) {
-                aboveCut = false;
-                continue; // back into the inner loop with this node's children (or to its leaf)
-            }
-            nodeCount = 0u; // nothing to test here: pop
-        }
-#if !CHCRT_LS_CANDIDATE_NO_LEAVES
-        else if (traversing && nodeCount != 0u) {
-            ++cost.leaves;
-            if (intersectLeaf(nodeFirst, nodeCount, origin, direction, tmin, best, cost)) {
-                return;
-            }
-        }
-#endif
-        // Pop the next node whose entry is not beyond the closest hit found so far.
-        traversing = false;
-        while (stackSize > 0 && cost.iterations < CHCRT_TRACE_ITERATION_CAP) {
-            ++cost.iterations;
-            --stackSize;
-            if (stackEntry[stackSize] <= pruneLimit(best.t)) {
-                currentNode = stackNode[stackSize] & ~CHCRT_LS_BELOW_CUT_BIT;
-                aboveCut = (stackNode[stackSize] & CHCRT_LS_BELOW_CUT_BIT) == 0u;
-                int popped = int(currentNode) * CHCRT_BVH_TEXELS_PER_NODE;
-                nodeFirst = floatBitsToUint(texelFetch(bvhNodes, popped).w);
-                nodeCount = floatBitsToUint(texelFetch(bvhNodes, popped + 1).w);
-                currentSpace = aboveCut ? lsSpaceOf(currentNode) : CHCRT_LS_NO_SPACE;
-                traversing = true;
-                break;
-            }
-        }
-    }
+#define TRAVERSE_DESCEND_WHILE (currentSpace == CHCRT_LS_NO_SPACE)
+#define TRAVERSE_ENTER(node) currentNode = (node);
+#define TRAVERSE_AFTER_DESCEND if (aboveCut) { currentSpace = lsSpaceOf(currentNode); }
+#define TRAVERSE_PUSH(node) ((node) | (aboveCut ? 0u : CHCRT_LS_BELOW_CUT_BIT))
+#define TRAVERSE_STOP_NODE currentSpace != CHCRT_LS_NO_SPACE
+#define TRAVERSE_VISIT_STOP_NODE \
+    lsVisitCutNode(currentNode, currentSpace, aboveCut, nodeCount, origin, direction, invDir, tmin, best)
+#define TRAVERSE_POPPED_NODE(word) ((word) & ~CHCRT_LS_BELOW_CUT_BIT)
+#define TRAVERSE_POP(word) \
+    currentNode = (word) & ~CHCRT_LS_BELOW_CUT_BIT; \
+    aboveCut = ((word) & CHCRT_LS_BELOW_CUT_BIT) == 0u; \
+    currentSpace = aboveCut ? lsSpaceOf(currentNode) : CHCRT_LS_NO_SPACE;
+#define TRAVERSE_NO_LEAVES CHCRT_LS_CANDIDATE_NO_LEAVES
+#include "render/bvh_traverse_loop.glsl"
 }

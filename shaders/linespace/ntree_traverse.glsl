@@ -22,7 +22,7 @@
 //   CHCRT_NT_START_EXACT             0 | 1, see above
 //   CHCRT_NT_NEAR                    float: shadow-level nodes entered closer than NEAR node edges to the origin
 //                                    are handled like the start node (default 0.0f = the paper)
-// Needs bvhTriangles, TraceHit, TraceCost and intersectRayTriangle from trace/bvh_traverse.glsl (include it first).
+// Needs bvhTriangles, TraceHit, TraceCost and intersectRayTriangle from render/bvh_nodes.glsl (include it first).
 #include "shared/linespace_bindings.h"
 #include "shared/ntree_layout.h"
 #include "linespace/shaft_index_fast.glsl"
@@ -200,4 +200,10 @@ bool ntreeOccluded(vec3 origin, vec3 direction, float tmin, float tmax, inout Tr
         visited = true;
     }
     return false;
+}
+
+// The N-tree as the traversal of the full-screen tracer (render/trace_bvh.frag.glsl names this file through
+// CHCRT_BVH_TRAVERSAL, linespace/ntree_gpu.h): shadow rays only, from the N-tree's root (`root` is unused).
+void traverseBvh(uint root, vec3 origin, vec3 direction, float tmin, inout TraceHit best, inout TraceCost cost) {
+    ntreeOccluded(origin, direction, tmin, best.t, best, cost);
 }

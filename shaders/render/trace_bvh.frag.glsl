@@ -1,8 +1,13 @@
 #version 450 core
 // Pure BVH tracing (the baseline every method is compared with): one full-screen fragment pass traces the ray
-// of each pixel from the ray textures through the whole BVH. Host defines: TRACE_ANY_HIT (0 | 1).
+// of each pixel from the ray textures through the whole BVH. Host defines: TRACE_ANY_HIT (0 | 1),
+// CHCRT_BVH_TRAVERSAL (the file that defines traverseBvh; the Line Space tracer names its own).
 #include "shared/render_layout.h"
-#include "render/bvh_traverse.glsl"
+#include "render/bvh_nodes.glsl"
+#ifndef CHCRT_BVH_TRAVERSAL
+#define CHCRT_BVH_TRAVERSAL "render/bvh_traverse.glsl"
+#endif
+#include CHCRT_BVH_TRAVERSAL
 
 layout(binding = CHCRT_UNIT_RAY_ORIGIN) uniform sampler2D rayOrigins;
 layout(binding = CHCRT_UNIT_RAY_DIRECTION) uniform sampler2D rayDirections;

@@ -104,6 +104,28 @@ TEST(ShaderPreprocess, MissingFilesThrowNamingTheIncluder) {
     EXPECT_THROW(preprocessShader("lib/escape.glsl", {}), GlError); // paths cannot leave shaders/
 }
 
+TEST(ShaderPreprocess, IncludeByNameTakesTheHostsPathElseTheFilesDefault) {
+    ScratchShaderDir dir({
+        {"main.glsl", "#version 450 core\n#ifndef TRAVERSAL\n#define TRAVERSAL \"pure.glsl\"\n#endif\n"
+                      "#include TRAVERSAL\nvoid main() {}\n"},
+        {"pure.glsl", "float pure;\n"},
+        {"ext/other.glsl", "float other;\n"},
+        {"unnamed.glsl", "#version 450 core\n#include NOWHERE\n"},
+    });
+    const PreprocessedShader byDefault = preprocessShader("main.glsl", {{"FOO", "1"}});
+    EXPECT_NE(byDefault.text.find("float pure;"), std::string::npos) << byDefault.text;
+    EXPECT_EQ(byDefault.text.find('"'), std::string::npos) << "quoted paths must not reach GLSL: " << byDefault.text;
+    EXPECT_NE(byDefault.text.find("#define FOO 1\n"), std::string::npos);
+    const PreprocessedShader byHost = preprocessShader("main.glsl", {{"TRAVERSAL", "\"ext/other.glsl\""}});
+    EXPECT_NE(byHost.text.find("float other;"), std::string::npos) << byHost.text;
+    EXPECT_EQ(byHost.text.find("float pure;"), std::string::npos) << byHost.text;
+    EXPECT_EQ(byHost.text.find('"'), std::string::npos) << byHost.text;
+    EXPECT_EQ(byHost.files, (std::vector<std::string>{"main.glsl", "ext/other.glsl"}));
+    const std::string unnamed = errorOf([] { preprocessShader("unnamed.glsl", {}); });
+    EXPECT_NE(unnamed.find("#include NOWHERE at unnamed.glsl:2"), std::string::npos) << unnamed;
+    EXPECT_THROW(preprocessShader("main.glsl", {{"TRAVERSAL", "\"unterminated"}}), GlError);
+}
+
 TEST(ShaderPreprocess, EmbeddedTableServesTheRepositoryShaders) {
     test::ScopedEnv env("CHCRT_SHADER_DIR", std::nullopt);
     const PreprocessedShader twin = preprocessShader("test/intersect_twin.frag.glsl", {});

@@ -1,0 +1,77 @@
+// BVH node and triangle access for every traversal (pure, CHC+RT subtrees, Line Space, N-tree): the texture
+// buffers (layout: shared/bvh_layout.h), the hit and cost records, and the leaf test with the project's hit rule.
+// The traversals themselves: render/bvh_traverse.glsl (pure), linespace/linespace_traverse.glsl, culling/*.
+// The C++ twin is renderer/bvh/cpu_tracer.cpp.
+//
+// Host defines: TRACE_ANY_HIT (1: return the first hit in [tmin, tmax], for shadow and AO rays).
+//
+// Determinism: a hit is accepted when tmin <= t <= best t, and on equal t the lower original triangle id
+// wins; nodes are pruned only when their entry distance is beyond pruneLimit(best t) (shared/intersect.h), so a
+// tie in a later subtree is still found, whatever the traversal order. Every tracer of the project (GLSL, CPU,
+// CHC+RT subtrees) applies the same rule.
+//
+// llvmpipe ends all loops of an invocation after 65,535 iterations in total: every traversal loop counts into
+// cost.iterations and stops at CHCRT_TRACE_ITERATION_CAP; the caller reports capped rays.
+#ifndef CHCRT_BVH_NODES_GLSL
+#define CHCRT_BVH_NODES_GLSL
+#include "shared/bvh_layout.h"
+#include "shared/intersect.h"
+
+layout(binding = CHCRT_UNIT_BVH_NODES) uniform samplerBuffer bvhNodes;
+layout(binding = CHCRT_UNIT_BVH_TRIANGLES) uniform samplerBuffer bvhTriangles;
+
+struct TraceHit {
+    float t;
+    uint triangleId; // original id, CHCRT_NO_HIT_ID for a miss
+    vec2 barycentrics;
+};
+
+struct TraceCost {
+    uint innerNodes;
+    uint leaves;
+    uint triangles;
+    uint iterations;
+};
+
+TraceHit makeMiss(float tmax) {
+    TraceHit hit;
+    hit.t = tmax;
+    hit.triangleId = CHCRT_NO_HIT_ID;
+    hit.barycentrics = vec2(0.0f);
+    return hit;
+}
+
+// Tests the triangles [first, first + count) of the BVH-ordered buffer against the ray, updating `best`.
+// Returns true when an any-hit query can stop.
+bool intersectLeaf(uint first, uint count, vec3 origin, vec3 direction, float tmin, inout TraceHit best,
+                   inout TraceCost cost) {
+    for (uint i = 0u; i < count && cost.iterations < CHCRT_TRACE_ITERATION_CAP; ++i) {
+        ++cost.iterations;
+        ++cost.triangles;
+        int texel = int(first + i) * CHCRT_TRI_TEXELS_PER_TRIANGLE;
+        vec4 v0 = texelFetch(bvhTriangles, texel);
+        vec4 v1 = texelFetch(bvhTriangles, texel + 1);
+        vec4 v2 = texelFetch(bvhTriangles, texel + 2);
+        vec3 tuv = intersectRayTriangle(origin, direction, v0.xyz, v1.xyz, v2.xyz);
+        uint id = floatBitsToUint(v0.w);
+        if (tuv.x >= tmin && tuv.x <= best.t && (tuv.x < best.t || id < best.triangleId)) {
+            best.t = tuv.x;
+            best.triangleId = id;
+            best.barycentrics = tuv.yz;
+#if TRACE_ANY_HIT
+            return true;
+#endif
+        }
+    }
+    return false;
+}
+// Starts a traversal at `root`: its header (nodeFirst, nodeCount) when the ray meets its box within
+// [tmin, pruneLimit(bestT)], else false (nothing below it can change the hit).
+bool enterRoot(uint root, vec3 origin, vec3 invDir, float tmin, float bestT, out uint nodeFirst, out uint nodeCount) {
+    vec4 root0 = texelFetch(bvhNodes, int(root) * CHCRT_BVH_TEXELS_PER_NODE);
+    vec4 root1 = texelFetch(bvhNodes, int(root) * CHCRT_BVH_TEXELS_PER_NODE + 1);
+    nodeFirst = floatBitsToUint(root0.w);
+    nodeCount = floatBitsToUint(root1.w);
+    return rayHitsAabb(intersectRayAabb(origin, invDir, root0.xyz, root1.xyz), tmin, pruneLimit(bestT));
+}
+#endif
