@@ -158,13 +158,19 @@ std::unique_ptr<Tracer> makeChcrtTracer(const std::string& name, const SceneSess
     const CommonOptions& o = session.options;
     ChcrtOptions options;
     // CHC+RT §7, Table 4: a pair counts as visible only when more rays than the threshold pass its query.
-    if (name == "chcrt-aggressive") options.visibleThreshold = 20;
+    if (name == "chcrt-aggressive") {
+        options.visibleThreshold = 20;
+        options.queries = ChcrtQueries::Gl; // counts rays per query
+    }
     // The aggressive variant measures what culling loses (Table 4), so it always culls too.
     if (name == "chcrt-noadapt" || name == "chcrt-aggressive" || alwaysCull) options.adaptive = false;
     if (o.chcrtThreshold >= 0) options.visibleThreshold = uint32_t(o.chcrtThreshold);
     if (o.chcrtMinTile >= 0) options.pairs.minTileSize = o.chcrtMinTile;
     if (o.chcrtHeight >= 0) options.partition.maxSubtreeHeight = uint32_t(o.chcrtHeight);
     if (o.chcrtMultiQuery >= 0) options.multiQueryPairs = o.chcrtMultiQuery;
+    if (!o.chcrtQueries.empty()) options.queries = parseChcrtQueries(o.chcrtQueries);
+    if (o.chcrtBoundsCell >= 0) options.bounds.cellSize = o.chcrtBoundsCell;
+    if (o.chcrtBoundsPieces >= 0) options.bounds.pieces = o.chcrtBoundsPieces;
     const auto onOff = [](const std::string& value, const char* flag, bool& out) {
         if (value.empty()) return;
         if (value != "on" && value != "off") throw InputError(std::string(flag) + " must be on or off, not '" + value + "'");
@@ -192,6 +198,7 @@ std::unique_ptr<Tracer> makeChcrtTracer(const std::string& name, const SceneSess
             return gpu->defines(anyHit ? anyHitMode : ls::LineSpaceMode::Exact, angle);
         };
         options.bindSubtreeResources = [gpu] { gpu->bind(); };
+        options.queries = ChcrtQueries::Gl; // the Line Space traversal takes one subtree root per call
         options.adaptive = false; // the fallback's pure pass has no Line Spaces
         if (!o.quiet) {
             std::fprintf(stderr, "%s: Line Spaces %s (%s): %s\n", name.c_str(), ls::toString(outcome),

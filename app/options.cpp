@@ -52,6 +52,11 @@ void addCommonOptions(CLI::App& c, CommonOptions& o, bool withEffects) {
                  "CHC+RT: traverse a batch's subtrees as one traversal instead of one after another (on|off, default on)");
     c.add_option("--chcrt-ray-extent", o.chcrtRayExtent,
                  "CHC+RT: skip pairs out of reach of their tile's bounded rays (on|off, default on)");
+    c.add_option("--chcrt-queries", o.chcrtQueries,
+                 "CHC+RT: how query pairs are decided: gl (GL occlusion queries, per-tile subtree draws; default) or "
+                 "bounds-only (the ray bounds grid decides every pair; cell lists, one draw per round)");
+    c.add_option("--chcrt-bounds-cell", o.chcrtBoundsCell, "CHC+RT: ray bounds grid cell edge in pixels (default 8)");
+    c.add_option("--chcrt-bounds-pieces", o.chcrtBoundsPieces, "CHC+RT: ray bounds boxes per cell (default 4)");
     c.add_flag("-q,--quiet", o.quiet, "No progress bars");
     c.add_option("--bvh-leaf-size", o.bvhLeafSize, "Maximum triangles per BVH leaf")->capture_default_str();
     c.add_option("--bvh-bins", o.bvhBins, "SAH bins per axis")->capture_default_str();

@@ -41,7 +41,10 @@ struct CommonOptions {
     std::string chcrtTighterBounds; // --chcrt-tighter-bounds on|off (§5.1)
     std::string chcrtLeafCache;     // --chcrt-leaf-cache on|off (§5.2)
     std::string chcrtMergedBatch;   // --chcrt-merged-batch on|off (§5.2 batches as one traversal)
-    std::string chcrtRayExtent;     // --chcrt-ray-extent on|off (culling/ray_extent_grid.h)
+    std::string chcrtRayExtent;     // --chcrt-ray-extent on|off (culling/ray_bounds_grid.h)
+    std::string chcrtQueries;       // --chcrt-queries gl|bounds-only (ChcrtOptions::queries)
+    int chcrtBoundsCell = -1;       // --chcrt-bounds-cell: ray bounds grid cell edge in pixels
+    int chcrtBoundsPieces = -1;     // --chcrt-bounds-pieces: boxes per cell
     // Line Space methods (bvh+ls-exact, bvh+ls; linespace/README.md)
     uint32_t lsN = 6;             // --ls-n: patches per face edge
     uint32_t lsDepth = 9;         // --ls-depth: D

@@ -58,6 +58,12 @@ void validate(const ChcrtOptions& o) {
         throw InputError("chcrt: at most " + std::to_string(CHCRT_CULLING_MAX_QUERY_BOXES / 2) + " pairs per multi-query");
     }
     if (o.adaptiveProbeInterval < 1) throw InputError("chcrt: adaptive probe interval must be at least 1");
+    if (o.queries == ChcrtQueries::BoundsOnly && o.visibleThreshold > 0) {
+        throw InputError("chcrt: the aggressive threshold counts rays per query; it needs --chcrt-queries gl");
+    }
+    if (o.queries == ChcrtQueries::BoundsOnly && o.subtreeDefines) {
+        throw InputError("chcrt: cell lists traverse the pure BVH; another subtree traversal needs --chcrt-queries gl");
+    }
 }
 
 // The cost debug image and Renderer::readTraceSteps share one layout (bench --steps compares them per ray).
@@ -75,6 +81,16 @@ const char* debugDefine(ChcrtDebugImage kind) {
 }
 
 } // namespace
+
+const char* toString(ChcrtQueries queries) {
+    return queries == ChcrtQueries::Gl ? "gl" : "bounds-only";
+}
+
+ChcrtQueries parseChcrtQueries(const std::string& name) {
+    if (name == "gl") return ChcrtQueries::Gl;
+    if (name == "bounds-only") return ChcrtQueries::BoundsOnly;
+    throw InputError("unknown CHC+RT query mode '" + name + "' (available: gl, bounds-only)");
+}
 
 ChcrtDebugImage parseChcrtDebugImage(const std::string& name) {
     if (name == "overdraw") return ChcrtDebugImage::Overdraw;
@@ -131,6 +147,11 @@ ChcrtStats& ChcrtStats::operator+=(const ChcrtStats& o) {
     queriesSkippedExtent += o.queriesSkippedExtent;
     leavesSkippedExtent += o.leavesSkippedExtent;
     subtreesPostponed += o.subtreesPostponed;
+    pairsDecidedBounds += o.pairsDecidedBounds;
+    boundsUpdates += o.boundsUpdates;
+    cellsDrawn += o.cellsDrawn;
+    cellEntries += o.cellEntries;
+    boundsMs += o.boundsMs;
     pairsVisible += o.pairsVisible;
     pairsInvisible += o.pairsInvisible;
     pairsNewlyVisible += o.pairsNewlyVisible;
@@ -184,7 +205,9 @@ std::vector<ShaderDefine> ChcrtTracer::subtreeDefines(bool anyHit) const {
 }
 
 void ChcrtTracer::compilePrograms() {
-    if (options_.rayExtentCulling && !rayExtent_) rayExtent_ = std::make_unique<RayExtentGrid>();
+    const bool bounded = options_.queries == ChcrtQueries::BoundsOnly;
+    if ((options_.rayExtentCulling || bounded) && !rayExtent_) rayExtent_ = std::make_unique<RayBoundsGrid>(options_.bounds);
+    if (bounded && !cells_) cells_ = std::make_unique<CellTraversal>([this](bool anyHit) { return subtreeDefines(anyHit); });
     for (int anyHit = 0; anyHit < 2; ++anyHit) {
         const std::vector<ShaderDefine> defines = subtreeDefines(anyHit != 0);
         queryPrograms_[anyHit] = makeProgram("culling/chcrt_query.frag.glsl", anyHit != 0);
@@ -262,9 +285,13 @@ VisibilityState& ChcrtTracer::stateFor(const TraceRequest& request, int width, i
 GLuint ChcrtTracer::framebufferFor(const HitTargets& hits) {
     // The generalized queries need a depth-only target over the hit set's depth buffer; the hit buffer itself is
     // read and written as an image, never through the framebuffer (no feedback loop).
-    auto it = framebuffers_.find(hits.depth.id());
+    return maskFramebufferFor(hits.depth.id());
+}
+
+GLuint ChcrtTracer::maskFramebufferFor(GLuint depthTexture) {
+    auto it = framebuffers_.find(depthTexture);
     if (it == framebuffers_.end()) {
-        it = framebuffers_.emplace(hits.depth.id(), createFramebuffer(nullptr, 0, hits.depth.id())).first;
+        it = framebuffers_.emplace(depthTexture, createFramebuffer(nullptr, 0, depthTexture)).first;
     }
     return it->second.id();
 }
@@ -408,7 +435,12 @@ void ChcrtTracer::intersect(std::vector<Scheduled>& work, bool anyHit) {
         if (a.distance != b.distance) return a.distance < b.distance;
         return a.subtree < b.subtree;
     });
-    // §5.4: resident subtrees first (keeping the per-tile order among them), then the rest in later rounds.
+    residentRounds(work, [&](const std::vector<Scheduled>& resident) { drawBatches(resident, anyHit); });
+}
+
+void ChcrtTracer::residentRounds(std::vector<Scheduled>& work,
+                                 const std::function<void(const std::vector<Scheduled>&)>& draw) {
+    // §5.4: resident subtrees first (keeping the given order among them), then the rest in later rounds.
     // The hit rule makes the result independent of the order in which subtrees are intersected.
     std::vector<uint32_t> ids, roots;
     std::unordered_map<uint32_t, uint32_t> rootOf;   // subtree -> GPU root of this round
@@ -443,7 +475,7 @@ void ChcrtTracer::intersect(std::vector<Scheduled>& work, bool anyHit) {
             throw InputError("chcrt: the subtree source could not make any of " + std::to_string(ids.size()) +
                              " scheduled subtrees resident (GPU subtree budget too small for one subtree)");
         }
-        drawBatches(resident, anyHit);
+        draw(resident);
         work.swap(rest);
     }
     work.clear();
@@ -535,6 +567,16 @@ void ChcrtTracer::processResult(VisibilityState& state, const PendingQuery& pend
         if (int(newlyVisible.size()) > options_.flushThreshold) intersect(newlyVisible, anyHit);
         return;
     }
+    std::array<int32_t, 4> children;
+    const int count = subdividePair(state, pending.pair, split, children);
+    for (int i = 0; i < count; ++i) {
+        if (issueQuery(children[size_t(i)], state, false, anyHit)) ++last_.queriesTraversal;
+    }
+}
+
+int ChcrtTracer::subdividePair(VisibilityState& state, int32_t pairIndex, PairSplit split,
+                               std::array<int32_t, 4>& children) const {
+    const QueryPair& pair = state.pair(pairIndex);
     std::array<Tile, 4> tiles;
     std::array<uint32_t, 4> nodes;
     int count = 0;
@@ -547,11 +589,8 @@ void ChcrtTracer::processResult(VisibilityState& state, const PendingQuery& pend
         count = splitTile(pair.tile, options_.pairs.minTileSize, tiles);
         nodes.fill(pair.bvhNode);
     }
-    std::array<int32_t, 4> children;
-    state.subdivide(pending.pair, tiles.data(), nodes.data(), count, children.data(), options_.requeryInterval);
-    for (int i = 0; i < count; ++i) {
-        if (issueQuery(children[size_t(i)], state, false, anyHit)) ++last_.queriesTraversal;
-    }
+    state.subdivide(pairIndex, tiles.data(), nodes.data(), count, children.data(), options_.requeryInterval);
+    return count;
 }
 
 void ChcrtTracer::trace(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width,
@@ -569,7 +608,8 @@ void ChcrtTracer::trace(const TraceRequest& request, const RayTextures& rays, Hi
     const bool cull = !canFallBack || choice.shouldCull();
     const auto start = Clock::now();
     if (cull) {
-        const bool warm = traceCulled(request, rays, hits, width, height);
+        const bool warm = options_.queries == ChcrtQueries::BoundsOnly ? traceBounded(request, rays, hits, width, height)
+                                                                       : traceCulled(request, rays, hits, width, height);
         // traceCulled ends with glFinish. A debug trace's time includes the instrumentation: not a sample of
         // culling's cost for the choice.
         if (debugKind_ == ChcrtDebugImage::None) choice.culled(millisecondsSince(start), warm);
@@ -594,38 +634,13 @@ bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& ra
     const bool anyHit = request.anyHit;
     VisibilityState& state = stateFor(request, width, height);
     const bool warm = state.frame() > 0;
-    if (debugKind_ != ChcrtDebugImage::None) {
-        ensureDebugTexture(width, height);
-        glBindImageTexture(CHCRT_CULLING_IMAGE_DEBUG, debugTexture_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
-    }
-
-    // Initialise: all misses, depth 1 (= no hit yet; queries test a ray's own tmax in the shader). Clears, not a
-    // full-screen pass: on llvmpipe an initialising pass cost ~25% of a whole trace (culling/README.md).
     auto start = Clock::now();
-    const GLuint framebuffer = framebufferFor(hits);
-    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
-    glViewport(0, 0, width, height);
-    glDisable(GL_BLEND);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_ALWAYS);
-    glDepthMask(GL_TRUE);
-    glClearTexImage(hits.hit.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, missHitTexel().data());
-    const GLfloat farDepth = 1.0f;
-    glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &farDepth);
-    glBindTextureUnit(CHCRT_UNIT_RAY_ORIGIN, rays.origin.id());
-    glBindTextureUnit(CHCRT_UNIT_RAY_DIRECTION, rays.direction.id());
-    glBindImageTexture(CHCRT_CULLING_IMAGE_HIT, hits.hit.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32UI);
-    mode_ = Mode::None;
-    // The clear is a texture update; shader image loads after it need this barrier (once per trace).
-    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
-    dirtyTiles_.clear();
-
-    // Where the rays can reach (culling/ray_extent_grid.h), for skipping pairs out of reach in every phase. Primary
-    // rays are unbounded by construction (tmax = CHCRT_NO_HIT_T), so every cell would say so: no reduction pass and
-    // read-back for them.
+    beginTrace(rays, hits, width, height);
+    // Where the rays can reach (culling/ray_bounds_grid.h), for skipping pairs out of reach in every phase. Primary
+    // rays reach the whole view until they hit, so before Phase 1 they need no reduction.
     if (rayExtent_) {
         if (request.rayType == RayType::Primary && !request.bounceShadow) rayExtent_->forget();
-        else rayExtent_->update(rays.origin.id(), rays.direction.id(), width, height);
+        else updateBounds(rays, 0, anyHit, width, height);
     }
 
     // Phase 1 (Algorithm 1, lines 1-4): intersect the previously visible leaves, initialising depth.
@@ -641,8 +656,14 @@ bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& ra
     last_.phase1Ms = millisecondsSince(start);
 
     // Phase 2 (lines 5-11): query the invisible front (multi-queries over pairs of one tile, §5.1); re-query
-    // visible leaves lazily every n frames.
+    // visible leaves lazily every n frames. The grid now ends every ray at the hit Phase 1 found (any-hit rays
+    // that hit drop out), so it leaves out more pairs without a query.
     start = Clock::now();
+    if (rayExtent_) {
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        dirtyTiles_.clear();
+        updateBounds(rays, hits.hit.id(), anyHit, width, height);
+    }
     last_.queriesInvisible = invisibleLeaves.size();
     // Invisible pairs out of their rays' reach stay invisible without a query.
     std::erase_if(invisibleLeaves, [&](int32_t p) {
@@ -690,12 +711,44 @@ bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& ra
         processResult(state, pending, samples, newlyVisible, anyHit);
     }
     intersect(newlyVisible, anyHit);
+    endTrace(state, width, height);
+    last_.phase3Ms = millisecondsSince(start);
+    return warm;
+}
+
+void ChcrtTracer::beginTrace(const RayTextures& rays, HitTargets& hits, int width, int height) {
+    if (debugKind_ != ChcrtDebugImage::None) {
+        ensureDebugTexture(width, height);
+        glBindImageTexture(CHCRT_CULLING_IMAGE_DEBUG, debugTexture_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+    }
+    // Initialise: all misses, depth 1 (= no hit yet; queries test a ray's own tmax in the shader). Clears, not a
+    // full-screen pass: on llvmpipe an initialising pass cost ~25% of a whole trace (culling/README.md).
+    const GLuint framebuffer = framebufferFor(hits);
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    glViewport(0, 0, width, height);
+    glDisable(GL_BLEND);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_ALWAYS);
+    glDepthMask(GL_TRUE);
+    glClearTexImage(hits.hit.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, missHitTexel().data());
+    const GLfloat farDepth = 1.0f;
+    glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &farDepth);
+    glBindTextureUnit(CHCRT_UNIT_RAY_ORIGIN, rays.origin.id());
+    glBindTextureUnit(CHCRT_UNIT_RAY_DIRECTION, rays.direction.id());
+    glBindImageTexture(CHCRT_CULLING_IMAGE_HIT, hits.hit.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32UI);
+    mode_ = Mode::None;
+    // The clear is a texture update; shader image loads after it need this barrier (once per trace).
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    dirtyTiles_.clear();
+}
+
+void ChcrtTracer::endTrace(VisibilityState& state, int width, int height) {
     last_.pairsPulledUp = uint64_t(state.pullUpInvisibility());
     state.advanceFrame();
+    std::vector<int32_t> visibleLeaves, invisibleLeaves;
     state.collectLeaves(visibleLeaves, invisibleLeaves);
     last_.pairsVisible = visibleLeaves.size();
     last_.pairsInvisible = invisibleLeaves.size();
-
     // Hand the hits to texture fetches and read-backs of the renderer; leave GL state as the pure tracer does.
     glMemoryBarrier(GL_ALL_BARRIER_BITS);
     dirtyTiles_.clear();
@@ -704,9 +757,7 @@ bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& ra
     glDisable(GL_DEPTH_TEST);
     glViewport(0, 0, width, height);
     glFinish();
-    last_.phase3Ms = millisecondsSince(start);
     mode_ = Mode::None;
-    return warm;
 }
 
 } // namespace chcrt

@@ -11,7 +11,8 @@
 #include "culling/adaptive_choice.h"
 #include "culling/culling_hierarchy.h"
 #include "culling/query_pair_hierarchy.h"
-#include "culling/ray_extent_grid.h"
+#include "culling/cell_traversal.h"
+#include "culling/ray_bounds_grid.h"
 #include "culling/subtree_source.h"
 #include "culling/visibility_state.h"
 #include "renderer/gl/gl_objects.h"
@@ -27,8 +28,20 @@
 
 namespace chcrt {
 
+// How query pairs are decided (culling/README.md "Deciding pairs"). All three are exact.
+enum class ChcrtQueries : uint8_t {
+    Gl,         // §4.1 as in the paper: one GL occlusion query per pair (or §5.1 multi-query), per-tile subtree draws
+    BoundsOnly, // the ray bounds grid decides every pair (no queries); cell lists, one draw per intersection round
+};
+const char* toString(ChcrtQueries queries);
+ChcrtQueries parseChcrtQueries(const std::string& name); // "gl" | "bounds-only"; InputError otherwise
+
 struct ChcrtOptions {
     SubtreePartitionOptions partition;
+    ChcrtQueries queries = ChcrtQueries::Gl;
+    // Cells and pieces of the ray bounds grid (ray_bounds_grid.h): the only culling of BoundsOnly, the query
+    // skipping of Gl with rayExtentCulling.
+    RayBoundsOptions bounds;
     QueryPairOptions pairs;
     int batchSize = 24;              // §5.2: subtrees per shader call (<= CHCRT_CULLING_MAX_BATCH)
     int flushThreshold = 16;         // §5.1 m: intersect newly visible leaves once more than m have collected
@@ -45,8 +58,8 @@ struct ChcrtOptions {
     // loop per subtree (our change for llvmpipe, culling/README.md "Merged batch traversal"; same hits). Not with the
     // leaf cache or Line Space traversal, which keep the loop per subtree.
     bool mergedBatch = true;
-    // Pairs out of reach of every bounded ray of their tile are invisible without a query, and such visible leaves
-    // are not intersected (our addition; culling/ray_extent_grid.h). Exact.
+    // Gl queries: pairs out of reach of every ray of their tile are invisible without a query, and such visible
+    // leaves are not intersected (our addition; culling/ray_bounds_grid.h). Exact. BoundsOnly always uses the grid.
     bool rayExtentCulling = true;
     // Adaptive fallback (culling/README.md): per ray kind (primary, shadow, AO, diffuse, bounce shadow), trace
     // with one pure full-screen pass when the measured culling time exceeds the measured pure time (medians of
@@ -76,6 +89,11 @@ struct ChcrtStats {
     uint64_t queriesSkippedExtent = 0; // pairs found invisible without a query: out of their rays' reach
     uint64_t leavesSkippedExtent = 0;  // Phase 1: visible leaves not intersected, out of their rays' reach
     uint64_t subtreesPostponed = 0;    // scheduled but left for a later trace by the source's upload budget
+    uint64_t pairsDecidedBounds = 0;   // BoundsOnly: pairs decided by the ray bounds grid (no query)
+    uint64_t boundsUpdates = 0;        // ray bounds reductions (a compute pass and a read-back each)
+    uint64_t cellsDrawn = 0;           // BoundsOnly: cells drawn by the intersection rounds
+    uint64_t cellEntries = 0;          // BoundsOnly: (cell, subtree) list entries traversed
+    double boundsMs = 0;               // time of the ray bounds reductions (inside the phases' times)
     uint64_t pairsVisible = 0;       // visible front after the trace
     uint64_t pairsInvisible = 0;     // invisible front after the trace
     uint64_t pairsNewlyVisible = 0;  // terminal pairs found visible in Phase 3
@@ -191,6 +209,23 @@ private:
                        std::vector<Scheduled>& newlyVisible, bool anyHit);
     // Returns false when the ray set had no fronts yet (a cold trace, not representative of culling's cost).
     bool traceCulled(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width, int height);
+    // §5.4 residency rounds: makes the scheduled subtrees resident, as many as fit, nearest first, and hands each
+    // round's resident ones (with their GPU roots) to `draw`, until all are done or the upload budget ran out.
+    void residentRounds(std::vector<Scheduled>& work, const std::function<void(const std::vector<Scheduled>&)>& draw);
+    // BoundsOnly (chcrt_tracer_bounds.cpp): Algorithm 1 with the ray bounds grid deciding every pair.
+    bool traceBounded(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width, int height);
+    void beginTrace(const RayTextures& rays, HitTargets& hits, int width, int height);
+    void endTrace(VisibilityState& state, int width, int height); // pull-up, fronts' statistics, GL state
+    // Subdivides a pair that turned visible (§4.3, `split` its domain) into new invisible leaves; returns how many.
+    int subdividePair(VisibilityState& state, int32_t pair, PairSplit split, std::array<int32_t, 4>& children) const;
+    void updateBounds(const RayTextures& rays, GLuint hitImage, bool anyHit, int width, int height);
+    // Decides the pair with the grid and, when visible, descends the pair hierarchy to terminal pairs, which are
+    // scheduled into `out`. Returns whether the pair is visible.
+    bool decideByBounds(int32_t pair, VisibilityState& state, std::vector<Scheduled>& out);
+    void intersectCells(std::vector<Scheduled>& work, bool anyHit, GLuint maskFramebuffer, int width, int height);
+    GLuint unfinishedMask(const RayTextures& rays, HitTargets& hits, int width, int height);
+    GLuint maskFramebufferFor(GLuint depthTexture);
+    std::string debugDefineOfKind() const;
     void ensureDebugTexture(int width, int height);
 
     std::string name_;
@@ -211,7 +246,9 @@ private:
     std::map<GLuint, GlFramebuffer> framebuffers_; // by depth texture id
     std::map<uint64_t, std::unique_ptr<VisibilityState>> states_;
     std::map<uint64_t, AdaptiveChoice> adaptive_; // per ray kind
-    std::unique_ptr<RayExtentGrid> rayExtent_;    // with options_.rayExtentCulling, updated per culled trace
+    std::unique_ptr<RayBoundsGrid> rayExtent_;    // with options_.rayExtentCulling or BoundsOnly, updated per trace
+    std::unique_ptr<CellTraversal> cells_;        // BoundsOnly's intersection rounds
+    ShaderProgram maskProgram_;                   // BoundsOnly: mask of unfinished any-hit rays
     std::vector<GLuint> queryPool_;
     size_t queriesInUse_ = 0;
     std::deque<PendingQuery> queue_;

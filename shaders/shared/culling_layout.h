@@ -17,17 +17,27 @@
 #define CHCRT_CULLING_COST_CAPPED 0x80000000u
 #define CHCRT_CULLING_COST_STEPS 0x7fffffffu
 
-// Ray extent grid (culling/ray_extent_grid.h): screen cells of CHCRT_CULLING_RAY_CELL² pixels, each reduced to
-// the box around its active rays' segments. A ray whose tmax exceeds CHCRT_CULLING_RAY_UNBOUNDED_T (primary and
-// diffuse rays: "no limit") makes its cell unbounded. Cell states in the lower image's w.
-#define CHCRT_CULLING_RAY_CELL 16
-#define CHCRT_CULLING_RAY_UNBOUNDED_T 1.0e30
-#define CHCRT_CULLING_CELL_EMPTY 0.0     // no active ray
-#define CHCRT_CULLING_CELL_BOUNDED 1.0   // every active ray's segment is inside [lower, upper]
-#define CHCRT_CULLING_CELL_UNBOUNDED 2.0 // some active ray is unbounded
-// Image units of the grid's two RGBA32F images (lower.xyz + state, upper.xyz).
-#define CHCRT_CULLING_IMAGE_CELL_LOWER 2
-#define CHCRT_CULLING_IMAGE_CELL_UPPER 3
+// Ray bounds grid (culling/ray_bounds_grid.h): screen cells of `cellSize`² pixels, each reduced to the boxes
+// around CHCRT_CULLING_BOUNDS pieces of its active rays' segments — the part of each ray that can still change
+// its hit, clipped to the scene's box. Buffer layout per cell (std430 vec4s): a header (state, extent, largest
+// direction length, 0), then (lower.xyz, 0) and (upper.xyz, 0) of the ray origins and of each of the pieces + 1
+// points that split every segment into equal pieces. `extent` bounds the magnitude of every coordinate the points
+// were computed from (the CPU pads the boxes by a fraction of it for float rounding).
+#define CHCRT_CULLING_BOUNDS_MAX_PIECES 8
+#define CHCRT_CULLING_CELL_EMPTY 0.0     // no active ray (or every one finished / outside the scene's box)
+#define CHCRT_CULLING_CELL_BOUNDED 1.0   // every active ray's segment is inside the union of the piece boxes
+#define CHCRT_CULLING_CELL_UNBOUNDED 2.0 // some active ray has a NaN or infinite value: nothing is assumed
+#define CHCRT_CULLING_BOUNDS_BUFFER 0    // shader storage binding of the grid's buffer
+
+// Cell lists (culling/cell_traversal.h): the termination subtrees each screen cell's rays traverse in one draw of
+// the cells that have work (CHC+RT §5.2 batches, one per cell). Texture units of the RG32UI / R32UI texture
+// buffers: per cell (first entry, entry count); per entry (the subtree's GPU root, bits of a lower bound of the
+// distance at which the cell's rays can enter it; a cell's entries ascend by it); per entry the subtree's
+// culling-hierarchy index (for the subtree debug image); the indices of the cells to draw.
+#define CHCRT_UNIT_CULLING_CELL_HEADERS 27
+#define CHCRT_UNIT_CULLING_CELL_ROOTS 28
+#define CHCRT_UNIT_CULLING_CELL_IDS 29
+#define CHCRT_UNIT_CULLING_DRAW_CELLS 30
 
 // Boxes per occlusion query: §5.1 multi-queries of up to 8 pairs with tighter bounds (2 child boxes each).
 #define CHCRT_CULLING_MAX_QUERY_BOXES 16

@@ -18,8 +18,11 @@ struct ExactnessCase {
     int multiQueryPairs = 4;   // §5.1 (1 = off)
     bool adaptive = false;     // the adaptive fallback switches between culling and pure passes per ray set
     bool leafCache = false;    // §5.2 2-entry leaf cache (off by default: slower on llvmpipe)
-    bool rayExtent = true;     // pairs out of their rays' reach skipped (culling/ray_extent_grid.h)
+    bool rayExtent = true;     // pairs out of their rays' reach skipped (culling/ray_bounds_grid.h)
     bool mergedBatch = true;   // a batch's subtrees as one traversal (false: one after another)
+    ChcrtQueries queries = ChcrtQueries::Gl; // how pairs are decided
+    int boundsCell = 8;        // ray bounds grid cell edge in pixels
+    int boundsPieces = 4;      // boxes per cell
 };
 
 class ChcrtExactnessTest : public RenderTest, public ::testing::WithParamInterface<ExactnessCase> {};
@@ -45,6 +48,9 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
     options.leafCache = c.leafCache;
     options.rayExtentCulling = c.rayExtent;
     options.mergedBatch = c.mergedBatch;
+    options.queries = c.queries;
+    options.bounds.cellSize = c.boundsCell;
+    options.bounds.pieces = c.boundsPieces;
     ChcrtTracer chcrt(bvh_, options);
     const CameraPath path = proceduralNearPath(spec_);
 
@@ -84,17 +90,26 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
         EXPECT_EQ(total.queriesMulti, 0u);
     }
     EXPECT_EQ(total.traces, 6u * 4u * 2u);
+    const bool bounded = c.queries == ChcrtQueries::BoundsOnly;
     if (!c.adaptive) {
         EXPECT_EQ(total.fallbackTraces, 0u);
-        EXPECT_GT(total.queries, 0u);
         EXPECT_GT(total.pairsInvisible, 0u);
         EXPECT_GT(total.subtreesScheduled, total.pairsNewlyVisible);
+        if (bounded) {
+            // Every pair decided by the grid, intersected from cell lists: the exactness above covers both.
+            EXPECT_EQ(total.queries, 0u);
+            EXPECT_GT(total.pairsDecidedBounds, total.traces);
+            EXPECT_GT(total.cellEntries, 0u);
+            EXPECT_GT(total.cellsDrawn, 0u);
+        } else {
+            EXPECT_GT(total.queries, 0u);
+        }
         // Bounded rays (shadow, AO) leave pairs out of their reach: the exactness above covers the skipping.
-        if (c.rayExtent) {
+        if (c.rayExtent && !bounded) {
             EXPECT_GT(total.queriesSkippedExtent, 0u);
         }
     }
-    if (!c.rayExtent) {
+    if (!c.rayExtent && !bounded) {
         EXPECT_EQ(total.queriesSkippedExtent, 0u);
         EXPECT_EQ(total.leavesSkippedExtent, 0u);
     }
@@ -125,6 +140,9 @@ TEST_P(ChcrtExactnessTest, ShadedFrameEqualsPureBvhFrame) {
     options.multiQueryPairs = c.multiQueryPairs;
     options.adaptive = c.adaptive;
     options.leafCache = c.leafCache;
+    options.queries = c.queries;
+    options.bounds.cellSize = c.boundsCell;
+    options.bounds.pieces = c.boundsPieces;
     ChcrtTracer chcrt(bvh_, options);
     const CameraPath path = proceduralNearPath(spec_);
     for (int frame : {0, 1}) {
@@ -179,6 +197,40 @@ TEST_F(RenderTest, AggressiveCullingLosesHitsThatTheComparisonDetects) {
     EXPECT_EQ(aggressive.name(), "chcrt-aggressive");
 }
 
+TEST_F(RenderTest, RayBoundsShrunkBelowTheRoundingPadLoseHitsThatTheComparisonDetects) {
+    // Negative control of the bounds-only exactness cases: boxes that are too small by a fraction of the
+    // coordinates' magnitude (instead of padded by it) must change hits, so the comparison above can fail.
+    RenderSettings settings;
+    settings.width = 96;
+    settings.height = 72;
+    Renderer& renderer = makeProceduralRenderer("city:60k", settings);
+    ChcrtOptions options;
+    options.partition.maxSubtreeHeight = 8;
+    options.pairs.minTileSize = 16;
+    options.adaptive = false;
+    options.queries = ChcrtQueries::BoundsOnly;
+    options.bounds.relativePad = -1.0f / 64.0f;
+    ChcrtTracer shrunk(bvh_, options);
+    const CameraPath path = proceduralNearPath(spec_);
+    size_t differing = 0;
+    FrameStats stats;
+    for (int frame = 0; frame < 3; ++frame) {
+        const Camera camera = path.cameraAtFrame(frame * 2);
+        renderer.renderGBuffer(camera, stats);
+        for (RayType type : {RayType::Primary, RayType::Shadow, RayType::Ao}) {
+            renderer.generateRayPass(camera, type, 0, stats);
+            renderer.useTracer(nullptr);
+            renderer.traceRayPass(camera, type, 0, stats);
+            const std::vector<Hit> reference = renderer.readHits(0);
+            renderer.useTracer(&shrunk);
+            renderer.traceRayPass(camera, type, 0, stats);
+            const std::vector<Hit> culled = renderer.readHits(0);
+            for (size_t i = 0; i < reference.size(); ++i) differing += !sameHit(reference[i], culled[i], isAnyHit(type));
+        }
+    }
+    EXPECT_GT(differing, 0u);
+}
+
 TEST_F(RenderTest, WithoutTemporalCoherenceEveryTraceStartsFromTheRootPair) {
     RenderSettings settings;
     settings.width = 64;
@@ -211,7 +263,9 @@ std::string caseName(const ::testing::TestParamInfo<ExactnessCase>& info) {
     return scene + "_h" + std::to_string(info.param.maxSubtreeHeight) + "_tile" + std::to_string(info.param.minTileSize) +
            (info.param.tighterBounds ? "" : "_loose") + "_multi" + std::to_string(info.param.multiQueryPairs) +
            (info.param.adaptive ? "_adaptive" : "") + (info.param.leafCache ? "_leafcache" : "") +
-           (info.param.rayExtent ? "" : "_noextent") + (info.param.mergedBatch ? "" : "_persubtree");
+           (info.param.rayExtent ? "" : "_noextent") + (info.param.mergedBatch ? "" : "_persubtree") +
+           (info.param.queries == ChcrtQueries::Gl ? "" : "_bounds_cell" + std::to_string(info.param.boundsCell) +
+                                                              "_pieces" + std::to_string(info.param.boundsPieces));
 }
 
 // Subtree height 8, well below the BVH depth at 60k triangles, so that object-space splits happen; tiles small enough for
@@ -231,7 +285,23 @@ INSTANTIATE_TEST_SUITE_P(ProceduralScenes, ChcrtExactnessTest,
                                            ExactnessCase{"city:60k", 8, 16, true, 4, false, false, false},
                                            // batches traversed subtree by subtree (merged by default)
                                            ExactnessCase{"plant:60k", 8, 16, true, 4, false, false, true, false},
-                                           ExactnessCase{"city:60k", 8, 16, true, 4, false, false, true, false}),
+                                           ExactnessCase{"city:60k", 8, 16, true, 4, false, false, true, false},
+                                           // pairs decided by the ray bounds grid, cell lists: several heights,
+                                           // tiles smaller than a cell, cells from 4 to 16 pixels, 1 to 8 pieces
+                                           ExactnessCase{"city:60k", 8, 16, true, 4, false, false, true, true,
+                                                         ChcrtQueries::BoundsOnly},
+                                           ExactnessCase{"interior:60k", 8, 16, true, 4, false, false, true, true,
+                                                         ChcrtQueries::BoundsOnly},
+                                           ExactnessCase{"plant:60k", 8, 16, true, 4, false, false, true, true,
+                                                         ChcrtQueries::BoundsOnly},
+                                           ExactnessCase{"city:60k", 24, 32, true, 4, false, false, true, true,
+                                                         ChcrtQueries::BoundsOnly, 16, 1},
+                                           ExactnessCase{"plant:60k", 12, 4, true, 4, false, false, true, true,
+                                                         ChcrtQueries::BoundsOnly, 8, 8},
+                                           ExactnessCase{"interior:60k", 6, 16, true, 4, false, false, true, true,
+                                                         ChcrtQueries::BoundsOnly, 4, 2},
+                                           ExactnessCase{"city:60k", 8, 16, true, 4, true, false, true, true,
+                                                         ChcrtQueries::BoundsOnly}),
                          caseName);
 
 } // namespace

@@ -1,0 +1,91 @@
+#include "culling/cell_traversal.h"
+
+#include "shaders/shared/culling_layout.h"
+#include "shaders/shared/render_layout.h"
+
+#include <algorithm>
+#include <bit>
+
+namespace chcrt {
+
+void CellTraversal::begin(int cellsX, int cellsY, int cellSize) {
+    cellsX_ = cellsX;
+    cellsY_ = cellsY;
+    cellSize_ = cellSize;
+    entries_.clear();
+}
+
+const ShaderProgram& CellTraversal::program(bool anyHit, const std::string& debugDefine) {
+    auto it = programs_.find({debugDefine, anyHit});
+    if (it != programs_.end()) return it->second;
+    std::vector<ShaderDefine> defines = defines_(anyHit);
+    defines.push_back({"TRACE_ANY_HIT", anyHit ? "1" : "0"});
+    if (!debugDefine.empty()) defines.push_back({debugDefine, "1"});
+    ShaderProgram program({{GL_VERTEX_SHADER, "culling/chcrt_cells.vert.glsl"},
+                           {GL_FRAGMENT_SHADER, "culling/chcrt_cells.frag.glsl"}},
+                          defines);
+    return programs_.emplace(std::make_pair(debugDefine, anyHit), std::move(program)).first->second;
+}
+
+void CellTraversal::upload(TextureBuffer& target, const void* data, size_t bytes, GLenum format) {
+    if (bytes > target.bytes || target.texture.id() == 0) {
+        // Grow by half again, so that a slowly growing list does not reallocate every frame.
+        target = createTextureBuffer(nullptr, std::max<size_t>(bytes + bytes / 2, 256), format);
+    }
+    if (bytes > 0) glNamedBufferSubData(target.buffer.id(), 0, GLsizeiptr(bytes), data);
+}
+
+uint32_t CellTraversal::draw(bool anyHit, const std::string& debugDefine, int width, int height) {
+    if (entries_.empty()) return 0;
+    // Counting sort by cell (stable: a cell's entries keep the order of add() among equal bounds).
+    const size_t cells = size_t(cellsX_) * size_t(cellsY_);
+    counts_.assign(cells + 1, 0u);
+    for (const Entry& e : entries_) ++counts_[e.cell + 1];
+    for (size_t c = 1; c <= cells; ++c) counts_[c] += counts_[c - 1];
+    headers_.assign(cells * 2, 0u);
+    drawCells_.clear();
+    for (size_t c = 0; c < cells; ++c) {
+        headers_[2 * c] = counts_[c];
+        headers_[2 * c + 1] = counts_[c + 1] - counts_[c];
+        if (headers_[2 * c + 1] != 0) drawCells_.push_back(uint32_t(c));
+    }
+    sorted_.resize(entries_.size());
+    for (const Entry& e : entries_) sorted_[counts_[e.cell]++] = e;
+    // Each cell's list by its entry bound (the traversal ends a list once the bound passes the ray's hit); the
+    // lists are short, so sorting them one by one is cheaper than sorting all entries.
+    for (uint32_t c : drawCells_) {
+        const auto begin = sorted_.begin() + headers_[2 * size_t(c)];
+        std::stable_sort(begin, begin + headers_[2 * size_t(c) + 1],
+                         [](const Entry& a, const Entry& b) { return a.entryBound < b.entryBound; });
+    }
+    roots_.resize(entries_.size() * 2);
+    ids_.resize(entries_.size());
+    for (size_t i = 0; i < sorted_.size(); ++i) {
+        roots_[2 * i] = sorted_[i].root;
+        roots_[2 * i + 1] = std::bit_cast<uint32_t>(sorted_[i].entryBound);
+        ids_[i] = sorted_[i].subtree;
+    }
+    Buffers& b = buffers_[next_];
+    next_ ^= 1;
+    upload(b.headers, headers_.data(), headers_.size() * 4, GL_RG32UI);
+    upload(b.roots, roots_.data(), roots_.size() * 4, GL_RG32UI);
+    upload(b.drawCells, drawCells_.data(), drawCells_.size() * 4, GL_R32UI);
+    const bool withIds = debugDefine == "CHCRT_CULLING_DEBUG_SUBTREES";
+    if (withIds) upload(b.ids, ids_.data(), ids_.size() * 4, GL_R32UI);
+
+    const ShaderProgram& p = program(anyHit, debugDefine);
+    p.use();
+    p.set("raySize", glm::ivec2(width, height));
+    p.set("cellsX", cellsX_);
+    p.set("cellSize", cellSize_);
+    glBindTextureUnit(CHCRT_UNIT_CULLING_CELL_HEADERS, b.headers.texture.id());
+    glBindTextureUnit(CHCRT_UNIT_CULLING_CELL_ROOTS, b.roots.texture.id());
+    glBindTextureUnit(CHCRT_UNIT_CULLING_DRAW_CELLS, b.drawCells.texture.id());
+    if (withIds) glBindTextureUnit(CHCRT_UNIT_CULLING_CELL_IDS, b.ids.texture.id());
+    glViewport(0, 0, width, height);
+    drawAttributeless(GLsizei(drawCells_.size() * 6));
+    entries_.clear();
+    return uint32_t(drawCells_.size());
+}
+
+} // namespace chcrt

@@ -1,0 +1,197 @@
+// CHC+RT with the ray bounds grid deciding every query pair (ChcrtQueries::BoundsOnly; culling/README.md "Deciding
+// pairs"). Algorithm 1's structure stays — Phase 1 intersects the previous visible front, the invisible front is
+// tested against the hits Phase 1 found, pairs that turned visible are traversed down to terminal pairs, newly
+// visible subtrees are intersected, invisibility is pulled up — but a "query" is a test of the pair's boxes
+// against the grid's cell boxes (ray_bounds_grid.h), answered on the CPU at once: no GL query, no blocking read,
+// no per-pixel work. The per-ray test the query made is left to the subtree traversal, whose first step tests the
+// subtree's box against the ray's current hit (what a query's fragment does), and each subtree is listed only for
+// the screen cells whose boxes it may meet. Intersection rounds are one draw each over the cells with work
+// (cell_traversal.h).
+#include "culling/chcrt_tracer.h"
+
+#include "renderer/core/error.h"
+#include "renderer/render/trace_pass.h"
+#include "shaders/shared/culling_layout.h"
+#include "shaders/shared/render_layout.h"
+
+#include <algorithm>
+#include <chrono>
+
+namespace chcrt {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+} // namespace
+
+void ChcrtTracer::updateBounds(const RayTextures& rays, GLuint hitImage, bool anyHit, int width, int height) {
+    const auto start = Clock::now();
+    const CullingHierarchy::Node& root = hierarchy_.nodes[0];
+    rayExtent_->update(rays.origin.id(), rays.direction.id(), hitImage, anyHit, width, height, root.boxMin,
+                       root.boxMax);
+    // The reduction bound the hit image read-only and its own program: restore what the passes expect.
+    if (hitImage != 0) glBindImageTexture(CHCRT_CULLING_IMAGE_HIT, hitImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32UI);
+    mode_ = Mode::None;
+    ++last_.boundsUpdates;
+    last_.boundsMs += msSince(start);
+}
+
+bool ChcrtTracer::decideByBounds(int32_t first, VisibilityState& state, std::vector<Scheduled>& out) {
+    // Pairs that turn visible are traversed down at once (Phase 3 without waiting for query results): the grid
+    // answers immediately.
+    bool firstVisible = false;
+    std::vector<int32_t> stack{first};
+    std::array<int32_t, 4> children;
+    while (!stack.empty()) {
+        const int32_t index = stack.back();
+        stack.pop_back();
+        ++last_.pairsDecidedBounds;
+        QueryPair& pair = state.pair(index);
+        const bool visible = mayHit(pair);
+        if (index == first) firstVisible = visible;
+        if (!visible) {
+            pair.visible = false;
+            continue;
+        }
+        const PairSplit split = decideSplit(pair.tile, pair.bvhNode, hierarchy_, state.width(), state.height(),
+                                            options_.pairs);
+        if (split == PairSplit::None) {
+            pair.visible = true; // termination reached (§5.2): the visible front
+            ++last_.pairsNewlyVisible;
+            schedule(state, index, out);
+            continue;
+        }
+        const int count = subdividePair(state, index, split, children);
+        for (int i = 0; i < count; ++i) stack.push_back(children[size_t(i)]);
+    }
+    return firstVisible;
+}
+
+GLuint ChcrtTracer::unfinishedMask(const RayTextures& rays, HitTargets& hits, int width, int height) {
+    if (!maskProgram_.valid()) {
+        maskProgram_ = ShaderProgram({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
+                                      {GL_FRAGMENT_SHADER, "culling/chcrt_unfinished_mask.frag.glsl"}},
+                                     {{"TRACE_ANY_HIT", "1"}});
+    }
+    const GLuint framebuffer = framebufferFor(hits);
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    glViewport(0, 0, width, height);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_ALWAYS);
+    glDepthMask(GL_TRUE);
+    glBindTextureUnit(CHCRT_UNIT_RAY_ORIGIN, rays.origin.id());
+    glBindTextureUnit(CHCRT_UNIT_RAY_DIRECTION, rays.direction.id());
+    maskProgram_.use();
+    mode_ = Mode::None;
+    drawFullscreenTriangle();
+    return framebuffer;
+}
+
+std::string ChcrtTracer::debugDefineOfKind() const {
+    switch (debugKind_) {
+    case ChcrtDebugImage::Subtrees: return "CHCRT_CULLING_DEBUG_SUBTREES";
+    case ChcrtDebugImage::Batches: return "CHCRT_CULLING_DEBUG_BATCHES";
+    case ChcrtDebugImage::Cost: return "CHCRT_CULLING_DEBUG_COST";
+    default: return ""; // query overdraw: no queries here
+    }
+}
+
+void ChcrtTracer::intersectCells(std::vector<Scheduled>& work, bool anyHit, GLuint maskFramebuffer, int width,
+                                 int height) {
+    if (work.empty()) return;
+    // Nearest to the camera first (residency rounds make the near ones resident first); duplicates adjacent.
+    std::sort(work.begin(), work.end(), [](const Scheduled& a, const Scheduled& b) {
+        return a.distance != b.distance ? a.distance < b.distance : a.subtree < b.subtree;
+    });
+    glBindFramebuffer(GL_FRAMEBUFFER, maskFramebuffer);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS); // passes where the mask holds 1 (a ray to trace)
+    glDepthMask(GL_FALSE);
+    mode_ = Mode::None;
+    const int cell = rayExtent_->options().cellSize;
+    const int cellsX = (width + cell - 1) / cell, cellsY = (height + cell - 1) / cell;
+    std::vector<uint32_t> lastSubtree(size_t(cellsX) * size_t(cellsY), CullingHierarchy::kNone);
+    const std::string debugDefine = debugDefineOfKind();
+    residentRounds(work, [&](const std::vector<Scheduled>& resident) {
+        cells_->begin(cellsX, cellsY, cell);
+        std::fill(lastSubtree.begin(), lastSubtree.end(), CullingHierarchy::kNone);
+        for (const Scheduled& s : resident) {
+            // The boxes the traversal tests first: the subtree root's children (§5.1 tighter bounds).
+            const CullingHierarchy::Node& node = hierarchy_.nodes[hierarchy_.subtrees[s.subtree].node];
+            const int boxes = int(node.tightCount);
+            const int x0 = std::clamp(s.tile.x / cell, 0, cellsX), y0 = std::clamp(s.tile.y / cell, 0, cellsY);
+            const int x1 = std::clamp((s.tile.x + s.tile.width + cell - 1) / cell, 0, cellsX);
+            const int y1 = std::clamp((s.tile.y + s.tile.height + cell - 1) / cell, 0, cellsY);
+            for (int cy = y0; cy < y1; ++cy) {
+                for (int cx = x0; cx < x1; ++cx) {
+                    const size_t c = size_t(cy) * size_t(cellsX) + size_t(cx);
+                    if (lastSubtree[c] == s.subtree) continue; // two tiles of one subtree sharing a cell
+                    if (!rayExtent_->cellMayReach(cx, cy, node.tightMin, node.tightMax, boxes)) continue;
+                    lastSubtree[c] = s.subtree;
+                    cells_->add(uint32_t(c), s.gpuRoot, s.subtree,
+                                rayExtent_->entryLowerBound(cx, cy, node.boxMin, node.boxMax));
+                }
+            }
+        }
+        last_.cellEntries += cells_->entryCount();
+        last_.subtreesScheduled += resident.size();
+        last_.cellsDrawn += cells_->draw(anyHit, debugDefine, width, height);
+        ++last_.shaderCalls;
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT); // the next round continues from these hits
+    });
+}
+
+bool ChcrtTracer::traceBounded(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width,
+                               int height) {
+    eye_ = request.camera.eye;
+    const bool anyHit = request.anyHit;
+    VisibilityState& state = stateFor(request, width, height);
+    const bool warm = state.frame() > 0;
+    auto start = Clock::now();
+    beginTrace(rays, hits, width, height);
+    // Before any hit, a ray reaches its whole segment (clipped to the scene): bounded rays (shadow, AO) already
+    // leave most of the scene out, and every cell's lists get their entry bounds.
+    updateBounds(rays, 0, anyHit, width, height);
+
+    // Phase 1 (Algorithm 1, lines 1-4): intersect the previously visible leaves that the rays can reach.
+    std::vector<int32_t> visibleLeaves, invisibleLeaves;
+    state.collectLeaves(visibleLeaves, invisibleLeaves);
+    std::vector<Scheduled> work;
+    for (int32_t p : visibleLeaves) {
+        if (mayHit(state.pair(p))) schedule(state, p, work);
+        else ++last_.leavesSkippedExtent;
+    }
+    const GLuint activeMask = maskFramebufferFor(rays.active.id());
+    intersectCells(work, anyHit, activeMask, width, height);
+    glFinish();
+    last_.phase1Ms = msSince(start);
+
+    // Phases 2 and 3 (lines 5-34), decided on the CPU against the hits Phase 1 found: visible leaves out of reach
+    // join the invisible front (the lazy re-query, every frame and free); invisible pairs in reach are traversed
+    // down to terminal pairs, whose subtrees are intersected in one more round.
+    start = Clock::now();
+    updateBounds(rays, hits.hit.id(), anyHit, width, height);
+    for (int32_t p : visibleLeaves) {
+        ++last_.pairsDecidedBounds;
+        if (!mayHit(state.pair(p))) state.pair(p).visible = false;
+    }
+    last_.queriesInvisible = invisibleLeaves.size();
+    std::vector<Scheduled> newlyVisible;
+    for (int32_t p : invisibleLeaves) decideByBounds(p, state, newlyVisible);
+    last_.phase2Ms = msSince(start);
+
+    start = Clock::now();
+    if (!newlyVisible.empty()) {
+        // Any-hit rays that Phase 1 finished are masked out of this round.
+        const GLuint mask = anyHit ? unfinishedMask(rays, hits, width, height) : activeMask;
+        intersectCells(newlyVisible, anyHit, mask, width, height);
+    }
+    endTrace(state, width, height);
+    last_.phase3Ms = msSince(start);
+    return warm;
+}
+
+} // namespace chcrt

@@ -1,0 +1,100 @@
+#pragma once
+// Where the rays of a ray set can still change their hits, per screen cell: the boxes around `pieces` consecutive
+// pieces of every active ray's segment in each cellSize² block of pixels, reduced on the GPU
+// (shaders/culling/ray_bounds.comp.glsl) and read back once per update. A ray's segment runs from tmin to tmax —
+// or, after hits were found, to its hit t for closest-hit rays, and not at all for any-hit rays that hit — clipped
+// to the scene's box. A depth pyramid for rays: the boxes play the role a depth texel plays in hierarchical-Z
+// culling (nvpro gl_occlusion_culling, zeux/niagara), and a coarse level (coarseCells² cells) lets a large tile
+// be tested against few boxes.
+//
+// Our addition to CHC+RT (not in the paper): a query pair whose node boxes miss the boxes of every cell of its
+// tile cannot be hit by any ray of the tile before its current hit, so it is invisible without an occlusion query
+// (and a visible leaf in that case needs no intersection); a subtree need not be traversed by the rays of a cell
+// whose boxes it misses. Pieces matter for long diagonal segments (shadow rays towards a high light, rays from the
+// eye to a far hit), whose single box would cover a wide slab of the scene. The test is conservative: boxes are
+// padded by 2^-12 of the magnitude of the coordinates the end points were computed from, far above their float
+// rounding and that of the hits a traversal accepts, so hits stay exactly those of pure BVH tracing (tests:
+// ChcrtExactness*, RayBoundsGrid*). Cells with a NaN or infinite ray value cull nothing.
+#include "culling/query_pair_hierarchy.h"
+#include "renderer/gl/gl_objects.h"
+#include "renderer/gl/shader.h"
+
+#include <glm/glm.hpp>
+
+#include <array>
+#include <vector>
+
+namespace chcrt {
+
+struct RayBoundsOptions {
+    int cellSize = 8;    // pixels per cell edge (a power of two, 1..32)
+    int pieces = 4;      // boxes per cell, each around an equal fraction of every ray's segment (1..8)
+    int coarseCells = 8; // cells per coarse-cell edge (1..64)
+    // Boxes grow by this fraction of the magnitude of the coordinates their end points were computed from, which
+    // covers the float rounding of the end points and of accepted hits with a wide margin (0.7 m at 3 km). Tests
+    // shrink boxes with a negative value to show that the exactness comparisons catch a bound that is too small.
+    float relativePad = 1.0f / 4096.0f;
+};
+
+class RayBoundsGrid {
+public:
+    static constexpr int kMaxPieces = 8;
+
+    explicit RayBoundsGrid(const RayBoundsOptions& options = {}); // throws InputError for out-of-range options
+
+    // Reduces a width × height ray set (RayTextures' origin+tmin and direction+tmax textures) to cell boxes and
+    // reads them back (waits for the GPU). `hitImage` (0: none) holds the hits found so far (RGBA32UI, the
+    // hit-target layout); `anyHit` says whether rays with a hit are finished. Needs a current GL context (the first
+    // call compiles the reduction shader).
+    void update(GLuint origins, GLuint directions, GLuint hitImage, bool anyHit, int width, int height,
+                glm::vec3 sceneMin, glm::vec3 sceneMax);
+
+    // True when some ray of `tile`'s pixels may meet one of the `count` boxes (lower[i], upper[i]) before its hit;
+    // false means no ray of the tile can hit anything inside them. Tiles are in pixels of the ray set, GL
+    // orientation. Without cells (nothing known) always true.
+    bool mayReach(const Tile& tile, const glm::vec3* lower, const glm::vec3* upper, int count) const;
+    // The same for one cell (cx, cy).
+    bool cellMayReach(int cx, int cy, const glm::vec3* lower, const glm::vec3* upper, int count) const;
+    // The cells a tile covers: [x0, x1) × [y0, y1), clamped to the grid.
+    std::array<int, 4> cellRange(const Tile& tile) const;
+    // A lower bound of the distance t at which any ray of cell (cx, cy) can enter the box (lower, upper): the gap
+    // between the box and the cell's ray origins over the longest direction, rounded down. 0 when nothing is known.
+    float entryLowerBound(int cx, int cy, const glm::vec3& lower, const glm::vec3& upper) const;
+
+    // Drops the cells: nothing is known, mayReach is true everywhere.
+    void forget() { cells_.clear(); }
+    bool known() const { return !cells_.empty(); }
+
+    const RayBoundsOptions& options() const { return options_; }
+    int cellsX() const { return cellsX_; }
+    int cellsY() const { return cellsY_; }
+    // Cells per state after the last update (for statistics): empty, bounded, unbounded.
+    std::array<uint32_t, 3> cellStates() const;
+    // The padded boxes of cell (cx, cy) and whether it is bounded (for the viewer's bounds view and tests).
+    struct CellBoxes {
+        uint8_t state = 0; // 0 empty, 1 bounded, 2 unbounded
+        std::array<glm::vec3, kMaxPieces> lower{}, upper{}; // per piece
+        glm::vec3 originLower{0.0f}, originUpper{0.0f};
+        float directionLength = 0.0f; // the longest direction of the cell's rays
+    };
+    const CellBoxes& cell(int cx, int cy) const { return cells_[size_t(cy) * size_t(cellsX_) + size_t(cx)]; }
+
+    // The CPU side alone, for tests: cells from a read-back buffer (CHCRT_CULLING_BOUNDS_* layout).
+    void setCells(int width, int height, const std::vector<glm::vec4>& buffer);
+
+private:
+    bool overlaps(const CellBoxes& cell, const glm::vec3* lower, const glm::vec3* upper, int count) const;
+    void buildCoarse();
+
+    RayBoundsOptions options_;
+    ShaderProgram programs_[3]; // without hits, with hits (closest hit), with hits (any hit)
+    GlBuffer buffer_;
+    size_t bufferBytes_ = 0;
+    int cellsX_ = 0, cellsY_ = 0;
+    int coarseX_ = 0, coarseY_ = 0;
+    std::vector<CellBoxes> cells_;  // row-major, cell row 0 = pixel rows 0..cellSize-1 (GL orientation)
+    std::vector<CellBoxes> coarse_; // unions of coarseCells² cells
+    std::vector<glm::vec4> readBack_;
+};
+
+} // namespace chcrt

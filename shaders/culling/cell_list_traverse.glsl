@@ -1,0 +1,50 @@
+// CHC+RT §5.2 batch traversal over a cell's list of termination-subtree roots (culling/cell_traversal.h): the
+// loop of render/bvh_traverse_loop.glsl, which takes the next root of the list whenever its stack runs empty, so
+// one traversal with one stack of a subtree's height visits any number of roots. Roots are listed by a lower bound
+// of the distance at which the cell's rays can enter them: a root whose box the ray does not meet before its
+// current hit is skipped after one box test, and once the bound passes the current hit the rest of the list is
+// (a closest-hit ray that found a near hit is done). Same hits as traversing the subtrees one after another (the
+// hit rule does not depend on the order). Needs render/bvh_nodes.glsl.
+
+layout(binding = CHCRT_UNIT_CULLING_CELL_ROOTS) uniform usamplerBuffer cellRoots;
+
+// Moves to the next root of [next, end) whose box the ray meets; false when none is left. The first root's test
+// is free, every further one counts as a step (an inner node's visit tests two boxes; the pure tracer tests its
+// one root box for free), so that with one root the count is exactly the pure tracer's.
+bool nextListRoot(inout uint next, uint first, uint end, vec3 origin, vec3 invDir, float tmin, float bestT,
+                  inout uint nodeFirst, inout uint nodeCount, inout TraceCost cost) {
+    while (next < end && cost.iterations < CHCRT_TRACE_ITERATION_CAP) {
+        ++cost.iterations;
+        if (next != first) {
+            ++cost.innerNodes;
+        }
+        uvec2 entry = texelFetch(cellRoots, int(next)).xy;
+        if (uintBitsToFloat(entry.y) > pruneLimit(bestT)) {
+            next = end; // this root and every later one start beyond the current hit
+            return false;
+        }
+        ++next;
+        if (enterRoot(entry.x, origin, invDir, tmin, bestT, nodeFirst, nodeCount)) {
+            return true;
+        }
+    }
+    return false;
+}
+
+void traverseCellList(uint first, uint end, vec3 origin, vec3 direction, float tmin, inout TraceHit best,
+                      inout TraceCost cost) {
+    vec3 invDir = safeInverseDirection(direction);
+    uint stackNode[CHCRT_MAX_BVH_DEPTH];
+    float stackEntry[CHCRT_MAX_BVH_DEPTH];
+    int stackSize = 0;
+    uint nodeFirst = 0u;
+    uint nodeCount = 0u;
+    uint next = first;
+    bool traversing = nextListRoot(next, first, end, origin, invDir, tmin, best.t, nodeFirst, nodeCount, cost);
+#ifdef CHCRT_CULLING_DEBUG_SUBTREES
+#define TRAVERSE_VISIT_LEAF visitLeafTracked(next - 1u, nodeFirst, nodeCount, origin, direction, tmin, best, cost)
+#endif
+#define TRAVERSE_NEXT_ROOT \
+    traversing = nextListRoot(next, first, end, origin, invDir, tmin, best.t, nodeFirst, nodeCount, cost);
+#include "render/bvh_traverse_loop.glsl"
+}

@@ -1,0 +1,20 @@
+// The cost debug image of CHC+RT's subtree passes (CHCRT_CULLING_DEBUG_COST; layout in shared/culling_layout.h):
+// needs `debugImage` and TraceCost (render/bvh_nodes.glsl). Empty without the define.
+#ifdef CHCRT_CULLING_DEBUG_COST
+// Adds this pass's traversal steps (the pure tracer's cost target counts the same: inner nodes + leaves +
+// triangles) to the pixel's count, saturating below the capped bit so that a huge sum never reads as capped.
+// Passes over the same pixel are ordered by the tracer's image barriers (the hit image relies on the same), so
+// the load-then-add cannot race with another pass's add; the atomics keep each update whole.
+void addCostSteps(ivec2 pixel, TraceCost cost) {
+    uint steps = cost.innerNodes + cost.leaves + cost.triangles;
+    uint counted = imageLoad(debugImage, pixel).x & CHCRT_CULLING_COST_STEPS;
+    if (steps > CHCRT_CULLING_COST_STEPS - counted) {
+        imageAtomicOr(debugImage, pixel, CHCRT_CULLING_COST_STEPS);
+    } else if (steps != 0u) {
+        imageAtomicAdd(debugImage, pixel, steps);
+    }
+    if (cost.iterations >= CHCRT_TRACE_ITERATION_CAP) {
+        imageAtomicOr(debugImage, pixel, CHCRT_CULLING_COST_CAPPED);
+    }
+}
+#endif

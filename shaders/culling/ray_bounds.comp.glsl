@@ -1,0 +1,109 @@
+#version 450 core
+// Ray bounds grid (culling/ray_bounds_grid.h): one work group per screen cell of CHCRT_BOUNDS_CELL² pixels reduces
+// its active rays to boxes: the box of the ray origins, and the boxes of the points p_j = o + d·s_j, j = 0..P, that
+// split each ray's segment [t0, t1] into P equal pieces (the CPU makes piece k's box from the boxes of p_k and
+// p_{k+1}); or it marks the cell empty or unbounded. t0 = tmin and t1 = tmax, clipped to the scene's box (nothing
+// outside it can be hit); with CHCRT_BOUNDS_WITH_HITS the segments end at the hits found so far: closest-hit rays
+// at their hit t (only nearer hits can still change the result), any-hit rays that hit are finished and left out.
+// One invocation per cell, looping over its pixels: a reduction in shared memory with barriers (one invocation per
+// pixel) measured 40x slower on llvmpipe, whose work groups switch coroutines at every barrier.
+// Host defines: CHCRT_BOUNDS_WITH_HITS (0 | 1), TRACE_ANY_HIT (0 | 1), CHCRT_BOUNDS_CELL (1..32, a power of two),
+// CHCRT_BOUNDS_PIECES (1 .. CHCRT_CULLING_BOUNDS_MAX_PIECES).
+#include "shared/render_layout.h"
+#include "shared/bvh_layout.h"
+#include "shared/intersect.h"
+#include "shared/culling_layout.h"
+
+#define POINTS (CHCRT_BOUNDS_PIECES + 2) // the origins, then p_0 .. p_P
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(binding = CHCRT_UNIT_RAY_ORIGIN) uniform sampler2D rayOrigins;
+layout(binding = CHCRT_UNIT_RAY_DIRECTION) uniform sampler2D rayDirections;
+#if CHCRT_BOUNDS_WITH_HITS
+layout(binding = CHCRT_CULLING_IMAGE_HIT, rgba32ui) uniform readonly uimage2D hitImage;
+#endif
+layout(std430, binding = CHCRT_CULLING_BOUNDS_BUFFER) writeonly buffer CellBounds {
+    vec4 cellBounds[];
+};
+
+uniform ivec2 raySize; // the ray set's size in pixels
+uniform vec3 sceneMin;
+uniform vec3 sceneMax;
+
+float maxComponent(vec3 v) {
+    return max(max(v.x, v.y), v.z);
+}
+
+void main() {
+    ivec2 cellCount = (raySize + CHCRT_BOUNDS_CELL - 1) / CHCRT_BOUNDS_CELL;
+    ivec2 cell = ivec2(gl_GlobalInvocationID.xy);
+    if (cell.x >= cellCount.x || cell.y >= cellCount.y) {
+        return;
+    }
+    const float big = 3.0e38f;
+    vec3 lower[POINTS];
+    vec3 upper[POINTS];
+    for (int j = 0; j < POINTS; ++j) {
+        lower[j] = vec3(big);
+        upper[j] = vec3(-big);
+    }
+    float state = CHCRT_CULLING_CELL_EMPTY;
+    float extent = 0.0f;
+    float directionLength = 0.0f;
+    ivec2 first = cell * CHCRT_BOUNDS_CELL;
+    ivec2 end = min(first + CHCRT_BOUNDS_CELL, raySize);
+    // At most 32² iterations, far below llvmpipe's 65,535-iteration loop cap.
+    for (int y = first.y; y < end.y; ++y) {
+        for (int x = first.x; x < end.x; ++x) {
+            ivec2 pixel = ivec2(x, y);
+            vec4 originTmin = texelFetch(rayOrigins, pixel, 0);
+            vec4 directionTmax = texelFetch(rayDirections, pixel, 0);
+            if (!(directionTmax.w > originTmin.w)) {
+                continue; // inactive
+            }
+            // isnan/isinf rather than comparisons: GLSL leaves comparisons with NaN to the implementation.
+            if (any(isnan(originTmin)) || any(isinf(originTmin)) || any(isnan(directionTmax)) ||
+                any(isinf(directionTmax))) {
+                state = CHCRT_CULLING_CELL_UNBOUNDED;
+                continue;
+            }
+            float t1 = directionTmax.w;
+#if CHCRT_BOUNDS_WITH_HITS
+            uvec4 stored = imageLoad(hitImage, pixel);
+            if (stored.y != CHCRT_NO_HIT_ID) {
+#if TRACE_ANY_HIT
+                continue; // finished
+#else
+                t1 = min(t1, uintBitsToFloat(stored.x));
+#endif
+            }
+#endif
+            vec3 o = originTmin.xyz;
+            vec3 d = directionTmax.xyz;
+            vec2 sceneEntryExit = intersectRayAabb(o, safeInverseDirection(d), sceneMin, sceneMax);
+            float t0 = max(originTmin.w, sceneEntryExit.x);
+            t1 = min(t1, sceneEntryExit.y);
+            if (!(t0 <= t1)) {
+                continue; // the segment misses the scene: no hit possible
+            }
+            extent = max(extent, maxComponent(abs(o)) + maxComponent(abs(d)) * max(abs(t0), abs(t1)));
+            directionLength = max(directionLength, length(d));
+            lower[0] = min(lower[0], o);
+            upper[0] = max(upper[0], o);
+            for (int j = 0; j <= CHCRT_BOUNDS_PIECES; ++j) {
+                float s = j == 0 ? t0 : (j == CHCRT_BOUNDS_PIECES ? t1 : t0 + (t1 - t0) * (float(j) / float(CHCRT_BOUNDS_PIECES)));
+                vec3 p = o + d * s;
+                lower[j + 1] = min(lower[j + 1], p);
+                upper[j + 1] = max(upper[j + 1], p);
+            }
+            state = max(state, CHCRT_CULLING_CELL_BOUNDED);
+        }
+    }
+    int base = (cell.y * cellCount.x + cell.x) * (1 + 2 * POINTS);
+    cellBounds[base] = vec4(state, extent, directionLength, 0.0f);
+    for (int j = 0; j < POINTS; ++j) {
+        cellBounds[base + 1 + 2 * j] = vec4(lower[j], 0.0f);
+        cellBounds[base + 2 + 2 * j] = vec4(upper[j], 0.0f);
+    }
+}

@@ -1,0 +1,132 @@
+// RayBoundsGrid's GPU reduction (shaders/culling/ray_bounds.comp.glsl) against the rays it reduced: random bounded,
+// inactive, infinite and NaN rays over a ray set whose size is not a multiple of the cell; segments clipped to the
+// scene's box; closest-hit segments ending at their hits and any-hit rays with a hit left out.
+#include "culling/ray_bounds_grid.h"
+#include "renderer/gl/context.h"
+#include "renderer/render/trace_pass.h"
+#include "shaders/shared/bvh_layout.h"
+#include "shaders/shared/culling_layout.h"
+
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <limits>
+#include <random>
+
+namespace chcrt {
+namespace {
+
+constexpr int kW = 45, kH = 37, kCell = 16; // 3 × 3 cells, partial at the edges
+const glm::vec3 kSceneMin(-40.0f), kSceneMax(40.0f);
+
+struct RaySet {
+    std::vector<glm::vec4> origins = std::vector<glm::vec4>(size_t(kW) * kH);
+    std::vector<glm::vec4> directions = std::vector<glm::vec4>(size_t(kW) * kH);
+    std::vector<glm::uvec4> hits = std::vector<glm::uvec4>(size_t(kW) * kH);
+    GlTexture origin, direction, hit;
+
+    RaySet() {
+        std::mt19937 rng(7);
+        std::uniform_real_distribution<float> u(-50.0f, 50.0f), t(0.0f, 5.0f), coin(0.0f, 1.0f);
+        for (size_t i = 0; i < origins.size(); ++i) {
+            const float tmin = t(rng) * 0.01f;
+            origins[i] = glm::vec4(u(rng) * 0.5f, u(rng) * 0.5f, u(rng) * 0.5f, tmin);
+            directions[i] = glm::vec4(glm::normalize(glm::vec3(u(rng), u(rng), u(rng)) + glm::vec3(0.01f)), tmin + 20.0f * t(rng));
+            const auto miss = missHitTexel();
+            hits[i] = coin(rng) < 0.5f ? glm::uvec4(miss[0], miss[1], miss[2], miss[3])
+                                       : glm::uvec4(std::bit_cast<uint32_t>(tmin + t(rng)), 7u, 0u, 0u);
+        }
+        // Cell (1, 1): inactive rays only. Cell (2, 0): one infinite tmax. Cell (0, 2): one NaN origin.
+        for (int y = kCell; y < 2 * kCell; ++y)
+            for (int x = kCell; x < 2 * kCell; ++x) directions[size_t(y) * kW + x].w = origins[size_t(y) * kW + x].w;
+        directions[size_t(3) * kW + 2 * kCell + 1].w = std::numeric_limits<float>::infinity();
+        origins[size_t(2 * kCell + 1) * kW + 3].x = std::numeric_limits<float>::quiet_NaN();
+        origin = createTexture2D(kW, kH, GL_RGBA32F);
+        direction = createTexture2D(kW, kH, GL_RGBA32F);
+        hit = createTexture2D(kW, kH, GL_RGBA32UI);
+        glTextureSubImage2D(origin.id(), 0, 0, 0, kW, kH, GL_RGBA, GL_FLOAT, origins.data());
+        glTextureSubImage2D(direction.id(), 0, 0, 0, kW, kH, GL_RGBA, GL_FLOAT, directions.data());
+        glTextureSubImage2D(hit.id(), 0, 0, 0, kW, kH, GL_RGBA_INTEGER, GL_UNSIGNED_INT, hits.data());
+    }
+    bool valid(size_t i) const {
+        return directions[i].w > origins[i].w && !std::isnan(origins[i].x) && !std::isinf(directions[i].w);
+    }
+};
+
+bool insideScene(glm::vec3 p) {
+    return glm::all(glm::greaterThanEqual(p, kSceneMin)) && glm::all(glm::lessThanEqual(p, kSceneMax));
+}
+
+// Every point of every ray's (shortened) segment inside the scene's box must be reachable from its pixel.
+void expectSegmentsReachable(const RayBoundsGrid& grid, const RaySet& rays, bool withHits, bool anyHit) {
+    for (int y = 0; y < kH; ++y) {
+        for (int x = 0; x < kW; ++x) {
+            const size_t i = size_t(y) * kW + x;
+            if (!rays.valid(i)) continue;
+            const bool hit = rays.hits[i].y != CHCRT_NO_HIT_ID;
+            if (withHits && anyHit && hit) continue;
+            const glm::vec4 o = rays.origins[i], d = rays.directions[i];
+            const float end = withHits && hit ? std::bit_cast<float>(rays.hits[i].x) : d.w;
+            for (int s = 0; s <= 16; ++s) {
+                const glm::vec3 p = glm::vec3(o) + glm::vec3(d) * (o.w + (end - o.w) * float(s) / 16.0f);
+                if (!insideScene(p)) continue;
+                ASSERT_TRUE(grid.mayReach(Tile{x, y, 1, 1}, &p, &p, 1)) << x << ", " << y << " step " << s;
+            }
+        }
+    }
+}
+
+TEST(RayBoundsGridGl, EverySegmentIsCoveredAndNothingFarFromThem) {
+    auto context = createHeadlessContext(GlBackend::Egl, true);
+    RaySet rays;
+    for (int variant = 0; variant < 3; ++variant) {
+        const bool withHits = variant > 0, anyHit = variant == 2;
+        SCOPED_TRACE(variant);
+        RayBoundsGrid grid(RayBoundsOptions{kCell, 4, 2});
+        grid.update(rays.origin.id(), rays.direction.id(), withHits ? rays.hit.id() : 0, anyHit, kW, kH, kSceneMin,
+                    kSceneMax);
+        ASSERT_EQ(grid.cellsX(), 3);
+        ASSERT_EQ(grid.cellsY(), 3);
+        expectSegmentsReachable(grid, rays, withHits, anyHit);
+        // Outside the scene's box nothing is reachable from a bounded cell; an infinite or NaN value reaches all.
+        const glm::vec3 far(1000.0f), farUpper(1001.0f);
+        EXPECT_FALSE(grid.mayReach(Tile{0, 0, kCell, kCell}, &far, &farUpper, 1));
+        EXPECT_FALSE(grid.mayReach(Tile{kCell, kCell, kCell, kCell}, &far, &farUpper, 1)); // inactive only
+        EXPECT_EQ(grid.cell(1, 1).state, 0);
+        EXPECT_TRUE(grid.mayReach(Tile{2 * kCell, 0, kCell, kCell}, &far, &farUpper, 1)); // infinite tmax
+        EXPECT_TRUE(grid.mayReach(Tile{0, 2 * kCell, kCell, kCell}, &far, &farUpper, 1)); // NaN origin
+        EXPECT_FALSE(grid.mayReach(Tile{2 * kCell, 2 * kCell, kW, kH}, &far, &farUpper, 1)); // partial edge cell
+    }
+}
+
+TEST(RayBoundsGridGl, HitsShortenTheSegmentsAndFinishAnyHitRays) {
+    auto context = createHeadlessContext(GlBackend::Egl, true);
+    RaySet rays;
+    // Cell (0, 0): coherent rays along +x from near the origin, each hitting at t = 1 of a segment of 30.
+    for (int y = 0; y < kCell; ++y) {
+        for (int x = 0; x < kCell; ++x) {
+            const size_t i = size_t(y) * kW + x;
+            rays.origins[i] = glm::vec4(0.0f, 0.01f * float(x), 0.01f * float(y), 0.0f);
+            rays.directions[i] = glm::vec4(1.0f, 0.0f, 0.0f, 30.0f);
+            rays.hits[i] = glm::uvec4(std::bit_cast<uint32_t>(1.0f), 3u, 0u, 0u);
+        }
+    }
+    glTextureSubImage2D(rays.origin.id(), 0, 0, 0, kW, kH, GL_RGBA, GL_FLOAT, rays.origins.data());
+    glTextureSubImage2D(rays.direction.id(), 0, 0, 0, kW, kH, GL_RGBA, GL_FLOAT, rays.directions.data());
+    glTextureSubImage2D(rays.hit.id(), 0, 0, 0, kW, kH, GL_RGBA_INTEGER, GL_UNSIGNED_INT, rays.hits.data());
+    RayBoundsGrid own(RayBoundsOptions{kCell, 4, 2}), closest(RayBoundsOptions{kCell, 4, 2}), any(RayBoundsOptions{kCell, 4, 2});
+    own.update(rays.origin.id(), rays.direction.id(), 0, false, kW, kH, kSceneMin, kSceneMax);
+    closest.update(rays.origin.id(), rays.direction.id(), rays.hit.id(), false, kW, kH, kSceneMin, kSceneMax);
+    any.update(rays.origin.id(), rays.direction.id(), rays.hit.id(), true, kW, kH, kSceneMin, kSceneMax);
+    // A point 10 units along a ray of the cell: on its own segment, beyond its hit.
+    const glm::vec3 p = glm::vec3(rays.origins[0]) + glm::vec3(rays.directions[0]) * (rays.origins[0].w + 10.0f);
+    const glm::vec3 lo = p - glm::vec3(0.01f), hi = p + glm::vec3(0.01f);
+    ASSERT_TRUE(insideScene(p));
+    EXPECT_TRUE(own.cellMayReach(0, 0, &lo, &hi, 1));
+    EXPECT_FALSE(closest.cellMayReach(0, 0, &lo, &hi, 1)) << "beyond every hit of the cell";
+    EXPECT_EQ(any.cell(0, 0).state, 0) << "any-hit rays with a hit are finished";
+    expectSegmentsReachable(closest, rays, true, false);
+}
+
+} // namespace
+} // namespace chcrt
