@@ -35,7 +35,16 @@ void CellTraversal::upload(TextureBuffer& target, const void* data, size_t bytes
     if (bytes > 0) glNamedBufferSubData(target.buffer.id(), 0, GLsizeiptr(bytes), data);
 }
 
-uint32_t CellTraversal::draw(bool anyHit, const std::string& debugDefine, int width, int height) {
+void CellTraversal::drawPoints(const ShaderProgram& program, int width, int height) const {
+    program.use();
+    program.set("raySize", glm::ivec2(width, height));
+    program.set("cellsX", cellsX_);
+    program.set("cellSize", cellSize_);
+    drawAttributeless(GL_POINTS, GLsizei(drawCells_.size()));
+}
+
+uint32_t CellTraversal::draw(bool anyHit, const std::string& debugDefine, int width, int height,
+                             GLuint maskFramebuffer, bool writeMask) {
     if (entries_.empty()) return 0;
     // Counting sort by cell (stable: a cell's entries keep the order of add() among equal bounds).
     const size_t cells = size_t(cellsX_) * size_t(cellsY_);
@@ -69,21 +78,33 @@ uint32_t CellTraversal::draw(bool anyHit, const std::string& debugDefine, int wi
     next_ ^= 1;
     upload(b.headers, headers_.data(), headers_.size() * 4, GL_RG32UI);
     upload(b.roots, roots_.data(), roots_.size() * 4, GL_RG32UI);
-    upload(b.drawCells, drawCells_.data(), drawCells_.size() * 4, GL_R32UI);
     const bool withIds = debugDefine == "CHCRT_CULLING_DEBUG_SUBTREES";
     if (withIds) upload(b.ids, ids_.data(), ids_.size() * 4, GL_R32UI);
 
-    const ShaderProgram& p = program(anyHit, debugDefine);
-    p.use();
-    p.set("raySize", glm::ivec2(width, height));
-    p.set("cellsX", cellsX_);
-    p.set("cellSize", cellSize_);
+    upload(b.drawCells, drawCells_.data(), drawCells_.size() * 4, GL_R32UI);
     glBindTextureUnit(CHCRT_UNIT_CULLING_CELL_HEADERS, b.headers.texture.id());
     glBindTextureUnit(CHCRT_UNIT_CULLING_CELL_ROOTS, b.roots.texture.id());
     glBindTextureUnit(CHCRT_UNIT_CULLING_DRAW_CELLS, b.drawCells.texture.id());
     if (withIds) glBindTextureUnit(CHCRT_UNIT_CULLING_CELL_IDS, b.ids.texture.id());
+    glBindFramebuffer(GL_FRAMEBUFFER, maskFramebuffer);
     glViewport(0, 0, width, height);
-    drawAttributeless(GLsizei(drawCells_.size() * 6));
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    glEnable(GL_DEPTH_TEST);
+    if (writeMask) {
+        if (!maskProgram_.valid()) {
+            maskProgram_ = ShaderProgram({{GL_VERTEX_SHADER, "culling/chcrt_cells.vert.glsl"},
+                                          {GL_FRAGMENT_SHADER, "culling/chcrt_cells_mask.frag.glsl"}});
+        }
+        const GLfloat skip = 0.0f;
+        glClearNamedFramebufferfv(maskFramebuffer, GL_DEPTH, 0, &skip);
+        glDepthFunc(GL_ALWAYS);
+        glDepthMask(GL_TRUE);
+        drawPoints(maskProgram_, width, height);
+    }
+    glDepthFunc(GL_LESS); // passes where the mask holds 1
+    glDepthMask(GL_FALSE);
+    drawPoints(program(anyHit, debugDefine), width, height);
+    glDisable(GL_PROGRAM_POINT_SIZE);
     entries_.clear();
     return uint32_t(drawCells_.size());
 }

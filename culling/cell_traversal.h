@@ -1,11 +1,13 @@
 #pragma once
 // CHC+RT §5.2 batches as cell lists: the termination subtrees scheduled for intersection are grouped per screen
-// cell (the ray bounds grid's cells, ray_bounds_grid.h), nearest first, and one draw covers every cell that has
-// work, each pixel traversing its cell's list with one stack (shaders/culling/chcrt_cells.frag.glsl). Replaces a
-// draw per tile and batch: llvmpipe sends every fragment group of a draw through the traversal code at least once,
-// so many small draws cost as much as the work they trace, and a pass that wrote gl_FragDepth could not skip
-// finished or inactive rays with an early depth test. The pass writes no depth: rays are kept out by the mask
-// bound as depth by the caller.
+// cell (the ray bounds grid's cells, ray_bounds_grid.h), and one draw per round — a point of the cell's size per
+// cell with work — traverses them, each pixel its cell's list with one stack (shaders/culling/chcrt_cells.*.glsl).
+// The draw tests a mask early (the ray set's active-ray mask, or one written over the same cells first: active
+// any-hit rays without a hit). Replaces a draw per tile and batch: llvmpipe sends every fragment group of a draw
+// through the traversal code at least once, so many small draws cost as much as the work they trace, and a pass
+// that wrote gl_FragDepth could not skip finished or inactive rays with an early depth test. (Measured on the city,
+// 256², AO: two triangles per cell cost 1.5x more per traversal step, their diagonals split llvmpipe's 4×4 blocks;
+// a full-screen draw behind a mask of the cells with work spent ~1.1 ms per round on the mask pass alone.)
 #include "renderer/gl/gl_objects.h"
 #include "renderer/gl/shader.h"
 
@@ -33,10 +35,12 @@ public:
     }
     size_t entryCount() const { return entries_.size(); }
 
-    // Uploads the lists and draws the cells that have entries into the bound framebuffer (whose depth is the mask
-    // the caller set up), with the ray textures, hit image and BVH buffers bound. `debugDefine` names a debug image
-    // variant ("" = none). Returns the number of cells drawn.
-    uint32_t draw(bool anyHit, const std::string& debugDefine, int width, int height);
+    // Uploads the lists and traverses them into `maskFramebuffer` (a depth-only target of the ray set's size whose
+    // depth is 1 where a ray is to be traced), with the ray textures, hit image and BVH buffers bound. `writeMask`:
+    // first write that depth over the cells with work (active rays without a hit; for rounds of any-hit rays after
+    // the first). `debugDefine` names a debug image variant ("" = none). Returns the number of cells with work.
+    uint32_t draw(bool anyHit, const std::string& debugDefine, int width, int height, GLuint maskFramebuffer,
+                  bool writeMask);
 
 private:
     struct Entry {
@@ -47,13 +51,15 @@ private:
         TextureBuffer headers, roots, ids, drawCells;
     };
     const ShaderProgram& program(bool anyHit, const std::string& debugDefine);
+    void drawPoints(const ShaderProgram& program, int width, int height) const;
     static void upload(TextureBuffer& target, const void* data, size_t bytes, GLenum format);
 
     Defines defines_;
     std::map<std::pair<std::string, bool>, ShaderProgram> programs_;
+    ShaderProgram maskProgram_;
     int cellsX_ = 0, cellsY_ = 0, cellSize_ = 0;
     std::vector<Entry> entries_, sorted_;
-    std::vector<uint32_t> counts_, headers_, roots_, ids_, drawCells_;
+    std::vector<uint32_t> counts_, headers_, roots_, ids_, drawCells_; // drawCells_: the cells with work
     Buffers buffers_[2]; // alternate per draw, so an upload never waits for the previous draw
     int next_ = 0;
 };

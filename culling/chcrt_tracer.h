@@ -222,8 +222,9 @@ private:
     // Decides the pair with the grid and, when visible, descends the pair hierarchy to terminal pairs, which are
     // scheduled into `out`. Returns whether the pair is visible.
     bool decideByBounds(int32_t pair, VisibilityState& state, std::vector<Scheduled>& out);
-    void intersectCells(std::vector<Scheduled>& work, bool anyHit, GLuint maskFramebuffer, int width, int height);
-    GLuint unfinishedMask(const RayTextures& rays, HitTargets& hits, int width, int height);
+    // Intersects scheduled subtrees from cell lists (cell_traversal.h), one draw per residency round.
+    void intersectCells(std::vector<Scheduled>& work, bool anyHit, const RayTextures& rays, HitTargets& hits,
+                        bool firstRound, int width, int height);
     GLuint maskFramebufferFor(GLuint depthTexture);
     std::string debugDefineOfKind() const;
     void ensureDebugTexture(int width, int height);
@@ -248,7 +249,6 @@ private:
     std::map<uint64_t, AdaptiveChoice> adaptive_; // per ray kind
     std::unique_ptr<RayBoundsGrid> rayExtent_;    // with options_.rayExtentCulling or BoundsOnly, updated per trace
     std::unique_ptr<CellTraversal> cells_;        // BoundsOnly's intersection rounds
-    ShaderProgram maskProgram_;                   // BoundsOnly: mask of unfinished any-hit rays
     std::vector<GLuint> queryPool_;
     size_t queriesInUse_ = 0;
     std::deque<PendingQuery> queue_;

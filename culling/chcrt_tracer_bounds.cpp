@@ -70,26 +70,6 @@ bool ChcrtTracer::decideByBounds(int32_t first, VisibilityState& state, std::vec
     return firstVisible;
 }
 
-GLuint ChcrtTracer::unfinishedMask(const RayTextures& rays, HitTargets& hits, int width, int height) {
-    if (!maskProgram_.valid()) {
-        maskProgram_ = ShaderProgram({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
-                                      {GL_FRAGMENT_SHADER, "culling/chcrt_unfinished_mask.frag.glsl"}},
-                                     {{"TRACE_ANY_HIT", "1"}});
-    }
-    const GLuint framebuffer = framebufferFor(hits);
-    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
-    glViewport(0, 0, width, height);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_ALWAYS);
-    glDepthMask(GL_TRUE);
-    glBindTextureUnit(CHCRT_UNIT_RAY_ORIGIN, rays.origin.id());
-    glBindTextureUnit(CHCRT_UNIT_RAY_DIRECTION, rays.direction.id());
-    maskProgram_.use();
-    mode_ = Mode::None;
-    drawFullscreenTriangle();
-    return framebuffer;
-}
-
 std::string ChcrtTracer::debugDefineOfKind() const {
     switch (debugKind_) {
     case ChcrtDebugImage::Subtrees: return "CHCRT_CULLING_DEBUG_SUBTREES";
@@ -99,18 +79,18 @@ std::string ChcrtTracer::debugDefineOfKind() const {
     }
 }
 
-void ChcrtTracer::intersectCells(std::vector<Scheduled>& work, bool anyHit, GLuint maskFramebuffer, int width,
-                                 int height) {
+void ChcrtTracer::intersectCells(std::vector<Scheduled>& work, bool anyHit, const RayTextures& rays,
+                                 HitTargets& hits, bool firstRound, int width, int height) {
     if (work.empty()) return;
     // Nearest to the camera first (residency rounds make the near ones resident first); duplicates adjacent.
     std::sort(work.begin(), work.end(), [](const Scheduled& a, const Scheduled& b) {
         return a.distance != b.distance ? a.distance < b.distance : a.subtree < b.subtree;
     });
-    glBindFramebuffer(GL_FRAMEBUFFER, maskFramebuffer);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS); // passes where the mask holds 1 (a ray to trace)
-    glDepthMask(GL_FALSE);
     mode_ = Mode::None;
+    // The first round traces every active ray (the ray set's mask); later rounds of any-hit rays only those without
+    // a hit (a mask written into the hit set's depth), closest-hit rays all again.
+    const bool writeMask = anyHit && !firstRound;
+    const GLuint maskFramebuffer = writeMask ? framebufferFor(hits) : maskFramebufferFor(rays.active.id());
     const int cell = rayExtent_->options().cellSize;
     const int cellsX = (width + cell - 1) / cell, cellsY = (height + cell - 1) / cell;
     std::vector<uint32_t> lastSubtree(size_t(cellsX) * size_t(cellsY), CullingHierarchy::kNone);
@@ -138,7 +118,7 @@ void ChcrtTracer::intersectCells(std::vector<Scheduled>& work, bool anyHit, GLui
         }
         last_.cellEntries += cells_->entryCount();
         last_.subtreesScheduled += resident.size();
-        last_.cellsDrawn += cells_->draw(anyHit, debugDefine, width, height);
+        last_.cellsDrawn += cells_->draw(anyHit, debugDefine, width, height, maskFramebuffer, writeMask);
         ++last_.shaderCalls;
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT); // the next round continues from these hits
     });
@@ -164,8 +144,7 @@ bool ChcrtTracer::traceBounded(const TraceRequest& request, const RayTextures& r
         if (mayHit(state.pair(p))) schedule(state, p, work);
         else ++last_.leavesSkippedExtent;
     }
-    const GLuint activeMask = maskFramebufferFor(rays.active.id());
-    intersectCells(work, anyHit, activeMask, width, height);
+    intersectCells(work, anyHit, rays, hits, true, width, height);
     glFinish();
     last_.phase1Ms = msSince(start);
 
@@ -184,11 +163,7 @@ bool ChcrtTracer::traceBounded(const TraceRequest& request, const RayTextures& r
     last_.phase2Ms = msSince(start);
 
     start = Clock::now();
-    if (!newlyVisible.empty()) {
-        // Any-hit rays that Phase 1 finished are masked out of this round.
-        const GLuint mask = anyHit ? unfinishedMask(rays, hits, width, height) : activeMask;
-        intersectCells(newlyVisible, anyHit, mask, width, height);
-    }
+    intersectCells(newlyVisible, anyHit, rays, hits, false, width, height);
     endTrace(state, width, height);
     last_.phase3Ms = msSince(start);
     return warm;

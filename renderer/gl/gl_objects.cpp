@@ -154,7 +154,7 @@ GlFramebuffer createFramebuffer(const GLuint* colorTextures, int colorCount, GLu
     return framebuffer;
 }
 
-void drawAttributeless(GLsizei vertexCount) {
+void drawAttributeless(GLenum mode, GLsizei vertexCount) {
     // Core profile draws need a bound VAO even without attributes. One empty VAO per context: VAOs are not
     // shared between contexts, so the cached name is dropped whenever loadGlFunctions() has run again (every
     // new context, including a GLFW window, loads the table first). The old name died with its context and is
@@ -166,11 +166,11 @@ void drawAttributeless(GLsizei vertexCount) {
         vaoGeneration = detail::glLoadGeneration();
     }
     glBindVertexArray(vao);
-    glDrawArrays(GL_TRIANGLES, 0, vertexCount);
+    glDrawArrays(mode, 0, vertexCount);
 }
 
 void drawFullscreenTriangle() {
-    drawAttributeless(3);
+    drawAttributeless(GL_TRIANGLES, 3);
 }
 
 GpuTimer::GpuTimer() : query_(createQuery(GL_TIME_ELAPSED)) {}

@@ -69,9 +69,9 @@ GlFramebuffer createFramebuffer(const GLuint* colorTextures, int colorCount, GLu
 // Draws one triangle covering the viewport (vertex shader "render/fullscreen.vert.glsl" derives positions from
 // gl_VertexID); binds an empty VAO owned by the current thread's context.
 void drawFullscreenTriangle();
-// Draws `vertexCount` vertices as triangles with no vertex attributes (the vertex shader derives everything from
-// gl_VertexID), with the same empty VAO.
-void drawAttributeless(GLsizei vertexCount);
+// Draws `vertexCount` vertices as primitives `mode` with no vertex attributes (the vertex shader derives everything
+// from gl_VertexID), with the same empty VAO.
+void drawAttributeless(GLenum mode, GLsizei vertexCount);
 
 // GPU time of a scope via GL_TIME_ELAPSED (blocking read; used only where timings are requested).
 class GpuTimer {

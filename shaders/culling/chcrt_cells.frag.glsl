@@ -1,10 +1,10 @@
 #version 450 core
-// CHC+RT subtree intersection over cell lists (culling/cell_traversal.h): one draw covers every cell with work;
-// each ray continues from the nearest hit stored so far (image load/store on the hit buffer: one fragment per
+// CHC+RT subtree intersection over cell lists (culling/cell_traversal.h): one draw per round, a point per cell with
+// work (chcrt_cells.vert.glsl); each ray continues from the nearest hit stored so far (image load/store on the hit buffer: one fragment per
 // pixel per draw, so no other invocation touches it) and traverses its cell's list of termination subtrees with
-// the project's exact hit rule (render/bvh_nodes.glsl), so the final hits are those of pure BVH tracing. Rays
-// without work are rejected by the early depth test against a mask (the ray set's active-ray mask, or the
-// tracer's mask of unfinished any-hit rays), as in the pure passes: nothing here writes depth.
+// the project's exact hit rule (render/bvh_nodes.glsl), so the final hits are those of pure BVH tracing. Inactive
+// and finished rays are rejected by the early depth test against a mask (the ray set's active-ray mask, or
+// chcrt_cells_mask.frag.glsl's), as in the pure passes: nothing here writes depth.
 // Host defines: TRACE_ANY_HIT (0 | 1), CHCRT_SUBTREE_STACK (traversal stack entries: the partition's maximum
 // subtree height + 1, §5.2), CHCRT_CULLING_DEBUG_SUBTREES / _BATCHES / _COST (debug images, as the subtree pass
 // of culling/chcrt_subtrees.frag.glsl: 1 + id of the subtree that changed the hit last / subtrees listed for the
@@ -29,7 +29,9 @@ layout(binding = CHCRT_ATOMIC_BINDING_CAPPED_RAYS, offset = 0) uniform atomic_ui
 layout(binding = CHCRT_CULLING_IMAGE_DEBUG, r32ui) uniform coherent uimage2D debugImage;
 #endif
 
-flat in uint cellIndex;
+uniform int cellsX;
+uniform int cellSize;
+flat in int cellIndex;
 
 #ifdef CHCRT_CULLING_DEBUG_SUBTREES
 layout(binding = CHCRT_UNIT_CULLING_CELL_IDS) uniform usamplerBuffer cellIds;
@@ -51,6 +53,10 @@ bool visitLeafTracked(uint entry, uint first, uint count, vec3 origin, vec3 dire
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
+    ivec2 cell = pixel / cellSize;
+    if (cell.y * cellsX + cell.x != cellIndex) {
+        return; // a neighbour's pixel under an edge cell's shifted point
+    }
     vec4 originTmin = texelFetch(rayOrigins, pixel, 0);
     vec4 directionTmax = texelFetch(rayDirections, pixel, 0);
     uvec4 stored = imageLoad(hitImage, pixel);
@@ -59,7 +65,7 @@ void main() {
         return; // finished (the mask keeps most such rays out already)
     }
 #endif
-    uvec2 header = texelFetch(cellHeaders, int(cellIndex)).xy;
+    uvec2 header = texelFetch(cellHeaders, cellIndex).xy;
 #ifdef CHCRT_CULLING_DEBUG_BATCHES
     imageAtomicAdd(debugImage, pixel, header.y);
 #endif

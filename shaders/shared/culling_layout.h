@@ -33,7 +33,7 @@
 // the cells that have work (CHC+RT §5.2 batches, one per cell). Texture units of the RG32UI / R32UI texture
 // buffers: per cell (first entry, entry count); per entry (the subtree's GPU root, bits of a lower bound of the
 // distance at which the cell's rays can enter it; a cell's entries ascend by it); per entry the subtree's
-// culling-hierarchy index (for the subtree debug image); the indices of the cells to draw.
+// culling-hierarchy index (for the subtree debug image); the cells with work, drawn as points.
 #define CHCRT_UNIT_CULLING_CELL_HEADERS 27
 #define CHCRT_UNIT_CULLING_CELL_ROOTS 28
 #define CHCRT_UNIT_CULLING_CELL_IDS 29
