@@ -156,7 +156,10 @@ outofcore::OutOfCoreOptions outOfCoreOptions(const CommonOptions& o) {
 // CHC+RT with the --chcrt-* parameters of the command line (culling/README.md).
 std::unique_ptr<Tracer> makeChcrtTracer(const std::string& name, const SceneSession& session, bool alwaysCull) {
     const CommonOptions& o = session.options;
-    ChcrtOptions options;
+    // chcrt and chcrt-noadapt in core: the recommended configuration. The aggressive variant (Table 4), the Line
+    // Space variants (one subtree root per call) and out of core (the prepared file's cut) keep the paper's.
+    const bool recommended = (name == "chcrt" || name == "chcrt-noadapt") && !o.outOfCore;
+    ChcrtOptions options = recommended ? recommendedChcrtOptions() : ChcrtOptions{};
     // CHC+RT §7, Table 4: a pair counts as visible only when more rays than the threshold pass its query.
     if (name == "chcrt-aggressive") {
         options.visibleThreshold = 20;
@@ -166,7 +169,10 @@ std::unique_ptr<Tracer> makeChcrtTracer(const std::string& name, const SceneSess
     if (name == "chcrt-noadapt" || name == "chcrt-aggressive" || alwaysCull) options.adaptive = false;
     if (o.chcrtThreshold >= 0) options.visibleThreshold = uint32_t(o.chcrtThreshold);
     if (o.chcrtMinTile >= 0) options.pairs.minTileSize = o.chcrtMinTile;
-    if (o.chcrtHeight >= 0) options.partition.maxSubtreeHeight = uint32_t(o.chcrtHeight);
+    if (o.chcrtHeight >= 0) {
+        options.partition.maxSubtreeHeight = uint32_t(o.chcrtHeight);
+        options.adaptiveHeights.clear(); // a forced height
+    }
     if (o.chcrtMultiQuery >= 0) options.multiQueryPairs = o.chcrtMultiQuery;
     if (!o.chcrtQueries.empty()) options.queries = parseChcrtQueries(o.chcrtQueries);
     if (o.chcrtBoundsCell >= 0) options.bounds.cellSize = o.chcrtBoundsCell;

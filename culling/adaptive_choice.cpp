@@ -1,6 +1,7 @@
 #include "culling/adaptive_choice.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace chcrt {
 
@@ -11,29 +12,59 @@ double RecentTimes::estimate() const {
     return std::max(std::min(ms_[0], ms_[1]), std::min(std::max(ms_[0], ms_[1]), ms_[2]));
 }
 
-bool AdaptiveChoice::shouldCull() const {
-    if (!cull_.known()) return true;
-    if (!full_.known()) return false;
-    if (cull_.estimate() > full_.estimate()) return sinceProbe_ + 1 >= interval_;
-    return sinceFull_ + 1 < base_;
-}
+AdaptiveChoice::AdaptiveChoice(uint32_t arms, uint32_t probeInterval, double probeBudget)
+    : arms_(std::max<uint32_t>(arms, 2)), base_(std::max<uint32_t>(probeInterval, 1)),
+      budget_(probeBudget > 0.0 ? probeBudget : 0.03) {}
 
-void AdaptiveChoice::culled(double ms, bool warm) {
-    if (warm) cull_.add(ms);
-    // Back-off: a probe that still loses doubles the interval (fewer costly probes in views where culling does
-    // not pay); a win restores it.
-    if (full_.known() && cull_.known()) {
-        interval_ = cull_.estimate() > full_.estimate() ? std::min(2 * interval_, 8 * base_) : base_;
+uint32_t AdaptiveChoice::best() const {
+    uint32_t best = kPureArm;
+    double bestMs = 0.0;
+    bool any = false;
+    for (uint32_t a = 0; a < arms_.size(); ++a) {
+        if (!arms_[a].times.known()) continue;
+        const double ms = arms_[a].times.estimate();
+        if (!any || ms < bestMs) best = a, bestMs = ms, any = true;
     }
-    sinceProbe_ = 0;
-    ++sinceFull_;
+    return best;
 }
 
-void AdaptiveChoice::tracedFull(double ms) {
-    if (fullWarm_) full_.add(ms);
-    fullWarm_ = true;
-    sinceFull_ = 0;
-    ++sinceProbe_;
+uint32_t AdaptiveChoice::probeInterval(uint32_t arm) const {
+    const uint32_t winner = best();
+    if (arm == winner || !arms_[arm].times.known() || !arms_[winner].times.known()) return base_;
+    const double bestMs = arms_[winner].times.estimate();
+    const double ratio = bestMs > 0.0 ? arms_[arm].times.estimate() / bestMs : 1.0;
+    const double losers = double(arms_.size() - 1);
+    const double wait = std::ceil(losers * std::max(ratio - 1.0, 0.0) / budget_);
+    return uint32_t(std::clamp(wait, double(base_), double(kMaxProbeInterval)));
+}
+
+uint32_t AdaptiveChoice::next() const {
+    // Measure every arm once, the configured culling first.
+    if (!arms_[1].times.known()) return 1;
+    if (!arms_[kPureArm].times.known()) return kPureArm;
+    for (uint32_t a = 2; a < arms_.size(); ++a) {
+        if (!arms_[a].times.known()) return a;
+    }
+    // The most overdue probe, else the best arm.
+    const uint32_t winner = best();
+    uint32_t probe = winner;
+    double overdue = 0.0;
+    for (uint32_t a = 0; a < arms_.size(); ++a) {
+        if (a == winner) continue;
+        const double due = double(arms_[a].since + 1) / double(probeInterval(a));
+        if (due >= 1.0 && due > overdue) probe = a, overdue = due;
+    }
+    return probe;
+}
+
+void AdaptiveChoice::report(uint32_t arm, double ms, bool counted) {
+    Arm& ran = arms_[arm];
+    if (counted && !(arm == kPureArm && ran.runs == 0)) ran.times.add(ms);
+    ++ran.runs;
+    ran.since = 0;
+    for (uint32_t a = 0; a < arms_.size(); ++a) {
+        if (a != arm) ++arms_[a].since;
+    }
 }
 
 } // namespace chcrt

@@ -1,17 +1,21 @@
 #ifndef CHCRT_CULLING_ADAPTIVE_CHOICE_H
 #define CHCRT_CULLING_ADAPTIVE_CHOICE_H
-// The adaptive fallback of the CHC+RT tracer (ours, not in the paper; culling/README.md "Adaptive fallback"): for
-// one kind of rays, choose between a CHC+RT trace (culling) and one pure full-screen pass from measured wall
-// times, so that views where culling does not pay (far views on llvmpipe) lose as little as possible.
+// The adaptive choice of the CHC+RT tracer (ours, not in the paper; culling/README.md "Adaptive choice"): for one
+// kind of rays, choose among ways of tracing — arm 0 is one pure full-screen pass, arms 1..n are culling
+// configurations (termination heights, query modes) — from measured wall times, so that the tracer picks its own
+// height and falls back to the pure pass where culling does not pay.
 //
-// Rule: cull until a warm culling time is known, then measure the pure pass (its first use is not counted: it
-// compiles shaders and fills caches); afterwards take the cheaper one by the median of its last three times.
-// While the pure pass wins, culling is re-probed after `probeInterval` traces, the interval doubling up to 8x
-// while probes keep losing; while culling wins, the pure pass is re-measured every `probeInterval` traces (one
-// low culling time measured under load must not lock culling in). Medians, not means: on the shared machines a
-// single trace slowed down by other processes otherwise flipped the choice (culling/README.md).
+// Rule: every arm is measured first, in order (arm 1, the configured culling, first; then the pure pass, whose
+// first trace is not counted: it compiles shaders and fills caches; then the other culling arms). Afterwards the
+// arm with the lowest median of its last three times runs, and each other arm is re-measured after an interval
+// that keeps the expected cost of all probes under `probeBudget` of the trace time: an arm r times as slow as the
+// best costs (r - 1) of a trace per probe, so with k losing arms it waits k (r - 1) / probeBudget traces (at
+// least `probeInterval`, at most kMaxProbeInterval). Probes re-measure losers whose cost changed with the view;
+// the running arm is measured every trace. Medians, not means: on shared machines one trace slowed down by
+// another process otherwise flipped the choice.
 #include <array>
 #include <cstdint>
+#include <vector>
 
 namespace chcrt {
 
@@ -30,25 +34,41 @@ private:
 
 class AdaptiveChoice {
 public:
-    explicit AdaptiveChoice(uint32_t probeInterval = 8) : base_(probeInterval < 1 ? 1 : probeInterval), interval_(base_) {}
+    static constexpr uint32_t kPureArm = 0;
+    static constexpr uint32_t kMaxProbeInterval = 1024;
 
-    // True: the next trace should cull; false: one pure pass.
-    bool shouldCull() const;
-    // Report the trace that was run. `warm`: the culling trace continued existing visibility fronts (a cold
-    // trace from the root pair is not representative and is not counted).
-    void culled(double ms, bool warm);
-    void tracedFull(double ms);
+    // `arms` >= 2: the pure pass and at least one culling configuration.
+    explicit AdaptiveChoice(uint32_t arms = 2, uint32_t probeInterval = 8, double probeBudget = 0.03);
 
-    const RecentTimes& cullTimes() const { return cull_; }
-    const RecentTimes& fullTimes() const { return full_; }
-    uint32_t probeInterval() const { return interval_; }
+    // The arm the next trace should use.
+    uint32_t next() const;
+    // Report a trace of `arm`. `counted` false: not representative (a culling trace that started from cold
+    // visibility fronts, a debug trace); the pure arm's first trace is never counted.
+    void report(uint32_t arm, double ms, bool counted);
+
+    uint32_t arms() const { return uint32_t(arms_.size()); }
+    const RecentTimes& times(uint32_t arm) const { return arms_[arm].times; }
+    // The arm with the lowest estimate among the measured ones (kPureArm before any is measured).
+    uint32_t best() const;
+    // Traces a losing arm waits between probes under the budget (its current value).
+    uint32_t probeInterval(uint32_t arm) const;
+
+    // The two-arm interface (pure pass or culling).
+    bool shouldCull() const { return next() != kPureArm; }
+    void culled(double ms, bool warm) { report(1, ms, warm); }
+    void tracedFull(double ms) { report(kPureArm, ms, true); }
+    const RecentTimes& cullTimes() const { return times(1); }
+    const RecentTimes& fullTimes() const { return times(kPureArm); }
 
 private:
-    RecentTimes cull_, full_;
-    uint32_t base_, interval_;
-    uint32_t sinceProbe_ = 0; // traces since culling last ran
-    uint32_t sinceFull_ = 0;  // traces since the pure pass last ran
-    bool fullWarm_ = false;   // the first pure pass is not measured
+    struct Arm {
+        RecentTimes times;
+        uint32_t since = 0; // traces since this arm last ran
+        uint32_t runs = 0;
+    };
+    std::vector<Arm> arms_;
+    uint32_t base_;
+    double budget_;
 };
 
 } // namespace chcrt

@@ -82,6 +82,14 @@ const char* debugDefine(ChcrtDebugImage kind) {
 
 } // namespace
 
+ChcrtOptions recommendedChcrtOptions() {
+    ChcrtOptions options;
+    options.queries = ChcrtQueries::BoundsOnly;
+    options.partition.maxSubtreeHeight = 12;
+    options.adaptiveHeights = {10, 14};
+    return options;
+}
+
 const char* toString(ChcrtQueries queries) {
     return queries == ChcrtQueries::Gl ? "gl" : "bounds-only";
 }
@@ -137,6 +145,7 @@ std::vector<float> colorizeChcrtDebugImage(ChcrtDebugImage kind, const std::vect
 ChcrtStats& ChcrtStats::operator+=(const ChcrtStats& o) {
     traces += o.traces;
     fallbackTraces += o.fallbackTraces;
+    heightSum += o.heightSum;
     queries += o.queries;
     queriesSingle += o.queriesSingle;
     queriesMulti += o.queriesMulti;
@@ -169,8 +178,9 @@ ChcrtStats& ChcrtStats::operator+=(const ChcrtStats& o) {
 }
 
 ChcrtTracer::ChcrtTracer(const Bvh& bvh, const ChcrtOptions& options, std::string name)
-    : name_(std::move(name)), options_((validate(options), options)),
+    : name_(std::move(name)), options_((validate(options), options)), bvh_(&bvh),
       hierarchy_(buildCullingHierarchy(bvh, options.partition)) {
+    heightArms_.resize(options_.adaptiveHeights.size());
     ownedSource_ = std::make_unique<BvhSubtreeSource>(hierarchy_);
     source_ = ownedSource_.get();
     if (options_.adaptive) {
@@ -276,7 +286,9 @@ const ShaderProgram& ChcrtTracer::subtreeProgram(bool anyHit) const {
 
 VisibilityState& ChcrtTracer::stateFor(const TraceRequest& request, int width, int height) {
     std::unique_ptr<VisibilityState>& state = states_[rayStateKey(request)];
-    if (!state || !options_.temporalCoherence || state->width() != width || state->height() != height) {
+    const bool temporal = options_.queries == ChcrtQueries::BoundsOnly ? options_.boundsPreviousFront
+                                                                       : options_.temporalCoherence;
+    if (!state || !temporal || state->width() != width || state->height() != height) {
         state = std::make_unique<VisibilityState>(width, height, options_.seed ^ uint32_t(rayStateKey(request)));
     }
     return *state;
@@ -598,31 +610,58 @@ void ChcrtTracer::trace(const TraceRequest& request, const RayTextures& rays, Hi
     last_ = ChcrtStats{};
     last_.traces = 1;
     last_.raysTraced = uint64_t(width) * uint64_t(height);
-    // Adaptive fallback (adaptive_choice.h): per ray kind, the cheaper of the two measured ways; the loser is
-    // re-measured after adaptiveProbeInterval traces (culling: doubling while it keeps losing). A selected debug
-    // image turns it off, so that the image shows the culling passes (for Cost: what culling costs per pixel,
+    // Adaptive choice (adaptive_choice.h): per ray kind, the cheapest measured arm — one pure pass, or culling at
+    // the configured height or one of adaptiveHeights; losers are re-measured within the probe budget. A selected
+    // debug image turns it off, so that the image shows the culling passes (for Cost: what culling costs per pixel,
     // also where the adaptive choice would trace with one pure pass).
     const bool canFallBack = options_.adaptive && fullTracer_ != nullptr && debugKind_ == ChcrtDebugImage::None;
+    const uint32_t arms = 2 + uint32_t(bvh_ ? heightArms_.size() : 0);
     AdaptiveChoice& choice =
-        adaptive_.try_emplace(adaptiveKey(request), options_.adaptiveProbeInterval).first->second;
-    const bool cull = !canFallBack || choice.shouldCull();
+        adaptive_.try_emplace(adaptiveKey(request), arms, options_.adaptiveProbeInterval, options_.adaptiveProbeBudget)
+            .first->second;
+    const uint32_t arm = canFallBack ? choice.next() : 1;
     const auto start = Clock::now();
-    if (cull) {
-        const bool warm = options_.queries == ChcrtQueries::BoundsOnly ? traceBounded(request, rays, hits, width, height)
-                                                                       : traceCulled(request, rays, hits, width, height);
-        // traceCulled ends with glFinish. A debug trace's time includes the instrumentation: not a sample of
-        // culling's cost for the choice.
-        if (debugKind_ == ChcrtDebugImage::None) choice.culled(millisecondsSince(start), warm);
+    if (arm != AdaptiveChoice::kPureArm) {
+        ChcrtTracer& tracer = armTracer(arm);
+        const bool warm = tracer.traceOwn(request, rays, hits, width, height);
+        if (&tracer != this) last_ = tracer.last_;
+        last_.traces = 1;
+        last_.raysTraced = uint64_t(width) * uint64_t(height);
+        last_.heightSum = tracer.hierarchy_.maxSubtreeHeight;
+        // The culling traces end with glFinish. A debug trace's time includes the instrumentation: not a sample
+        // of culling's cost for the choice.
+        if (canFallBack) choice.report(arm, millisecondsSince(start), warm);
         stats.passes += 1 + last_.shaderCalls + last_.queries;
     } else {
         fullTracer_->trace(request, rays, hits, width, height, stats);
         glFinish();
         const double ms = millisecondsSince(start);
-        choice.tracedFull(ms);
+        choice.report(arm, ms, true);
         last_.fallbackTraces = 1;
         last_.fallbackMs = ms;
     }
     total_ += last_;
+}
+
+ChcrtTracer& ChcrtTracer::armTracer(uint32_t arm) {
+    if (arm <= 1 || !bvh_) return *this;
+    std::unique_ptr<ChcrtTracer>& tracer = heightArms_[arm - 2];
+    if (!tracer) {
+        ChcrtOptions options = options_;
+        options.partition.maxSubtreeHeight = options_.adaptiveHeights[arm - 2];
+        options.adaptive = false;
+        options.adaptiveHeights.clear();
+        tracer = std::make_unique<ChcrtTracer>(*bvh_, options, name_);
+    }
+    return *tracer;
+}
+
+bool ChcrtTracer::traceOwn(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width,
+                           int height) {
+    last_ = ChcrtStats{};
+    ++tracesRun_;
+    return options_.queries == ChcrtQueries::BoundsOnly ? traceBounded(request, rays, hits, width, height)
+                                                        : traceCulled(request, rays, hits, width, height);
 }
 
 bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width,

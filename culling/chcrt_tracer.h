@@ -37,6 +37,8 @@ const char* toString(ChcrtQueries queries);
 ChcrtQueries parseChcrtQueries(const std::string& name); // "gl" | "bounds-only"; InputError otherwise
 
 struct ChcrtOptions {
+    // Defaults: the paper's configuration (GL queries, termination height 24); recommendedChcrtOptions() below is
+    // the fastest measured one, which the `chcrt` methods start from.
     SubtreePartitionOptions partition;
     ChcrtQueries queries = ChcrtQueries::Gl;
     // Cells and pieces of the ray bounds grid (ray_bounds_grid.h): the only culling of BoundsOnly, the query
@@ -46,7 +48,12 @@ struct ChcrtOptions {
     int batchSize = 24;              // §5.2: subtrees per shader call (<= CHCRT_CULLING_MAX_BATCH)
     int flushThreshold = 16;         // §5.1 m: intersect newly visible leaves once more than m have collected
     uint32_t requeryInterval = 3;    // §5.1 n: lazy re-query of visible leaves every n frames
-    bool temporalCoherence = true;   // false: every trace starts from the root pair (§4.3-4.4 only)
+    bool temporalCoherence = true;   // Gl, false: every trace starts from the root pair (§4.3-4.4 only)
+    // BoundsOnly: intersect the previous trace's visible front first (Algorithm 1's Phase 1), then decide the rest
+    // against its hits: two intersection rounds and two reductions. Off: the bounds before any hit decide every
+    // pair from the root pair and one round intersects them; cell lists sorted by entry distance let a ray stop
+    // at its first hit anyway. Off measured faster for every ray type (city near 256², culling/README.md).
+    bool boundsPreviousFront = false;
     uint32_t visibleThreshold = 0;   // §7 aggressive culling: visible only when more rays pass (0 = exact)
     uint32_t seed = 1;               // of the randomized re-query phases
     bool tighterBounds = true;       // §5.1: query the node's two children's boxes instead of its own box
@@ -68,6 +75,11 @@ struct ChcrtOptions {
     // one.
     bool adaptive = true;
     uint32_t adaptiveProbeInterval = 8;
+    // Probes of losing arms cost at most this share of the trace time (adaptive_choice.h).
+    double adaptiveProbeBudget = 0.03;
+    // More culling arms of the adaptive choice (in core only): the same options at these termination heights,
+    // each with its own culling hierarchy, built on first use. Empty: the configured height only.
+    std::vector<uint32_t> adaptiveHeights;
     // Extra defines of the subtree-intersection shader per any-hit (e.g. Line Space traversal, methods
     // chcrt+ls*: linespace/README.md) and the binding of what they read, called before subtree draws. Empty =
     // pure subtree traversal; a traversal named there (CHCRT_BVH_TRAVERSAL) turns the leaf cache and merged batches off.
@@ -75,10 +87,16 @@ struct ChcrtOptions {
     std::function<void()> bindSubtreeResources;
 };
 
+// The fastest exact configuration measured on the city, interior and plant near paths (culling/README.md "Choosing
+// the configuration"): the ray bounds grid decides every pair, termination height 12, and the adaptive choice
+// also tries heights 10 and 14 per ray kind besides the pure pass.
+ChcrtOptions recommendedChcrtOptions();
+
 // Counters of one trace (lastStats) or summed over traces (totalStats).
 struct ChcrtStats {
     uint64_t traces = 0;
     uint64_t fallbackTraces = 0;     // traces done by the adaptive fallback (one pure pass, no culling)
+    uint64_t heightSum = 0;          // termination heights of the culling traces (mean = heightSum / culled traces)
     uint64_t queries = 0;            // occlusion queries issued (all phases) = single + multi
     uint64_t queriesSingle = 0;      // queries of one pair
     uint64_t queriesMulti = 0;       // §5.1 multi-queries (several invisible pairs of one tile)
@@ -153,7 +171,11 @@ public:
     const ChcrtStats& totalStats() const { return total_; }
     void resetStats() { total_ = ChcrtStats{}; }
     // Forgets every ray set's visibility fronts and adaptive measurements.
-    void resetVisibility() { states_.clear(); adaptive_.clear(); }
+    void resetVisibility() {
+        states_.clear();
+        adaptive_.clear();
+        for (auto& arm : heightArms_) if (arm) arm->resetVisibility();
+    }
     size_t rayStateCount() const { return states_.size(); }
 
     // Debug images: selecting one compiles the instrumented shader variants on first use; traces then add to
@@ -228,9 +250,15 @@ private:
     GLuint maskFramebufferFor(GLuint depthTexture);
     std::string debugDefineOfKind() const;
     void ensureDebugTexture(int width, int height);
+    // The culling tracer of adaptive arm `arm` (>= 1): this one for arm 1, else one at adaptiveHeights[arm - 2].
+    ChcrtTracer& armTracer(uint32_t arm);
+    bool traceOwn(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width, int height);
 
     std::string name_;
     ChcrtOptions options_;
+    const Bvh* bvh_ = nullptr; // in core: for the culling hierarchies of adaptiveHeights
+    std::vector<std::unique_ptr<ChcrtTracer>> heightArms_; // by adaptiveHeights index, built on first use
+    uint64_t tracesRun_ = 0; // culling traces of this configuration
     CullingHierarchy hierarchy_;
     std::unique_ptr<SubtreeSource> ownedSource_;
     SubtreeSource* source_ = nullptr;

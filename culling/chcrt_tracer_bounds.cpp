@@ -129,7 +129,8 @@ bool ChcrtTracer::traceBounded(const TraceRequest& request, const RayTextures& r
     eye_ = request.camera.eye;
     const bool anyHit = request.anyHit;
     VisibilityState& state = stateFor(request, width, height);
-    const bool warm = state.frame() > 0;
+    // Without the previous front every trace is alike; only the first (compiling, filling caches) is not typical.
+    const bool warm = options_.boundsPreviousFront ? state.frame() > 0 : tracesRun_ > 1;
     auto start = Clock::now();
     beginTrace(rays, hits, width, height);
     // Before any hit, a ray reaches its whole segment (clipped to the scene): bounded rays (shadow, AO) already
@@ -139,20 +140,24 @@ bool ChcrtTracer::traceBounded(const TraceRequest& request, const RayTextures& r
     // Phase 1 (Algorithm 1, lines 1-4): intersect the previously visible leaves that the rays can reach.
     std::vector<int32_t> visibleLeaves, invisibleLeaves;
     state.collectLeaves(visibleLeaves, invisibleLeaves);
-    std::vector<Scheduled> work;
-    for (int32_t p : visibleLeaves) {
-        if (mayHit(state.pair(p))) schedule(state, p, work);
-        else ++last_.leavesSkippedExtent;
+    const bool phase1 = !visibleLeaves.empty();
+    if (phase1) {
+        std::vector<Scheduled> work;
+        for (int32_t p : visibleLeaves) {
+            if (mayHit(state.pair(p))) schedule(state, p, work);
+            else ++last_.leavesSkippedExtent;
+        }
+        intersectCells(work, anyHit, rays, hits, true, width, height);
+        glFinish();
     }
-    intersectCells(work, anyHit, rays, hits, true, width, height);
-    glFinish();
     last_.phase1Ms = msSince(start);
 
     // Phases 2 and 3 (lines 5-34), decided on the CPU against the hits Phase 1 found: visible leaves out of reach
     // join the invisible front (the lazy re-query, every frame and free); invisible pairs in reach are traversed
-    // down to terminal pairs, whose subtrees are intersected in one more round.
+    // down to terminal pairs, whose subtrees are intersected in one more round. Without a visible front (a cold
+    // trace, or no temporal coherence) the bounds before any hit decide, and one round intersects everything.
     start = Clock::now();
-    updateBounds(rays, hits.hit.id(), anyHit, width, height);
+    if (phase1) updateBounds(rays, hits.hit.id(), anyHit, width, height);
     for (int32_t p : visibleLeaves) {
         ++last_.pairsDecidedBounds;
         if (!mayHit(state.pair(p))) state.pair(p).visible = false;
@@ -163,7 +168,7 @@ bool ChcrtTracer::traceBounded(const TraceRequest& request, const RayTextures& r
     last_.phase2Ms = msSince(start);
 
     start = Clock::now();
-    intersectCells(newlyVisible, anyHit, rays, hits, false, width, height);
+    intersectCells(newlyVisible, anyHit, rays, hits, !phase1, width, height);
     endTrace(state, width, height);
     last_.phase3Ms = msSince(start);
     return warm;

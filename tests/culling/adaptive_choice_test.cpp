@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <vector>
+
 namespace chcrt::test {
 namespace {
 
@@ -38,7 +41,7 @@ TEST(RecentTimes, MedianOfTheLastThree) {
 }
 
 TEST(AdaptiveChoice, StartsCullingThenMeasuresThePurePassTwice) {
-    AdaptiveChoice choice(8);
+    AdaptiveChoice choice(2, 8);
     EXPECT_TRUE(choice.shouldCull());
     choice.culled(50.0, false); // cold: not counted
     EXPECT_TRUE(choice.shouldCull());
@@ -52,25 +55,77 @@ TEST(AdaptiveChoice, StartsCullingThenMeasuresThePurePassTwice) {
     EXPECT_FALSE(choice.shouldCull()); // culling (12) loses
 }
 
-TEST(AdaptiveChoice, LosingCullingIsProbedLessAndLessOften) {
-    AdaptiveChoice choice(8);
-    run(choice, 4, 13.0, 10.0); // start-up
-    // Probes after 8, 16, 32, then every 64 traces: few culled traces over a long walkthrough.
-    const int culled = run(choice, 8 + 16 + 32 + 64 * 4, 13.0, 10.0);
-    EXPECT_EQ(culled, 3 + 4);
-    EXPECT_EQ(choice.probeInterval(), 64u);
+// Runs `traces` traces of fixed per-arm costs; returns the total time and counts the traces per arm.
+double runArms(AdaptiveChoice& choice, int traces, const std::vector<double>& ms, std::vector<int>* counts = nullptr) {
+    double total = 0.0;
+    for (int i = 0; i < traces; ++i) {
+        const uint32_t arm = choice.next();
+        choice.report(arm, ms[arm], true);
+        total += ms[arm];
+        if (counts) ++(*counts)[arm];
+    }
+    return total;
+}
+
+TEST(AdaptiveChoice, ProbesOfLosingArmsCostAtMostTheBudget) {
+    for (const std::vector<double>& ms : {std::vector<double>{10.0, 13.0}, std::vector<double>{10.0, 30.0},
+                                          std::vector<double>{10.0, 12.0, 25.0, 11.0},
+                                          std::vector<double>{14.0, 10.0, 11.0}}) {
+        AdaptiveChoice choice(uint32_t(ms.size()), 8, 0.03);
+        runArms(choice, 10, ms); // start-up: every arm measured
+        const double best = *std::min_element(ms.begin(), ms.end());
+        const int traces = 2000;
+        const double total = runArms(choice, traces, ms);
+        EXPECT_LE(total, 1.03 * best * traces) << ms.size() << " arms, " << ms[1];
+        EXPECT_GT(total, best * traces) << "losers are still probed";
+        EXPECT_EQ(choice.best(), uint32_t(std::min_element(ms.begin(), ms.end()) - ms.begin()));
+    }
+}
+
+TEST(AdaptiveChoice, ASlowerLoserWaitsLonger) {
+    AdaptiveChoice choice(3, 8, 0.03);
+    runArms(choice, 6, {10.0, 12.0, 30.0});
+    EXPECT_EQ(choice.best(), AdaptiveChoice::kPureArm);
+    // Two losers: arm 1 (1.2x) every 2 * 0.2 / 0.03 = 14 traces, arm 2 (3x) every 2 * 2 / 0.03 = 134.
+    EXPECT_EQ(choice.probeInterval(1), 14u);
+    EXPECT_EQ(choice.probeInterval(2), 134u);
+    std::vector<int> counts(3, 0);
+    runArms(choice, 1340, {10.0, 12.0, 30.0}, &counts);
+    EXPECT_NEAR(counts[1], 1340 / 14, 2);
+    EXPECT_NEAR(counts[2], 1340 / 134, 1);
+}
+
+TEST(AdaptiveChoice, TheIntervalHasAFloorAndACeiling) {
+    AdaptiveChoice close(2, 8, 0.03);
+    runArms(close, 4, {10.0, 10.1});
+    EXPECT_EQ(close.probeInterval(1), 8u); // 0.01 / 0.03 rounds up to 1: the floor
+    AdaptiveChoice far(2, 8, 0.03);
+    runArms(far, 4, {1.0, 100.0});
+    EXPECT_EQ(far.probeInterval(1), AdaptiveChoice::kMaxProbeInterval);
+}
+
+TEST(AdaptiveChoice, EveryCullingArmIsMeasuredBeforeChoosing) {
+    AdaptiveChoice choice(4, 8);
+    std::vector<uint32_t> order;
+    for (int i = 0; i < 5; ++i) {
+        order.push_back(choice.next());
+        choice.report(order.back(), 10.0, true);
+    }
+    // The configured culling, the pure pass twice (its first trace is not counted), then the other heights.
+    EXPECT_EQ(order, (std::vector<uint32_t>{1, 0, 0, 2, 3}));
 }
 
 TEST(AdaptiveChoice, WinningCullingStillRemeasuresThePurePass) {
-    AdaptiveChoice choice(8);
-    run(choice, 4, 8.0, 10.0);
-    const int culled = run(choice, 80, 8.0, 10.0);
-    EXPECT_EQ(culled, 70); // 7 of every 8 traces cull
-    EXPECT_EQ(choice.probeInterval(), 8u);
+    AdaptiveChoice choice(2, 8);
+    runArms(choice, 4, {10.0, 8.0});
+    std::vector<int> counts(2, 0);
+    runArms(choice, 90, {10.0, 8.0}, &counts);
+    EXPECT_EQ(choice.probeInterval(0), 9u); // 0.25 / 0.03
+    EXPECT_EQ(counts[0], 10);
 }
 
 TEST(AdaptiveChoice, OneSlowPurePassDoesNotSwitchToCulling) {
-    AdaptiveChoice choice(8);
+    AdaptiveChoice choice(2, 8);
     run(choice, 5, 13.0, 10.0); // the pure pass measured at 10 three times, no probe due yet
     ASSERT_FALSE(choice.shouldCull());
     choice.tracedFull(40.0); // slowed down by another process
@@ -79,10 +134,15 @@ TEST(AdaptiveChoice, OneSlowPurePassDoesNotSwitchToCulling) {
 }
 
 TEST(AdaptiveChoice, FollowsAViewWhereCullingStartsToPay) {
-    AdaptiveChoice choice(8);
+    AdaptiveChoice choice(2, 8);
     run(choice, 40, 13.0, 10.0);
     run(choice, 80, 5.0, 10.0); // the next probe wins; two more measurements move the median
-    EXPECT_EQ(run(choice, 16, 5.0, 10.0), 14);
+    // Culling at half the pure time: the pure pass is re-measured every 1.0 / 0.03 = 34 traces.
+    EXPECT_EQ(choice.best(), 1u);
+    EXPECT_EQ(choice.probeInterval(AdaptiveChoice::kPureArm), 34u);
+    std::vector<int> counts(2, 0);
+    runArms(choice, 68, {10.0, 5.0}, &counts);
+    EXPECT_EQ(counts[0], 2);
 }
 
 } // namespace
