@@ -1,6 +1,6 @@
 // `chcrt bench`: compares tracing methods on the same rays, per ray type, over frames of a walkthrough.
 // Method: for every run, frame and sample the rays are generated once and every method traces those same rays
-// (ratios within one run, as DEVELOPERS.md asks); only tracing is timed (glFinish before and after). One
+// (ratios within one run: runs vary by ±40 % here); only tracing is timed (glFinish before and after). One
 // untimed warm-up run compiles shaders and fills caches. ms_median = median over runs of the mean tracing
 // time per frame (all samples of a frame). Mrays/s counts active rays (pixels without a surface shoot no
 // secondary rays). diff_pixels / psnr_db compare with pure BVH GLSL tracing: for embree, diff_pixels counts

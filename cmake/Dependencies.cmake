@@ -10,7 +10,7 @@ pkg_check_modules(EGL REQUIRED IMPORTED_TARGET egl)
 pkg_check_modules(OSMESA REQUIRED IMPORTED_TARGET osmesa)
 
 # Debian 12's OpenImageIO target lists /usr/include/opencv4, which does not exist without OpenCV's dev
-# package (PLATFORM.md); drop it so configuration does not fail.
+# package; drop it so configuration does not fail.
 get_target_property(_oiio_includes OpenImageIO::OpenImageIO INTERFACE_INCLUDE_DIRECTORIES)
 if(_oiio_includes)
   list(FILTER _oiio_includes EXCLUDE REGEX "opencv4")

@@ -1,5 +1,5 @@
 # Generates the GL function table (gl_functions.h/.cpp) from glcorearb.h at configure time. One table serves
-# EGL, OSMesa and GLFW contexts: it is filled from the context's own get-proc-address (PLATFORM.md: libepoxy,
+# EGL, OSMesa and GLFW contexts: it is filled from the context's own get-proc-address (libepoxy,
 # GLEW and glbinding fail on OSMesa). Every function becomes a pointer `chcrt::gl::glFoo_ptr` plus a macro
 # `glFoo` naming it, so call sites read like plain GL.
 # Functions of GL_VERSION_1_0..GL_VERSION_4_5 are required (loadGlFunctions throws when one is missing); later

@@ -1,6 +1,7 @@
 #pragma once
-// Line Spaces on the GPU: the pools of linespace_build.h uploaded as texture buffers (PLATFORM.md), bound to
-// the units of shaders/shared/linespace_bindings.h, plus the shader defines a traversal compiles with.
+// Line Spaces on the GPU: the pools of linespace_build.h uploaded as texture buffers (~10x faster than SSBOs on
+// llvmpipe), bound to the units of shaders/shared/linespace_bindings.h, plus the shader defines a traversal
+// compiles with.
 // Any shader that includes shaders/render/bvh_traverse.glsl (the pure tracer, CHC+RT subtrees) uses Line Spaces
 // by compiling with defines(mode, ...) and calling bind() before drawing.
 #include "linespace/linespace_build.h"

@@ -1,7 +1,7 @@
 #pragma once
 // Everything the viewer's panel, keys and scripts can change, in one struct built on the CLI's CommonOptions:
 // one place turns it into the renderer's RenderSettings and into the `chcrt render` / `chcrt bench` command
-// lines that reproduce the current view (STYLE.md practice 7).
+// lines that reproduce the current view.
 #include "app/options.h"
 #include "app/viewer/view_modes.h"
 #include "renderer/render/render_settings.h"

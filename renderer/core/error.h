@@ -1,5 +1,5 @@
 #pragma once
-// Error policy (docs/errors.md): bugs assert; bad input, shader and GL failures throw one of these and are
+// Error policy: bugs assert; bad input, shader and GL failures throw one of these and are
 // caught once in app/ (one-line message, non-zero exit); expected failures are return values.
 #include <stdexcept>
 #include <string>

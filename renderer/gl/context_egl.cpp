@@ -1,6 +1,7 @@
 // Headless EGL: OpenGL 4.5 core contexts without a display server, made current with no surface (the renderer
 // draws into FBOs only). The device platform (EGL_EXT_platform_device) comes first because it is how NVIDIA's
-// driver runs headless; Mesa's surfaceless platform is the fallback (PLATFORM.md).
+// driver runs headless; Mesa's surfaceless platform is the fallback (both need no display server; plain
+// eglGetDisplay fails without one unless EGL_PLATFORM=surfaceless is set).
 // CHCRT_EGL_PLATFORM=device|surfaceless restricts the search to one platform (tests use it to cover both).
 #define EGL_NO_X11 // keep X11's macros (None, Bool, ...) out of this translation unit
 #include "renderer/core/error.h"

@@ -1,6 +1,7 @@
 // OSMesa: Mesa's off-screen context, the second headless backend (and the one that common GL loaders cannot
-// serve, PLATFORM.md). This is the only translation unit that includes <GL/osmesa.h>: it pulls in <GL/gl.h>,
-// which cannot coexist with the generated loader header, so nothing here calls GL itself.
+// serve: libepoxy, GLEW and glbinding work with EGL and GLX contexts but fail with OSMesa). This is the only
+// translation unit that includes <GL/osmesa.h>: it pulls in <GL/gl.h>, which cannot coexist with the generated
+// loader header, so nothing here calls GL itself.
 #include "renderer/core/error.h"
 #include "renderer/gl/gl_internal.h"
 

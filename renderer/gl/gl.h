@@ -1,8 +1,8 @@
 #pragma once
 // Include this, never <GL/gl.h>: it declares the GL 4.5 core API as a table of function pointers filled
 // from the current context's own get-proc-address (EGL, OSMesa or GLFW). One loader serves all three;
-// PLATFORM.md explains why libepoxy/GLEW/glbinding fail on OSMesa. The table is generated at build time
-// from /usr/include/GL/glcorearb.h (cmake/GlLoader.cmake).
+// libepoxy, GLEW and glbinding work with EGL and GLX contexts but fail with OSMesa. The table is generated at
+// build time from /usr/include/GL/glcorearb.h (cmake/GlLoader.cmake).
 #include "gl_functions.h" // generated into the build tree
 
 namespace chcrt {

@@ -53,8 +53,8 @@ GlTexture createTexture2D(int width, int height, GLenum internalFormat, int leve
 GlQuery createQuery(GLenum target);
 GlVertexArray createVertexArray();
 
-// A texture buffer view (TBO) of a buffer: the renderer reads scene data through these (PLATFORM.md).
-// Throws GlError when `bytes / texelSize` exceeds GL_MAX_TEXTURE_BUFFER_SIZE.
+// A texture buffer view (TBO) of a buffer: the renderer reads scene data through these (~10x faster than SSBOs
+// on llvmpipe). Throws GlError when `bytes / texelSize` exceeds GL_MAX_TEXTURE_BUFFER_SIZE.
 struct TextureBuffer {
     GlBuffer buffer;
     GlTexture texture;

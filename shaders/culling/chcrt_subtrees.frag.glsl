@@ -98,7 +98,8 @@ void main() {
     traverseSubtreeBatch(min(batchCount, CHCRT_CULLING_MAX_BATCH), originTmin.xyz, directionTmax.xyz, originTmin.w,
                          best, cost);
 #else
-    // batchCount <= CHCRT_CULLING_MAX_BATCH; the iterations still count towards the cap (PLATFORM.md).
+    // batchCount <= CHCRT_CULLING_MAX_BATCH; the iterations still count towards the cap (llvmpipe's
+    // 65,535-iteration limit is per invocation, shared by all its loops).
     for (int i = 0; i < batchCount && i < CHCRT_CULLING_MAX_BATCH && cost.iterations < CHCRT_TRACE_ITERATION_CAP;
          ++i) {
         ++cost.iterations;

@@ -1,5 +1,5 @@
-// Line Space lookups from texture buffers (the GLSL side of linespace/linespace_build.h's pools; PLATFORM.md:
-// texture buffers, not SSBOs). Include after shared/linespace_layout.h.
+// Line Space lookups from texture buffers (the GLSL side of linespace/linespace_build.h's pools;
+// texture buffers, not SSBOs: ~10x faster on llvmpipe). Include after shared/linespace_layout.h.
 //   node records  RGBA32F, CHCRT_LS_TEXELS_PER_NODE texels per Line Space (LineSpaceNodeGpu)
 //   binary words  R32UI, lsShaftCount(n, true) / 32 words per Line Space (symmetric layout)
 //   candidates    R32UI words and offsets (lsShaftCount(n, false) / 32 per Line Space) and R32UI data: the

@@ -1,7 +1,7 @@
 #ifndef CHCRT_SHARED_BVH_LAYOUT_H
 #define CHCRT_SHARED_BVH_LAYOUT_H
 // GPU layout of the BVH and its triangles, shared by C++ (renderer/bvh) and GLSL (shaders/render/*).
-// Both live in RGBA32F texture buffers (PLATFORM.md: texture buffers are ~10x faster than SSBOs on llvmpipe;
+// Both live in RGBA32F texture buffers (texture buffers are ~10x faster than SSBOs on llvmpipe;
 // CHC+RT §5.2 does the same). Integers are stored as float bit patterns (floatBitsToUint in GLSL).
 #include "shared_begin.h"
 

@@ -58,7 +58,7 @@
 #define CHCRT_RAY_DIFFUSE 3
 #define CHCRT_RAY_BOUNCE_SHADOW 4 // shadow rays from the diffuse pass's hit points to the light
 
-// llvmpipe silently ends every loop of a shader invocation after 65,535 iterations in total (PLATFORM.md).
+// llvmpipe silently ends every loop of a shader invocation after 65,535 iterations in total.
 // The tracer counts all its loop iterations and stops at this cap, flagging the ray in its cost output, so the
 // limit is never reached silently; the renderer counts flagged rays and `verify` fails on any.
 #ifndef CHCRT_TRACE_ITERATION_CAP

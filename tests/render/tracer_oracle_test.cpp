@@ -1,4 +1,4 @@
-// The GLSL tracer against its oracles (DEVELOPERS.md: Embree and a CPU tracer check GLSL tracing), on the
+// The GLSL tracer against its oracles (Embree and a CPU BVH tracer check GLSL tracing), on the
 // procedural scenes, for every ray type, with the tolerance of renderer/render/hit_comparison.h.
 #include "render_fixture.h"
 
@@ -96,7 +96,8 @@ TEST_F(RenderTest, LoopCapIsDetectedAndReported) {
 
 TEST_F(RenderTest, LoopCapIsNeverReachedOnTheDeepestScene) {
     // The plant is the deepest, least regular procedural scene; full-length diffuse rays at full rotation are
-    // the least coherent rays we trace. None may reach llvmpipe's loop limit (PLATFORM.md).
+    // the least coherent rays we trace. None may reach llvmpipe's loop limit (65,535 iterations per
+    // shader invocation in total, ended silently).
     RenderSettings settings;
     settings.width = 64;
     settings.height = 64;
