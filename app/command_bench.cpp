@@ -119,6 +119,10 @@ int runBench(const BenchOptions& options) {
     table.header = {"scene", "path", "ray_type", "method", "size", "spp", "ms/frame", "Mrays/s", "speedup", "diff_px",
                     "PSNR dB"};
     if (options.steps) table.header.push_back("steps/ray");
+    // What a CHC+RT row ran: the share of its traces that culled (the rest were the adaptive choice's pure passes)
+    // and the mean termination height of the culling traces.
+    table.header.push_back("culled");
+    table.header.push_back("H");
     nlohmann::json rowsJson = nlohmann::json::array();
     const int totalRuns = options.warmupRuns + options.runs;
     session.progress->begin("Benchmarking", uint64_t(rayTypes.size()) * totalRuns * frames.size());
@@ -243,6 +247,9 @@ int runBench(const BenchOptions& options) {
             const bool stepsCounted = options.steps && r.stepRays > 0;
             const double stepsPerRay = stepsCounted ? double(r.steps) / double(r.stepRays) : 0.0;
             if (options.steps) table.rows.back().push_back(stepsCounted ? formatFixed(stepsPerRay, 1) : "-");
+            const uint64_t culledTraces = r.chcrt.traces - r.chcrt.fallbackTraces;
+            table.rows.back().push_back(r.chcrt.traces ? formatFixed(100.0 * double(culledTraces) / double(r.chcrt.traces), 0) + "%" : "-");
+            table.rows.back().push_back(culledTraces ? formatFixed(double(r.chcrt.heightSum) / double(culledTraces), 1) : "-");
             rowsJson.push_back({{"scene", session.scene.name},
                                 {"path", session.path.name},
                                 {"ray_type", toString(type)},

@@ -28,7 +28,7 @@
 
 namespace chcrt {
 
-// How query pairs are decided (culling/README.md "Deciding pairs"). All three are exact.
+// How query pairs are decided (culling/README.md "Deciding pairs"). Both are exact.
 enum class ChcrtQueries : uint8_t {
     Gl,         // §4.1 as in the paper: one GL occlusion query per pair (or §5.1 multi-query), per-tile subtree draws
     BoundsOnly, // the ray bounds grid decides every pair (no queries); cell lists, one draw per intersection round
@@ -68,14 +68,13 @@ struct ChcrtOptions {
     // Gl queries: pairs out of reach of every ray of their tile are invisible without a query, and such visible
     // leaves are not intersected (our addition; culling/ray_bounds_grid.h). Exact. BoundsOnly always uses the grid.
     bool rayExtentCulling = true;
-    // Adaptive fallback (culling/README.md): per ray kind (primary, shadow, AO, diffuse, bounce shadow), trace
-    // with one pure full-screen pass when the measured culling time exceeds the measured pure time (medians of
-    // the last three each); culling is re-probed after `adaptiveProbeInterval` traces of that kind, the interval
-    // doubling (up to 8×) while probes keep losing. Needs a full-tree tracer (in core: the BVH); ignored without
-    // one.
+    // Adaptive choice (culling/README.md, adaptive_choice.h): per ray kind (primary, shadow, AO, diffuse, bounce
+    // shadow), the arm with the lowest measured time (median of its last three) — one pure full-screen pass, or
+    // culling at the configured height or one of adaptiveHeights; losing arms are re-measured after at least
+    // `adaptiveProbeInterval` traces, spaced so that their expected cost stays under `adaptiveProbeBudget` of the
+    // trace time. Needs a full-tree tracer (in core: the BVH); ignored without one.
     bool adaptive = true;
     uint32_t adaptiveProbeInterval = 8;
-    // Probes of losing arms cost at most this share of the trace time (adaptive_choice.h).
     double adaptiveProbeBudget = 0.03;
     // More culling arms of the adaptive choice (in core only): the same options at these termination heights,
     // each with its own culling hierarchy, built on first use. Empty: the configured height only.
@@ -180,7 +179,7 @@ public:
 
     // Debug images: selecting one compiles the instrumented shader variants on first use; traces then add to
     // an R32UI texture of the traced size (GL window orientation) until clearDebugImage() (the viewer and
-    // `chcrt render --debug-image` clear it per frame). Adaptive fallback traces add nothing.
+    // `chcrt render --debug-image` clear it per frame). Traces the adaptive choice gives to another arm add nothing.
     void setDebugImage(ChcrtDebugImage kind);
     ChcrtDebugImage debugImageKind() const { return debugKind_; }
     void clearDebugImage();
