@@ -51,28 +51,38 @@ uint32_t CellTraversal::draw(bool anyHit, const std::string& debugDefine, int wi
     counts_.assign(cells + 1, 0u);
     for (const Entry& e : entries_) ++counts_[e.cell + 1];
     for (size_t c = 1; c <= cells; ++c) counts_[c] += counts_[c - 1];
+    // Entry 0 of the uploaded lists is the whole tree (for cells over the limit); a cell's list starts at
+    // 1 + its first sorted entry.
     headers_.assign(cells * 2, 0u);
     drawCells_.clear();
+    wholeTreeCells_ = 0;
     for (size_t c = 0; c < cells; ++c) {
-        headers_[2 * c] = counts_[c];
-        headers_[2 * c + 1] = counts_[c + 1] - counts_[c];
-        if (headers_[2 * c + 1] != 0) drawCells_.push_back(uint32_t(c));
+        const uint32_t count = counts_[c + 1] - counts_[c];
+        const bool whole = listLimit_ > 0 && count > listLimit_;
+        headers_[2 * c] = whole ? 0u : 1u + counts_[c];
+        headers_[2 * c + 1] = whole ? 1u : count;
+        wholeTreeCells_ += whole;
+        if (count != 0) drawCells_.push_back(uint32_t(c));
     }
     sorted_.resize(entries_.size());
     for (const Entry& e : entries_) sorted_[counts_[e.cell]++] = e;
     // Each cell's list by its entry bound (the traversal ends a list once the bound passes the ray's hit); the
     // lists are short, so sorting them one by one is cheaper than sorting all entries.
     for (uint32_t c : drawCells_) {
-        const auto begin = sorted_.begin() + headers_[2 * size_t(c)];
+        if (headers_[2 * size_t(c)] == 0) continue; // the whole tree
+        const auto begin = sorted_.begin() + (headers_[2 * size_t(c)] - 1);
         std::stable_sort(begin, begin + headers_[2 * size_t(c) + 1],
                          [](const Entry& a, const Entry& b) { return a.entryBound < b.entryBound; });
     }
-    roots_.resize(entries_.size() * 2);
-    ids_.resize(entries_.size());
+    roots_.resize((entries_.size() + 1) * 2);
+    ids_.resize(entries_.size() + 1);
+    roots_[0] = wholeTreeRoot_;
+    roots_[1] = std::bit_cast<uint32_t>(0.0f);
+    ids_[0] = kWholeTreeId;
     for (size_t i = 0; i < sorted_.size(); ++i) {
-        roots_[2 * i] = sorted_[i].root;
-        roots_[2 * i + 1] = std::bit_cast<uint32_t>(sorted_[i].entryBound);
-        ids_[i] = sorted_[i].subtree;
+        roots_[2 * (i + 1)] = sorted_[i].root;
+        roots_[2 * (i + 1) + 1] = std::bit_cast<uint32_t>(sorted_[i].entryBound);
+        ids_[i + 1] = sorted_[i].subtree;
     }
     Buffers& b = buffers_[next_];
     next_ ^= 1;

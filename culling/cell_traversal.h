@@ -22,6 +22,8 @@ namespace chcrt {
 
 class CellTraversal {
 public:
+    // The subtree id the debug image of subtrees records for the whole tree.
+    static constexpr uint32_t kWholeTreeId = 0xfffffffeu;
     // `defines(anyHit)`: the defines of the subtree shader variant (stack size, a debug image's define).
     using Defines = std::function<std::vector<ShaderDefine>(bool anyHit)>;
     explicit CellTraversal(Defines defines) : defines_(std::move(defines)) {}
@@ -34,6 +36,14 @@ public:
         entries_.push_back(Entry{cell, gpuRoot, subtree, entryBound});
     }
     size_t entryCount() const { return entries_.size(); }
+    // A cell whose list would hold more than `limit` subtrees traverses the whole tree from `root` instead (0 = no
+    // limit): its rays would pay a box test per listed root that the pure traversal's near-first order and pruning
+    // mostly avoid. Exact: the whole tree holds every subtree. Needs a traversal stack as deep as the whole tree.
+    void setWholeTree(uint32_t root, uint32_t limit) {
+        wholeTreeRoot_ = root;
+        listLimit_ = limit;
+    }
+    uint32_t wholeTreeCells() const { return wholeTreeCells_; } // cells that did so in the last draw
 
     // Uploads the lists and traverses them into `maskFramebuffer` (a depth-only target of the ray set's size whose
     // depth is 1 where a ray is to be traced), with the ray textures, hit image and BVH buffers bound. `writeMask`:
@@ -62,6 +72,7 @@ private:
     std::vector<uint32_t> counts_, headers_, roots_, ids_, drawCells_; // drawCells_: the cells with work
     Buffers buffers_[2]; // alternate per draw, so an upload never waits for the previous draw
     int next_ = 0;
+    uint32_t wholeTreeRoot_ = 0, listLimit_ = 0, wholeTreeCells_ = 0;
 };
 
 } // namespace chcrt

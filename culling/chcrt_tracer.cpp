@@ -87,6 +87,7 @@ ChcrtOptions recommendedChcrtOptions() {
     options.queries = ChcrtQueries::BoundsOnly;
     options.partition.maxSubtreeHeight = 12;
     options.adaptiveHeights = {10, 14};
+    options.cellListLimit = 64;
     return options;
 }
 
@@ -160,7 +161,10 @@ ChcrtStats& ChcrtStats::operator+=(const ChcrtStats& o) {
     boundsUpdates += o.boundsUpdates;
     cellsDrawn += o.cellsDrawn;
     cellEntries += o.cellEntries;
+    cellsWholeTree += o.cellsWholeTree;
     boundsMs += o.boundsMs;
+    decideMs += o.decideMs;
+    cellListMs += o.cellListMs;
     pairsVisible += o.pairsVisible;
     pairsInvisible += o.pairsInvisible;
     pairsNewlyVisible += o.pairsNewlyVisible;
@@ -217,7 +221,18 @@ std::vector<ShaderDefine> ChcrtTracer::subtreeDefines(bool anyHit) const {
 void ChcrtTracer::compilePrograms() {
     const bool bounded = options_.queries == ChcrtQueries::BoundsOnly;
     if ((options_.rayExtentCulling || bounded) && !rayExtent_) rayExtent_ = std::make_unique<RayBoundsGrid>(options_.bounds);
-    if (bounded && !cells_) cells_ = std::make_unique<CellTraversal>([this](bool anyHit) { return subtreeDefines(anyHit); });
+    if (bounded && !cells_) {
+        // Cells over the list limit traverse the whole BVH: a stack as deep as the pure tracer's.
+        const bool wholeTree = bvh_ != nullptr && options_.cellListLimit > 0;
+        cells_ = std::make_unique<CellTraversal>([this, wholeTree](bool anyHit) {
+            std::vector<ShaderDefine> defines = subtreeDefines(anyHit);
+            for (ShaderDefine& d : defines) {
+                if (wholeTree && d.name == "CHCRT_SUBTREE_STACK") d.value = std::to_string(CHCRT_MAX_BVH_DEPTH);
+            }
+            return defines;
+        });
+        if (wholeTree) cells_->setWholeTree(0u, options_.cellListLimit);
+    }
     for (int anyHit = 0; anyHit < 2; ++anyHit) {
         const std::vector<ShaderDefine> defines = subtreeDefines(anyHit != 0);
         queryPrograms_[anyHit] = makeProgram("culling/chcrt_query.frag.glsl", anyHit != 0);

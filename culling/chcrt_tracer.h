@@ -54,6 +54,10 @@ struct ChcrtOptions {
     // pair from the root pair and one round intersects them; cell lists sorted by entry distance let a ray stop
     // at its first hit anyway. Off measured faster for every ray type (city near 256², culling/README.md).
     bool boundsPreviousFront = false;
+    // BoundsOnly in core: a cell with more scheduled subtrees than this traverses the whole BVH from its root
+    // instead (cell_traversal.h; 0 = never). Long lists come from rays of diverse directions (diffuse) whose
+    // cell bounds meet much of the scene: each listed root costs a box test the pure traversal would mostly skip.
+    uint32_t cellListLimit = 0;
     uint32_t visibleThreshold = 0;   // §7 aggressive culling: visible only when more rays pass (0 = exact)
     uint32_t seed = 1;               // of the randomized re-query phases
     bool tighterBounds = true;       // §5.1: query the node's two children's boxes instead of its own box
@@ -87,8 +91,9 @@ struct ChcrtOptions {
 };
 
 // The fastest exact configuration measured on the city, interior and plant near paths (culling/README.md "Choosing
-// the configuration"): the ray bounds grid decides every pair, termination height 12, and the adaptive choice
-// also tries heights 10 and 14 per ray kind besides the pure pass.
+// the configuration"): the ray bounds grid decides every pair, termination height 12, cells with more than 64
+// subtrees traverse the whole BVH, and the adaptive choice also tries heights 10 and 14 per ray kind besides the
+// pure pass.
 ChcrtOptions recommendedChcrtOptions();
 
 // Counters of one trace (lastStats) or summed over traces (totalStats).
@@ -110,7 +115,10 @@ struct ChcrtStats {
     uint64_t boundsUpdates = 0;        // ray bounds reductions (a compute pass and a read-back each)
     uint64_t cellsDrawn = 0;           // BoundsOnly: cells drawn by the intersection rounds
     uint64_t cellEntries = 0;          // BoundsOnly: (cell, subtree) list entries traversed
+    uint64_t cellsWholeTree = 0;       // BoundsOnly: cells over cellListLimit that traversed the whole BVH
     double boundsMs = 0;               // time of the ray bounds reductions (inside the phases' times)
+    double decideMs = 0;               // BoundsOnly: CPU time deciding pairs against the grid (inside the phases)
+    double cellListMs = 0;             // BoundsOnly: CPU time building and uploading cell lists (inside the phases)
     uint64_t pairsVisible = 0;       // visible front after the trace
     uint64_t pairsInvisible = 0;     // invisible front after the trace
     uint64_t pairsNewlyVisible = 0;  // terminal pairs found visible in Phase 3

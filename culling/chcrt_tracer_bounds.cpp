@@ -96,6 +96,7 @@ void ChcrtTracer::intersectCells(std::vector<Scheduled>& work, bool anyHit, cons
     std::vector<uint32_t> lastSubtree(size_t(cellsX) * size_t(cellsY), CullingHierarchy::kNone);
     const std::string debugDefine = debugDefineOfKind();
     residentRounds(work, [&](const std::vector<Scheduled>& resident) {
+        const auto listStart = Clock::now();
         cells_->begin(cellsX, cellsY, cell);
         std::fill(lastSubtree.begin(), lastSubtree.end(), CullingHierarchy::kNone);
         for (const Scheduled& s : resident) {
@@ -119,6 +120,8 @@ void ChcrtTracer::intersectCells(std::vector<Scheduled>& work, bool anyHit, cons
         last_.cellEntries += cells_->entryCount();
         last_.subtreesScheduled += resident.size();
         last_.cellsDrawn += cells_->draw(anyHit, debugDefine, width, height, maskFramebuffer, writeMask);
+        last_.cellsWholeTree += cells_->wholeTreeCells();
+        last_.cellListMs += msSince(listStart); // CPU: lists, sorting, uploads, submitting the draw (not its GPU work)
         ++last_.shaderCalls;
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT); // the next round continues from these hits
     });
@@ -163,8 +166,10 @@ bool ChcrtTracer::traceBounded(const TraceRequest& request, const RayTextures& r
         if (!mayHit(state.pair(p))) state.pair(p).visible = false;
     }
     last_.queriesInvisible = invisibleLeaves.size();
+    const auto decideStart = Clock::now();
     std::vector<Scheduled> newlyVisible;
     for (int32_t p : invisibleLeaves) decideByBounds(p, state, newlyVisible);
+    last_.decideMs += msSince(decideStart);
     last_.phase2Ms = msSince(start);
 
     start = Clock::now();

@@ -26,6 +26,7 @@ struct ExactnessCase {
     int boundsPieces = 4;      // boxes per cell
     bool boundsPreviousFront = false; // BoundsOnly: Phase 1 over the previous visible front, two rounds
     std::vector<uint32_t> adaptiveHeights = {}; // more culling arms of the adaptive choice
+    uint32_t cellListLimit = 0; // BoundsOnly: longer cell lists traverse the whole BVH
 };
 
 class ChcrtExactnessTest : public RenderTest, public ::testing::WithParamInterface<ExactnessCase> {};
@@ -56,6 +57,7 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
     options.bounds.pieces = c.boundsPieces;
     options.boundsPreviousFront = c.boundsPreviousFront;
     options.adaptiveHeights = c.adaptiveHeights;
+    options.cellListLimit = c.cellListLimit;
     ChcrtTracer chcrt(bvh_, options);
     const CameraPath path = proceduralNearPath(spec_);
 
@@ -109,6 +111,13 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
             EXPECT_GT(total.pairsDecidedBounds, total.traces);
             EXPECT_GT(total.cellEntries, 0u);
             EXPECT_GT(total.cellsDrawn, 0u);
+            // A list limit sends some cells through the whole BVH, and not every cell.
+            if (c.cellListLimit > 0) {
+                EXPECT_GT(total.cellsWholeTree, 0u);
+                EXPECT_LT(total.cellsWholeTree, total.cellsDrawn);
+            } else {
+                EXPECT_EQ(total.cellsWholeTree, 0u);
+            }
         } else {
             EXPECT_GT(total.queries, 0u);
         }
@@ -160,6 +169,7 @@ TEST_P(ChcrtExactnessTest, ShadedFrameEqualsPureBvhFrame) {
     options.bounds.pieces = c.boundsPieces;
     options.boundsPreviousFront = c.boundsPreviousFront;
     options.adaptiveHeights = c.adaptiveHeights;
+    options.cellListLimit = c.cellListLimit;
     ChcrtTracer chcrt(bvh_, options);
     const CameraPath path = proceduralNearPath(spec_);
     for (int frame : {0, 1}) {
@@ -283,7 +293,8 @@ std::string caseName(const ::testing::TestParamInfo<ExactnessCase>& info) {
            (info.param.rayExtent ? "" : "_noextent") + (info.param.mergedBatch ? "" : "_persubtree") +
            (info.param.queries == ChcrtQueries::Gl ? "" : "_bounds_cell" + std::to_string(info.param.boundsCell) +
                                                               "_pieces" + std::to_string(info.param.boundsPieces)) +
-           (info.param.boundsPreviousFront ? "_front" : "") + (info.param.adaptiveHeights.empty() ? "" : "_heights");
+           (info.param.boundsPreviousFront ? "_front" : "") + (info.param.adaptiveHeights.empty() ? "" : "_heights") +
+           (info.param.cellListLimit ? "_limit" + std::to_string(info.param.cellListLimit) : "");
 }
 
 // Subtree height 8, well below the BVH depth at 60k triangles, so that object-space splits happen; tiles small enough for
@@ -327,7 +338,12 @@ INSTANTIATE_TEST_SUITE_P(ProceduralScenes, ChcrtExactnessTest,
                                                          ChcrtQueries::BoundsOnly, 4, 8, true},
                                            // the adaptive choice among the pure pass and three heights
                                            ExactnessCase{"city:60k", 12, 16, true, 4, true, false, true, true,
-                                                         ChcrtQueries::BoundsOnly, 8, 4, false, {6, 10}}),
+                                                         ChcrtQueries::BoundsOnly, 8, 4, false, {6, 10}},
+                                           // cells with more than 3 (or 12) subtrees traverse the whole BVH
+                                           ExactnessCase{"city:60k", 12, 16, true, 4, false, false, true, true,
+                                                         ChcrtQueries::BoundsOnly, 8, 4, false, {}, 3},
+                                           ExactnessCase{"plant:60k", 8, 16, true, 4, false, false, true, true,
+                                                         ChcrtQueries::BoundsOnly, 4, 4, false, {}, 12}),
                          caseName);
 
 } // namespace
