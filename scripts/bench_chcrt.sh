@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
-# CHC+RT comparison tables (issue #3; culling/README.md, docs/benchmarks.md), all through `chcrt bench`, which
+# CHC+RT comparison tables (culling/README.md, docs/benchmarks.md), all through `chcrt bench`, which
 # traces the same rays with every method in one process (ratios within a run):
 #   Table 2  ms/frame and speedup vs pure BVH GLSL, near/far walkthrough x ray type (primary 1 spp, shadow 16 spp,
 #            AO 20 spp short rays, diffuse 20 spp), methods bvh, chcrt (adaptive), chcrt-noadapt (always culls);
-#   Figure 8 time per phase (Phase 1/2/3) and counters of chcrt-noadapt from the same runs;
+#            with the share of chcrt's traces that culled, their mean height, the steps ratio and the culling
+#            efficiency (noadapt speedup / steps ratio);
+#   Figure 8 time per phase (Phase 1/2/3, reductions, pair decisions, cell lists) of chcrt-noadapt, same runs;
 #   Table 4  aggressive thresholds 0/20/100/200 rays (chcrt-aggressive --chcrt-threshold T), near path, primary and
 #            AO, with the differing hit pixels (the image error of culled hits);
 #   Table 5  per-pixel sample rotation 0/18/36/360 degrees (--rotation), near path, AO and diffuse.
@@ -57,7 +59,7 @@ for scene in "${scenes[@]}"; do
         echo "bench_chcrt: $scene table 2, $path, $ray"
         # shellcheck disable=SC2046
         "$chcrt" bench "${common[@]}" $(path_args "$path") --ray-type "$ray" --spp "$(spp_of $ray)" \
-          --method bvh,chcrt,chcrt-noadapt --json "$out/${scene}_table2_${path}_${ray}.json"
+          --method bvh,chcrt,chcrt-noadapt --steps --json "$out/${scene}_table2_${path}_${ray}.json"
       done
     done
   fi

@@ -42,6 +42,13 @@ def work_setup(data):
         r["width"], r["height"], r["frames"], r["runs"], data.get("gl_renderer", "?"))
 
 
+def steps_ratio(bvh, method):
+    """Pure BVH traversal steps per ray / the method's (None where a run did not count steps)."""
+    if not method or not bvh.get("steps_per_ray") or not method.get("steps_per_ray"):
+        return None
+    return bvh["steps_per_ray"] / method["steps_per_ray"]
+
+
 def main():
     out, scene = sys.argv[1], sys.argv[2]
     f2 = sorted(glob.glob(os.path.join(out, scene + "_table2_*.json")))
@@ -57,29 +64,42 @@ def main():
         entries.sort(key=lambda e: (e[0], e[1]))
         for _, _, d, m in entries:
             b, c, n = m["bvh"], m.get("chcrt"), m.get("chcrt-noadapt")
-            fb = c["chcrt"]["sum"]["fallback_traces"] / max(1, c["chcrt"]["sum"]["traces"]) if c and "chcrt" in c else 0
+            cs = c["chcrt"]["sum"] if c and "chcrt" in c else {}
+            culled = 1.0 - cs.get("fallback_traces", 0) / max(1, cs.get("traces", 1))
+            ratio = steps_ratio(b, n)
             rows.append([b["path"].split("-")[-1], b["ray_type"], b["spp"], "%.1f" % b["ms_median"],
-                         "%.1f" % c["ms_median"], "%.2f" % c["speedup_vs_bvh"], "%.0f%%" % (100 * fb),
+                         "%.1f" % c["ms_median"], "%.2f" % c["speedup_vs_bvh"], "%.0f%%" % (100 * culled),
+                         "%.1f" % cs["mean_height"] if cs.get("mean_height") else "-",
                          "%.1f" % n["ms_median"], "%.2f" % n["speedup_vs_bvh"],
+                         "%.2f" % ratio if ratio else "-",
+                         "%.2f" % (n["speedup_vs_bvh"] / ratio) if ratio else "-",
                          c["diff_pixels"] + n["diff_pixels"]])
             if n and "chcrt" in n:
                 p = n["chcrt"]["per_frame"]
                 phases.append([b["path"].split("-")[-1], b["ray_type"], "%.1f" % n["ms_median"],
                                "%.1f" % p["phase1_ms"], "%.1f" % p["phase2_ms"], "%.1f" % p["phase3_ms"],
-                               "%.0f" % p["queries"], "%.0f" % p["queries_multi"], "%.0f" % p["subtrees_scheduled"],
-                               "%.0f" % p["shader_calls"], "%.0f" % p["pairs_visible"], "%.0f" % p["pairs_invisible"]])
+                               "%.1f" % p.get("bounds_ms", 0), "%.1f" % p.get("decide_ms", 0),
+                               "%.1f" % p.get("cell_list_ms", 0),
+                               "%.0f" % p["queries"], "%.0f" % p["subtrees_scheduled"],
+                               "%.0f" % p["shader_calls"], "%.2f" % ratio if ratio else "-",
+                               "%.2f" % (n["speedup_vs_bvh"] / ratio) if ratio else "-"])
         note = "CHC+RT Table 2, %s (%s). ms per frame (all samples of a frame); speedup = bvh / method; " \
-               "fallback = share of traces the adaptive rule ran as one pure pass; diff px = differing hit pixels " \
-               "of chcrt + chcrt-noadapt vs pure BVH." % (scene, setup(entries[0][2]))
+               "culled = share of chcrt's traces that culled (the rest: the adaptive choice's pure passes), H = their " \
+               "mean termination height; steps ratio = bvh / chcrt-noadapt traversal steps per ray; culling " \
+               "efficiency = noadapt speedup / steps ratio (how much of the removed work became time); diff px = " \
+               "differing hit pixels of chcrt + chcrt-noadapt vs pure BVH." % (scene, setup(entries[0][2]))
         write(out, scene + "_table2",
-              ["path", "ray type", "spp", "bvh ms", "chcrt ms", "chcrt speedup", "fallback", "noadapt ms",
-               "noadapt speedup", "diff px"], rows, note)
+              ["path", "ray type", "spp", "bvh ms", "chcrt ms", "chcrt speedup", "culled", "H", "noadapt ms",
+               "noadapt speedup", "steps ratio", "culling efficiency", "diff px"], rows, note)
         note = "CHC+RT Figure 8 (time per phase), %s, chcrt-noadapt (always culls), per frame: Phase 1 = init + " \
-               "previously visible leaves, Phase 2 = issuing queries, Phase 3 = results, traversal, newly visible " \
-               "(%s)." % (scene, setup(entries[0][2]))
+               "previously visible leaves, Phase 2 = issuing queries (bounds-only: deciding pairs), Phase 3 = " \
+               "results, traversal, newly visible; bounds = ray bounds reductions, decide = CPU pair decisions, cell " \
+               "lists = CPU list building and uploads (all three inside the phases) (%s)." \
+               % (scene, setup(entries[0][2]))
         write(out, scene + "_figure8",
-              ["path", "ray type", "ms", "phase 1 ms", "phase 2 ms", "phase 3 ms", "queries", "multi-queries",
-               "subtrees", "shader calls", "visible pairs", "invisible pairs"], phases, note)
+              ["path", "ray type", "ms", "phase 1 ms", "phase 2 ms", "phase 3 ms", "bounds ms", "decide ms",
+               "cell lists ms", "queries", "subtrees", "shader calls", "steps ratio", "culling efficiency"], phases,
+              note)
     f4 = sorted(glob.glob(os.path.join(out, scene + "_table4_*.json")))
     if f4:
         rows = []
@@ -126,14 +146,17 @@ def main():
             b, n = m["bvh"], m["chcrt-noadapt"]
             h = int(os.path.basename(path).split("_work_h", 1)[1].split("_")[0])
             p = n["chcrt"]["per_frame"]
+            ratio = steps_ratio(b, n)
             rows.append([b["ray_type"], h, "%.1f" % b["steps_per_ray"], "%.1f" % n["steps_per_ray"],
-                         "%.2f" % (b["steps_per_ray"] / n["steps_per_ray"]), "%.1f" % b["ms_median"],
-                         "%.1f" % n["ms_median"], "%.2f" % n["speedup_vs_bvh"], "%.1f" % p["phase1_ms"],
+                         "%.2f" % ratio, "%.1f" % b["ms_median"],
+                         "%.1f" % n["ms_median"], "%.2f" % n["speedup_vs_bvh"],
+                         "%.2f" % (n["speedup_vs_bvh"] / ratio), "%.1f" % p["phase1_ms"],
                          "%.1f" % (p["phase2_ms"] + p["phase3_ms"]), "%.0f" % p["queries"],
                          "%.0f" % p["subtrees_scheduled"], b["diff_pixels"] + n["diff_pixels"]])
         rows.sort(key=lambda r: (order.get(r[0], 9), -r[1]))
         write(out, scene + "_work", ["ray type", "height", "bvh steps/ray", "chcrt steps/ray", "steps ratio",
-                                     "bvh ms", "noadapt ms", "noadapt speedup", "phase 1 ms", "phase 2+3 ms",
+                                     "bvh ms", "noadapt ms", "noadapt speedup", "culling efficiency",
+                                     "phase 1 ms", "phase 2+3 ms",
                                      "queries", "subtrees traced", "diff px"], rows,
               "How much traversal culling can save, %s (%s): steps = BVH inner nodes + leaves + triangles per active "
               "ray (chcrt bench --steps) of pure BVH and always-culling CHC+RT (chcrt-noadapt) at termination height "
