@@ -8,8 +8,8 @@
 #include "app/methods.h"
 #include "app/report.h"
 #include "app/session.h"
+#include "culling/outofcore/out_of_core_tracer.h"
 #include "renderer/core/error.h"
-#include "renderer/outofcore/out_of_core_tracer.h"
 #include "renderer/reference/embree_tracer.h"
 #include "renderer/render/hit_comparison.h"
 

@@ -1,13 +1,13 @@
 #include "app/methods.h"
 
 #include "culling/chcrt_tracer.h"
+#include "culling/outofcore/out_of_core_tracer.h"
 #include "linespace/linespace_cache.h"
 #include "linespace/linespace_tracer.h"
 #include "linespace/ntree_cache.h"
 #include "linespace/ntree_tracer.h"
 #include "renderer/core/error.h"
 #include "renderer/outofcore/chs_file.h"
-#include "renderer/outofcore/out_of_core_tracer.h"
 
 #include <cstdio>
 #include <filesystem>

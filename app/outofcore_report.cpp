@@ -1,6 +1,6 @@
 #include "app/outofcore_report.h"
 
-#include "renderer/outofcore/primary_resolve.h"
+#include "culling/outofcore/primary_resolve.h"
 
 #include <cstdio>
 #include <cstdlib>

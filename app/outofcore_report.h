@@ -1,7 +1,7 @@
 #pragma once
 // JSON of the out-of-core statistics (CHC+RT Table 3: Mrays/s, queries, MB transferred BVH / geometry, cache
 // hits/misses/evictions, resident MB) for `chcrt bench --json` rows and `--stats-json` (docs/outofcore.md).
-#include "renderer/outofcore/out_of_core_tracer.h"
+#include "culling/outofcore/out_of_core_tracer.h"
 #include "renderer/render/renderer.h"
 
 #include <nlohmann/json.hpp>

@@ -1,7 +1,7 @@
 #pragma once
 // Where the subtrees CHC+RT schedules for intersection live on the GPU (CHC+RT §5.4). In core they are part of the
 // scene's BVH buffers and a subtree's GPU root is its BVH node index; out of core a cache uploads missing subtrees
-// into slots of fixed-size texture buffers (renderer/outofcore/). The tracer asks before each intersection batch.
+// into slots of fixed-size texture buffers (culling/outofcore/). The tracer asks before each intersection batch.
 #include <cstdint>
 #include <span>
 

@@ -12,11 +12,11 @@
 #include "app/viewer/viewer_window.h"
 #include "app/viewer/walk_controller.h"
 #include "culling/chcrt_tracer.h"
+#include "culling/outofcore/out_of_core_tracer.h"
+#include "culling/outofcore/primary_resolve.h"
 #include "renderer/core/error.h"
 #include "renderer/gl/gl.h"
 #include "renderer/outofcore/chs_file.h"
-#include "renderer/outofcore/out_of_core_tracer.h"
-#include "renderer/outofcore/primary_resolve.h"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>

@@ -4,7 +4,7 @@
 // ViewerSettings in place and reports button presses as actions; the app applies them between frames.
 #include "app/viewer/residency_view.h"
 #include "app/viewer/viewer_settings.h"
-#include "renderer/outofcore/out_of_core_tracer.h"
+#include "culling/outofcore/out_of_core_tracer.h"
 #include "renderer/render/renderer.h"
 
 #include <optional>

@@ -90,7 +90,7 @@ public:
 
     float sceneDiagonal() const { return sceneDiagonal_; }
 
-    // Out of core (renderer/outofcore/primary_resolve.h): with traced primary visibility, `resolve` writes the
+    // Out of core (culling/outofcore/primary_resolve.h): with traced primary visibility, `resolve` writes the
     // G-buffer from the primary hits (ray set 0, hit set 0) and returns a texture (RGBA32F, frame size) of the
     // pixels' geometric normals, which secondary ray generation then reads instead of the per-triangle buffers
     // indexed by original id (those cannot hold a scene that is not in core). An empty function restores the

@@ -1,7 +1,7 @@
 #version 450 core
 // Out-of-core traced primary visibility (CHC+RT §5.4 with the "Prim" column of Table 3): like
 // raster/gbuffer_from_hits.frag.glsl, but the shading attributes of each pixel's hit come from per-pixel images
-// filled on the host from the subtree that produced the hit (renderer/outofcore/primary_resolve.h), because
+// filled on the host from the subtree that produced the hit (culling/outofcore/primary_resolve.h), because
 // per-triangle buffers indexed by original id cannot exist for a scene that is not in core. Same G-buffer
 // targets, same normal orientation rule; no textures (prepared scenes v1 store material colours only).
 #include "shared/render_layout.h"

@@ -100,7 +100,7 @@ void generateRay() {
     vec3 position = texelFetch(gbufferPosition, ivec2(pixel), 0).xyz;
     vec3 shadingNormal = texelFetch(gbufferNormal, ivec2(pixel), 0).xyz;
 #if CHCRT_PIXEL_GEOMETRIC_NORMALS
-    // Out of core (renderer/outofcore/primary_resolve.h): no per-triangle buffer covers the scene.
+    // Out of core (culling/outofcore/primary_resolve.h): no per-triangle buffer covers the scene.
     vec3 geometricNormal = texelFetch(pixelGeometricNormals, ivec2(pixel), 0).xyz;
 #else
     vec3 geometricNormal = hitGeometricNormal(texelFetch(gbufferTriangle, ivec2(pixel), 0).x);

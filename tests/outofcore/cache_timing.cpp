@@ -2,8 +2,8 @@
 // prepared scene at street level; each "frame" requests, nearest first and in batches of 16, the subtrees whose
 // boxes lie within a radius of it (a stand-in for CHC+RT's visible set until the tracer uses the cache).
 //   build/bin/outofcore_cache_timing file.chs [gpu-cache-mb=1024] [policy=lru] [frames=60] [radius=150] [host-mb=2048]
+#include "culling/outofcore/gpu_subtree_cache.h"
 #include "renderer/gl/context.h"
-#include "renderer/outofcore/gpu_subtree_cache.h"
 
 #include <algorithm>
 #include <chrono>

@@ -1,7 +1,7 @@
 // The CHC+RT culling hierarchy read from a prepared file (issue #5 part 2, task 1): for a one-part file it is
 // the hierarchy buildCullingHierarchy computes from the in-core load with the same limits; for a streamed
 // (multi-part) file its termination subtrees are exactly the file's subtrees.
-#include "renderer/outofcore/chs_culling_hierarchy.h"
+#include "culling/outofcore/chs_culling_hierarchy.h"
 #include "tests/outofcore/outofcore_test_util.h"
 
 #include <gtest/gtest.h>

@@ -1,8 +1,8 @@
 // The GPU subtree cache (gl): under a budget far smaller than the scene, requests force evictions; after every
 // acquire each resident slot read back from the texture buffers equals the file's subtree rebased to the slot,
 // the allocation stays within the budget, and the two policies pick the victims they promise.
+#include "culling/outofcore/gpu_subtree_cache.h"
 #include "renderer/core/error.h"
-#include "renderer/outofcore/gpu_subtree_cache.h"
 #include "tests/gl/gl_test_fixture.h"
 #include "tests/outofcore/outofcore_test_util.h"
 

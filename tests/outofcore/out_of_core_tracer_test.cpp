@@ -2,13 +2,13 @@
 // cache budget traced through OutOfCoreTracer (file hierarchy + GpuSubtreeCache + SubtreeStore) gives bit for
 // bit the hits of in-core pure BVH tracing of the same file, for primary, shadow and AO rays over consecutive
 // frames of the near path, while the cache evicts. A budget below one subtree is an InputError.
+#include "culling/outofcore/out_of_core_tracer.h"
+#include "culling/outofcore/primary_resolve.h"
 #include "renderer/core/error.h"
-#include "renderer/outofcore/out_of_core_tracer.h"
-#include "renderer/outofcore/primary_resolve.h"
 #include "renderer/render/camera_math.h"
+#include "renderer/render/hit_comparison.h"
 #include "shaders/shared/bvh_layout.h"
 #include "shaders/shared/render_layout.h"
-#include "renderer/render/hit_comparison.h"
 #include "tests/outofcore/outofcore_test_util.h"
 #include "tests/render/render_fixture.h"
 

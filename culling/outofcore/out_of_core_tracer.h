@@ -8,8 +8,8 @@
 // tracer restores whatever was bound there before, so callers that bound the in-core BVH once (tests, the
 // pure-BVH oracle of `chcrt verify`) keep working after an out-of-core trace.
 #include "culling/chcrt_tracer.h"
+#include "culling/outofcore/gpu_subtree_cache.h"
 #include "renderer/outofcore/chs_file.h"
-#include "renderer/outofcore/gpu_subtree_cache.h"
 #include "renderer/outofcore/subtree_store.h"
 
 #include <filesystem>

@@ -1,8 +1,8 @@
-#include "renderer/outofcore/out_of_core_tracer.h"
+#include "culling/outofcore/out_of_core_tracer.h"
 
+#include "culling/outofcore/chs_culling_hierarchy.h"
+#include "culling/outofcore/primary_resolve.h"
 #include "renderer/core/error.h"
-#include "renderer/outofcore/chs_culling_hierarchy.h"
-#include "renderer/outofcore/primary_resolve.h"
 #include "shaders/shared/render_layout.h"
 
 namespace chcrt::outofcore {

@@ -1,4 +1,4 @@
-#include "renderer/outofcore/gpu_subtree_cache.h"
+#include "culling/outofcore/gpu_subtree_cache.h"
 
 #include "renderer/core/error.h"
 #include "shaders/shared/render_layout.h"

@@ -1,4 +1,4 @@
-#include "renderer/outofcore/primary_resolve.h"
+#include "culling/outofcore/primary_resolve.h"
 
 #include "renderer/render/camera_math.h"
 #include "shaders/shared/render_layout.h"

@@ -1,4 +1,4 @@
-#include "renderer/outofcore/chs_culling_hierarchy.h"
+#include "culling/outofcore/chs_culling_hierarchy.h"
 
 #include "renderer/core/error.h"
 

@@ -9,9 +9,9 @@
 // normal and albedo images, and outofcore/gbuffer_from_pixel_attributes.frag.glsl writes the G-buffer with
 // the same orientation rule as the in-core pass. Nothing here is indexed by triangle id over the scene, and
 // the shared traversal shaders are unchanged.
+#include "culling/outofcore/out_of_core_tracer.h"
 #include "renderer/gl/gl_objects.h"
 #include "renderer/gl/shader.h"
-#include "renderer/outofcore/out_of_core_tracer.h"
 #include "renderer/render/frame_targets.h"
 #include "renderer/scene/scene.h"
 
