@@ -177,11 +177,11 @@ void checkRequiredGlFeatures() {
     }
     // Step 2: limits the renderer's data layout depends on: scene data lives in texture buffers (~10x faster
     // than SSBOs on llvmpipe), the G-buffer writes 4 targets, accumulation needs RGBA32F targets.
-    constexpr int kMinTextureBufferTexels = 1 << 26; // 64M texels
     const int maxTextureBuffer = getInteger(GL_MAX_TEXTURE_BUFFER_SIZE);
     if (maxTextureBuffer < kMinTextureBufferTexels) {
-        throw GlError("GL_MAX_TEXTURE_BUFFER_SIZE is " + std::to_string(maxTextureBuffer) +
-                      " texels; at least 64M (2^26) are required");
+        throw GlError("GL_MAX_TEXTURE_BUFFER_SIZE is " + std::to_string(maxTextureBuffer) + " texels; at least " +
+                      std::to_string(kMinTextureBufferTexels >> 20) + "M (2^" +
+                      std::to_string(kMinTextureBufferTexelsLog2) + ") are required");
     }
     const int maxDrawBuffers = getInteger(GL_MAX_DRAW_BUFFERS);
     if (maxDrawBuffers < 4 || getInteger(GL_MAX_COLOR_ATTACHMENTS) < 4) {

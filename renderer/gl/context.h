@@ -35,8 +35,12 @@ struct GlInfo {
 };
 GlInfo queryGlInfo();
 
-// Throws GlError naming the first missing requirement: GL >= 4.5 core, texture buffers of >= 2^27 texels...
-// (at least 64M texels), RGBA32F colour targets, 4+ draw buffers, occlusion + timer queries, KHR_debug
+// The smallest GL_MAX_TEXTURE_BUFFER_SIZE the renderer accepts: scene data lives in texture buffers.
+inline constexpr int kMinTextureBufferTexelsLog2 = 26;
+inline constexpr int kMinTextureBufferTexels = 1 << kMinTextureBufferTexelsLog2; // 64M
+
+// Throws GlError naming the first missing requirement: GL >= 4.5 core, texture buffers of at least
+// kMinTextureBufferTexels texels, RGBA32F colour targets, 4+ draw buffers, occlusion + timer queries, KHR_debug
 // (optional: warns only). Extensions are tested by name, never by function pointer.
 void checkRequiredGlFeatures();
 
