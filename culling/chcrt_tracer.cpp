@@ -35,7 +35,7 @@ ShaderProgram makeProgram(const char* fragment, bool anyHit, std::vector<ShaderD
 // and one per sample index for AO and diffuse rays (their directions differ per pass).
 uint64_t rayStateKey(const TraceRequest& request) {
     const bool perSample = !request.bounceShadow && (request.rayType == RayType::Ao || request.rayType == RayType::Diffuse);
-    const uint64_t kind = request.bounceShadow ? 4u : uint64_t(request.rayType);
+    const uint64_t kind = request.bounceShadow ? uint64_t(CHCRT_RAY_BOUNCE_SHADOW) : uint64_t(request.rayType);
     return (kind << 32) | uint64_t(perSample ? uint32_t(request.sampleIndex) : 0u);
 }
 
@@ -43,7 +43,7 @@ uint64_t rayStateKey(const TraceRequest& request) {
 // about the same, and per set each saw too few traces in a walkthrough to average out the noise of a shared
 // machine (far AO on interior 1M: 20% of the traces culled although culling was 1.19x slower).
 uint64_t adaptiveKey(const TraceRequest& request) {
-    return request.bounceShadow ? 4u : uint64_t(request.rayType);
+    return request.bounceShadow ? uint64_t(CHCRT_RAY_BOUNCE_SHADOW) : uint64_t(request.rayType);
 }
 
 void validate(const ChcrtOptions& o) {
