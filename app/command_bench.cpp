@@ -15,6 +15,7 @@
 #include "linespace/linespace_tracer.h"
 #include "linespace/ntree_tracer.h"
 #include "renderer/core/error.h"
+#include "renderer/core/statistics.h"
 #include "renderer/gl/context.h"
 #include "renderer/reference/embree_tracer.h"
 #include "renderer/render/hit_comparison.h"
@@ -37,13 +38,6 @@ struct MethodResult {
     nlohmann::json outOfCoreFrames = nlohmann::json::array(); // per trace of the first timed run
     uint64_t steps = 0, stepRays = 0; // --steps: traversal steps over the active rays of the first timed run
 };
-
-double median(std::vector<double> values) {
-    if (values.empty()) return 0.0;
-    std::sort(values.begin(), values.end());
-    const size_t n = values.size();
-    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
 
 uint64_t countActive(const std::vector<Ray>& rays) {
     return uint64_t(std::count_if(rays.begin(), rays.end(), [](const Ray& r) { return r.tmax > r.tmin; }));

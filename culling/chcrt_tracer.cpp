@@ -2,6 +2,7 @@
 
 #include "culling/bvh_subtree_source.h"
 #include "renderer/core/error.h"
+#include "renderer/core/timing.h"
 #include "renderer/render/bvh_tracer.h"
 #include "renderer/render/trace_pass.h"
 #include "shaders/shared/culling_layout.h"
@@ -21,9 +22,6 @@ static_assert(kChcrtCostCappedBit == CHCRT_CULLING_COST_CAPPED && kChcrtCostStep
               "the cost debug image layout must match shaders/shared/culling_layout.h");
 
 using Clock = std::chrono::steady_clock;
-double millisecondsSince(Clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 ShaderProgram makeProgram(const char* fragment, bool anyHit, std::vector<ShaderDefine> defines = {}) {
     defines.push_back({"TRACE_ANY_HIT", anyHit ? "1" : "0"});

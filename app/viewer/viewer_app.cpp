@@ -15,6 +15,8 @@
 #include "culling/outofcore/out_of_core_tracer.h"
 #include "culling/outofcore/primary_resolve.h"
 #include "renderer/core/error.h"
+#include "renderer/core/statistics.h"
+#include "renderer/core/timing.h"
 #include "renderer/gl/gl.h"
 #include "renderer/outofcore/chs_file.h"
 
@@ -68,10 +70,6 @@ private:
 using Clock = std::chrono::steady_clock;
 constexpr double kScriptSecondsPerFrame = 1.0 / 30.0; // fixed time step of scripted sessions
 constexpr size_t kFrameHistory = 120;
-
-double millisecondsSince(Clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 // The CHC+RT debug image a view mode shows: its own for the debug views; for `cost` the traversal steps summed
 // over CHC+RT's subtree passes (CHC+RT writes no per-ray cost target); none otherwise.
@@ -135,12 +133,6 @@ nlohmann::json chcrtStatsToJson(const ViewerChcrtStats& c) {
             {"shader_calls", c.shaderCalls}, {"phase1_ms", c.phase1Ms}, {"phase2_ms", c.phase2Ms},
             {"phase3_ms", c.phase3Ms},     {"fallback_ms", c.fallbackMs}, {"fallback_traces", c.fallbackTraces},
             {"queries_skipped_extent", c.queriesSkippedExtent}};
-}
-
-double median(std::vector<double> values) {
-    if (values.empty()) return 0.0;
-    std::sort(values.begin(), values.end());
-    return values[values.size() / 2];
 }
 
 class Viewer {

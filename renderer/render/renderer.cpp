@@ -1,5 +1,6 @@
 #include "renderer/render/renderer.h"
 
+#include "renderer/core/timing.h"
 #include "renderer/render/bvh_tracer.h"
 #include "renderer/render/camera_math.h"
 #include "renderer/render/halton.h"
@@ -13,10 +14,6 @@ namespace chcrt {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double millisecondsSince(Clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 ShaderProgram makeFullscreenProgram(const char* fragment, std::vector<ShaderDefine> defines = {}) {
     return ShaderProgram({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"}, {GL_FRAGMENT_SHADER, fragment}},
