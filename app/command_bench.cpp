@@ -19,6 +19,7 @@
 #include "renderer/gl/context.h"
 #include "renderer/reference/embree_tracer.h"
 #include "renderer/render/hit_comparison.h"
+#include "shaders/shared/render_layout.h"
 
 #include <algorithm>
 #include <chrono>
@@ -48,10 +49,10 @@ void addSteps(const std::vector<Ray>& rays, const std::vector<uint32_t>& steps, 
               MethodResult& result) {
     for (size_t i = 0; i < rays.size() && i < steps.size(); ++i) {
         if (!(rays[i].tmax > rays[i].tmin)) continue;
-        if (steps[i] & kChcrtCostCappedBit) {
+        if (steps[i] & CHCRT_TRACE_STEPS_CAPPED) {
             throw std::runtime_error("rays reached the shader loop cap while counting steps (" + method + ")");
         }
-        result.steps += steps[i] & kChcrtCostStepMask;
+        result.steps += steps[i] & CHCRT_TRACE_STEPS_COUNT;
         ++result.stepRays;
     }
 }

@@ -18,9 +18,6 @@
 namespace chcrt {
 namespace {
 
-static_assert(kChcrtCostCappedBit == CHCRT_CULLING_COST_CAPPED && kChcrtCostStepMask == CHCRT_CULLING_COST_STEPS,
-              "the cost debug image layout must match shaders/shared/culling_layout.h");
-
 using Clock = std::chrono::steady_clock;
 
 ShaderProgram makeProgram(const char* fragment, bool anyHit, std::vector<ShaderDefine> defines = {}) {
@@ -63,10 +60,6 @@ void validate(const ChcrtOptions& o) {
         throw InputError("chcrt: cell lists traverse the pure BVH; another subtree traversal needs --chcrt-queries gl");
     }
 }
-
-// The cost debug image and Renderer::readTraceSteps share one layout (bench --steps compares them per ray).
-static_assert(kChcrtCostCappedBit == CHCRT_CULLING_COST_CAPPED && kChcrtCostCappedBit == CHCRT_TRACE_STEPS_CAPPED);
-static_assert(kChcrtCostStepMask == CHCRT_CULLING_COST_STEPS && kChcrtCostStepMask == CHCRT_TRACE_STEPS_COUNT);
 
 const char* debugDefine(ChcrtDebugImage kind) {
     switch (kind) {
@@ -112,7 +105,7 @@ std::vector<float> colorizeChcrtDebugImage(ChcrtDebugImage kind, const std::vect
     std::vector<float> rgb(size_t(width) * height * 3, 0.0f);
     const bool cost = kind == ChcrtDebugImage::Cost;
     uint32_t maxValue = 0;
-    for (uint32_t v : values) maxValue = std::max(maxValue, cost ? v & kChcrtCostStepMask : v);
+    for (uint32_t v : values) maxValue = std::max(maxValue, cost ? v & CHCRT_TRACE_STEPS_COUNT : v);
     for (int y = 0; y < height; ++y) {
         for (int x = 0; x < width; ++x) {
             const uint32_t v = values[size_t(height - 1 - y) * width + x]; // GL rows are bottom to top
@@ -124,7 +117,7 @@ std::vector<float> colorizeChcrtDebugImage(ChcrtDebugImage kind, const std::vect
                 h *= 0x85EBCA77u;
                 h ^= h >> 13;
                 for (int c = 0; c < 3; ++c) out[c] = 0.25f + 0.75f * float((h >> (8 * c)) & 255u) / 255.0f;
-            } else if (cost && (v & kChcrtCostCappedBit) != 0) {
+            } else if (cost && (v & CHCRT_TRACE_STEPS_CAPPED) != 0) {
                 out[0] = 1.0f; // magenta: a pass reached the loop cap (the count is cut short), as the cost view
                 out[2] = 1.0f;
             } else {

@@ -143,12 +143,10 @@ enum class ChcrtDebugImage : uint8_t {
     Subtrees, // 1 + id of the termination subtree that produced the pixel's latest hit change, 0 = none (Figure 5 left)
     Batches,  // subtrees traversed per pixel: the sum of the sizes of the batches that covered it (Figure 5 right)
     // BVH traversal steps per pixel (inner nodes + leaves + triangles, as the pure tracer's cost target counts
-    // them) summed over every subtree pass of the trace; bit kChcrtCostCappedBit = a pass reached the loop cap.
-    // The step count saturates at kChcrtCostStepMask (it never carries into the flag).
+    // them) summed over every subtree pass of the trace, in the steps word of shaders/shared/render_layout.h:
+    // CHCRT_TRACE_STEPS_CAPPED = a pass reached the loop cap, the count (CHCRT_TRACE_STEPS_COUNT) saturates.
     Cost,
 };
-constexpr uint32_t kChcrtCostCappedBit = 0x80000000u; // = CHCRT_CULLING_COST_CAPPED (culling_layout.h)
-constexpr uint32_t kChcrtCostStepMask = 0x7fffffffu;  // = CHCRT_CULLING_COST_STEPS
 // "overdraw" | "subtrees" | "batches" | "cost" (InputError otherwise).
 ChcrtDebugImage parseChcrtDebugImage(const std::string& name);
 // Colours a debug image (R32UI values, rows bottom to top as GL stores them) as display RGB in [0, 1], rows top to

@@ -1,4 +1,4 @@
-// The cost debug image of CHC+RT's subtree passes (CHCRT_CULLING_DEBUG_COST; layout in shared/culling_layout.h):
+// The cost debug image of CHC+RT's subtree passes (CHCRT_CULLING_DEBUG_COST; layout in shared/render_layout.h):
 // needs `debugImage` and TraceCost (render/bvh_nodes.glsl). Empty without the define.
 #ifdef CHCRT_CULLING_DEBUG_COST
 // Adds this pass's traversal steps (the pure tracer's cost target counts the same: inner nodes + leaves +
@@ -7,14 +7,14 @@
 // the load-then-add cannot race with another pass's add; the atomics keep each update whole.
 void addCostSteps(ivec2 pixel, TraceCost cost) {
     uint steps = cost.innerNodes + cost.leaves + cost.triangles;
-    uint counted = imageLoad(debugImage, pixel).x & CHCRT_CULLING_COST_STEPS;
-    if (steps > CHCRT_CULLING_COST_STEPS - counted) {
-        imageAtomicOr(debugImage, pixel, CHCRT_CULLING_COST_STEPS);
+    uint counted = imageLoad(debugImage, pixel).x & CHCRT_TRACE_STEPS_COUNT;
+    if (steps > CHCRT_TRACE_STEPS_COUNT - counted) {
+        imageAtomicOr(debugImage, pixel, CHCRT_TRACE_STEPS_COUNT);
     } else if (steps != 0u) {
         imageAtomicAdd(debugImage, pixel, steps);
     }
     if (cost.iterations >= CHCRT_TRACE_ITERATION_CAP) {
-        imageAtomicOr(debugImage, pixel, CHCRT_CULLING_COST_CAPPED);
+        imageAtomicOr(debugImage, pixel, CHCRT_TRACE_STEPS_CAPPED);
     }
 }
 #endif

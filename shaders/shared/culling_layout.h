@@ -11,11 +11,9 @@
 // pixel; see ChcrtDebugImage in culling/chcrt_tracer.h). Only the instrumented shader variants use it.
 #define CHCRT_CULLING_IMAGE_DEBUG 1
 
-// Cost debug image (CHCRT_CULLING_DEBUG_COST): the low 31 bits count traversal steps (saturating at
-// CHCRT_CULLING_COST_STEPS), bit 31 marks a pixel whose ray reached the loop cap in some pass. The viewer's cost
-// view (shaders/viewer/visualize.frag.glsl) decodes the same layout.
-#define CHCRT_CULLING_COST_CAPPED 0x80000000u
-#define CHCRT_CULLING_COST_STEPS 0x7fffffffu
+// Cost debug image (CHCRT_CULLING_DEBUG_COST): the traversal-steps word of render_layout.h (CHCRT_TRACE_STEPS_*),
+// summed over the subtree passes; the capped bit marks a pixel whose ray reached the loop cap in some pass. The
+// viewer's cost view (shaders/viewer/visualize.frag.glsl) decodes it.
 
 // Ray bounds grid (culling/ray_bounds_grid.h): screen cells of `cellSize`² pixels, each reduced to the boxes
 // around CHCRT_CULLING_BOUNDS pieces of its active rays' segments — the part of each ray that can still change

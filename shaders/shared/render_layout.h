@@ -45,9 +45,10 @@
 #define CHCRT_RAYGEN_OUT_DIRECTION 1
 #define CHCRT_TRACE_OUT_HIT 0
 #define CHCRT_TRACE_OUT_COST 1 // RGBA32UI: inner nodes visited, leaves visited, triangles tested, loop cap hit
-// Traversal steps of a pixel as one word (Renderer::readTraceSteps; CHC+RT's cost debug image, CHCRT_CULLING_COST_*,
-// has the same layout): the low 31 bits count inner nodes + leaves + triangles, saturating at
-// CHCRT_TRACE_STEPS_COUNT; CHCRT_TRACE_STEPS_CAPPED marks a ray that reached the loop cap.
+// Traversal steps of a pixel as one word, the one encoding of Renderer::readTraceSteps, CHC+RT's cost debug image
+// (ChcrtDebugImage::Cost) and the viewer's cost view: the low 31 bits count inner nodes + leaves + triangles,
+// saturating at CHCRT_TRACE_STEPS_COUNT (never carrying into the flag); CHCRT_TRACE_STEPS_CAPPED marks a ray that
+// reached the loop cap.
 #define CHCRT_TRACE_STEPS_CAPPED 0x80000000u
 #define CHCRT_TRACE_STEPS_COUNT 0x7fffffffu
 

@@ -66,8 +66,8 @@ void main() {
         bool capped = false;
         if (useCullingCost) {
             uint value = texelFetch(cullingCost, pixel, 0).x;
-            steps = value & CHCRT_CULLING_COST_STEPS;
-            capped = (value & CHCRT_CULLING_COST_CAPPED) != 0u;
+            steps = value & CHCRT_TRACE_STEPS_COUNT;
+            capped = (value & CHCRT_TRACE_STEPS_CAPPED) != 0u;
         } else {
             uvec4 cost = texelFetch(traversalCost, pixel, 0);
             steps = cost.x + cost.y + cost.z;

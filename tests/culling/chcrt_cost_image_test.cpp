@@ -9,6 +9,7 @@
 #include "tests/render/render_fixture.h"
 
 #include "culling/chcrt_tracer.h"
+#include "shaders/shared/render_layout.h"
 
 #include <algorithm>
 #include <cstring>
@@ -72,7 +73,7 @@ TEST_F(ChcrtCostImageTest, SingleSubtreeCostEqualsPureBvhCostPerPixel) {
                 if (!sameHit(reference[i], culled[i], isAnyHit(type))) ++differingHits;
                 const glm::uvec4& p = pureCost[i];
                 ASSERT_EQ(p.w, 0u); // no capped rays: both counts are complete
-                EXPECT_EQ(cost[i] & kChcrtCostCappedBit, 0u) << i;
+                EXPECT_EQ(cost[i] & CHCRT_TRACE_STEPS_CAPPED, 0u) << i;
                 if (cost[i] != p.x + p.y + p.z && ++differingCost <= 5) {
                     ADD_FAILURE() << toString(type) << " frame " << frame * 2 << " pixel " << i << ": chcrt "
                                   << cost[i] << " steps, pure BVH " << p.x << " + " << p.y << " + " << p.z;
@@ -170,7 +171,7 @@ TEST_F(ChcrtCostImageTest, ManySubtreesKeepHitsExactAndCountEveryPass) {
         uint64_t hitPixels = 0;
         for (size_t i = 0; i < cost.size(); ++i) {
             if (!sameHit(reference[i], culled[i], isAnyHit(type))) ++differingHits;
-            EXPECT_EQ(cost[i] & kChcrtCostCappedBit, 0u) << i;
+            EXPECT_EQ(cost[i] & CHCRT_TRACE_STEPS_CAPPED, 0u) << i;
             if (!isActive(rays[i])) {
                 EXPECT_EQ(cost[i], 0u) << "inactive ray, pixel " << i;
             }
@@ -211,7 +212,7 @@ TEST_F(ChcrtCostImageTest, CountSaturatesBelowTheCappedBit) {
     const std::vector<glm::uvec4> pureCost = readCostTarget(renderer);
     renderer.useTracer(&chcrt);
     renderer.traceRayPass(camera, RayType::Primary, 0, stats); // creates the debug texture
-    constexpr uint32_t kStart = kChcrtCostStepMask - 40u;
+    constexpr uint32_t kStart = CHCRT_TRACE_STEPS_COUNT - 40u;
     glClearTexImage(chcrt.debugTexture(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &kStart);
     renderer.traceRayPass(camera, RayType::Primary, 0, stats);
     renderer.useTracer(nullptr);
@@ -220,10 +221,10 @@ TEST_F(ChcrtCostImageTest, CountSaturatesBelowTheCappedBit) {
     uint64_t saturated = 0, below = 0;
     for (size_t i = 0; i < cost.size(); ++i) {
         const uint64_t steps = uint64_t(pureCost[i].x) + pureCost[i].y + pureCost[i].z;
-        const uint64_t expected = std::min<uint64_t>(kStart + steps, kChcrtCostStepMask);
+        const uint64_t expected = std::min<uint64_t>(kStart + steps, CHCRT_TRACE_STEPS_COUNT);
         EXPECT_EQ(cost[i], expected) << "pixel " << i << ", " << steps << " steps";
-        saturated += expected == kChcrtCostStepMask;
-        below += expected < kChcrtCostStepMask && steps > 0;
+        saturated += expected == CHCRT_TRACE_STEPS_COUNT;
+        below += expected < CHCRT_TRACE_STEPS_COUNT && steps > 0;
     }
     EXPECT_GT(saturated, 0u); // both cases occurred
     EXPECT_GT(below, 0u);
@@ -259,10 +260,10 @@ TEST_F(ChcrtCostImageTest, CappedPassesSetTheFlagAndTheCountStaysBelowIt) {
     const std::vector<uint32_t> cost = chcrt.readDebugImage();
     uint64_t capped = 0;
     for (uint32_t v : cost) {
-        if ((v & kChcrtCostCappedBit) == 0) continue;
+        if ((v & CHCRT_TRACE_STEPS_CAPPED) == 0) continue;
         ++capped;
-        EXPECT_GE(v & kChcrtCostStepMask, 1u);
-        EXPECT_LE(v & kChcrtCostStepMask, kCap);
+        EXPECT_GE(v & CHCRT_TRACE_STEPS_COUNT, 1u);
+        EXPECT_LE(v & CHCRT_TRACE_STEPS_COUNT, kCap);
     }
     EXPECT_GT(capped, 0u);
     EXPECT_EQ(capped, traceStats.cappedRays);
@@ -273,7 +274,7 @@ TEST_F(ChcrtCostImageTest, CappedPassesSetTheFlagAndTheCountStaysBelowIt) {
         for (int x = 0; x < settings.width; ++x) {
             const uint32_t v = cost[size_t(settings.height - 1 - y) * settings.width + size_t(x)];
             const float* c = &rgb[(size_t(y) * settings.width + size_t(x)) * 3];
-            if (v & kChcrtCostCappedBit) {
+            if (v & CHCRT_TRACE_STEPS_CAPPED) {
                 EXPECT_EQ(glm::vec3(c[0], c[1], c[2]), glm::vec3(1.0f, 0.0f, 1.0f)) << x << "," << y;
             }
         }

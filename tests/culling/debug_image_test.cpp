@@ -2,6 +2,7 @@
 // the low 31 bits, bit 31 = capped) and its log heat ramp.
 #include "culling/chcrt_tracer.h"
 #include "renderer/core/error.h"
+#include "shaders/shared/render_layout.h"
 
 #include <gtest/gtest.h>
 
@@ -27,7 +28,7 @@ TEST(ChcrtDebugImageTest, ParsesEveryKindAndRefusesOthers) {
 
 TEST(ChcrtDebugImageTest, CostColoursMaskTheCappedBitAndUseALogRamp) {
     // GL rows bottom to top: values[0..3] is the bottom row (y = 1 from the top), values[4..7] the top row.
-    const uint32_t capped = kChcrtCostCappedBit;
+    const uint32_t capped = CHCRT_TRACE_STEPS_CAPPED;
     const std::vector<uint32_t> values = {0u, 1u, 30u, 1000u,                     // bottom row
                                           capped | 5u, capped, 999u, 1000u}; // top row
     const int width = 4, height = 2;
