@@ -49,7 +49,7 @@ public:
         label_ = label.size() > 32 ? label.substr(0, 29) + "..." : label;
         total_ = total;
         done_.store(0, std::memory_order_relaxed);
-        start_ = Clock::now();
+        start_ = now();
         drawn_ = false;
         lastLength_ = 0;
         frame_ = 0;
@@ -92,7 +92,8 @@ private:
         }
     }
 
-    double elapsedSeconds() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
+    Clock::time_point now() const { return options_.now ? options_.now() : Clock::now(); }
+    double elapsedSeconds() const { return std::chrono::duration<double>(now() - start_).count(); }
 
     void draw(bool finished) {
         const double elapsed = elapsedSeconds();

@@ -1,7 +1,9 @@
 #pragma once
 // Progress reporting for long steps (loading, BVH build, multi-pass rendering). Library code reports through
 // a Progress reference; app/ decides whether it is drawn as a terminal bar (TTY, not --quiet) or discarded.
+#include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -31,7 +33,10 @@ struct TerminalProgressOptions {
     int fd = 2;                // file descriptor the bar is written to
     bool requireTty = true;    // draw only when isatty(fd)
     double delaySeconds = 1.0; // a step draws nothing until it has lasted this long
-    double redrawSeconds = 0.1;
+    double redrawSeconds = 0.1; // how often the helper thread looks at the clock and redraws
+    // The clock that times a step (the delay, elapsed time, ETA); empty = std::chrono::steady_clock::now. Tests
+    // inject a fixed one, so that what is drawn does not depend on how fast the machine is.
+    std::function<std::chrono::steady_clock::time_point()> now;
 };
 std::unique_ptr<Progress> makeTerminalProgress(bool enabled, const TerminalProgressOptions& options);
 

@@ -5,10 +5,12 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <thread>
 #include <vector>
@@ -54,98 +56,137 @@ private:
     int fd_ = -1;
 };
 
-TerminalProgressOptions immediateOptions(int fd) {
+// A clock that moves only when a test sets it, and counts how often the bar looked at it: the bar's helper thread
+// reads it once per redraw, so a test can wait for redraws that happened instead of sleeping for them.
+class FixedClock {
+public:
+    void set(double seconds) { nanoseconds_ = int64_t(seconds * 1e9); }
+    int reads() const { return reads_; }
+    std::function<std::chrono::steady_clock::time_point()> function() {
+        return [this] {
+            ++reads_;
+            return std::chrono::steady_clock::time_point(std::chrono::nanoseconds(nanoseconds_.load()));
+        };
+    }
+    // Waits (up to 5 s) until the clock has been read `count` more times than now; true if it was.
+    bool waitForReads(int count) const {
+        const int target = reads_ + count;
+        for (int i = 0; i < 5000 && reads_ < target; ++i) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
+        return reads_ >= target;
+    }
+
+private:
+    std::atomic<int64_t> nanoseconds_{0};
+    std::atomic<int> reads_{0};
+};
+
+TerminalProgressOptions immediateOptions(int fd, FixedClock& clock) {
     TerminalProgressOptions options;
     options.fd = fd;
     options.requireTty = false;
     options.delaySeconds = 0.0;
     options.redrawSeconds = 0.005;
+    options.now = clock.function();
     return options;
 }
 
-TEST(Progress, NullProgressAcceptsEverything) {
-    Progress& progress = nullProgress();
-    progress.begin("nothing", 10);
-    progress.update(5);
-    progress.end();
-    EXPECT_EQ(&progress, &nullProgress());
-}
-
-TEST(Progress, DisabledWritesNothing) {
-    CapturedOutput output;
-    {
-        auto progress = makeTerminalProgress(false, immediateOptions(output.fd()));
-        progress->begin("disabled", 100);
-        progress->update(50);
-        std::this_thread::sleep_for(std::chrono::milliseconds(100));
-        progress->end();
+// A bar that must not exist (disabled, or stderr is not a terminal: a regular file is not): nothing is written, and
+// the step is not even timed (no helper thread looks at the clock), so no amount of waiting could make it draw.
+TEST(Progress, DisabledAndNonTtyBarsWriteNothingAndTimeNothing) {
+    for (const bool disabled : {true, false}) {
+        CapturedOutput output;
+        FixedClock clock;
+        TerminalProgressOptions options = immediateOptions(output.fd(), clock);
+        options.requireTty = !disabled;
+        {
+            auto progress = makeTerminalProgress(!disabled, options);
+            progress->begin("no bar", 100);
+            progress->update(50);
+            clock.set(10.0);
+            progress->end();
+        }
+        EXPECT_EQ(clock.reads(), 0) << (disabled ? "disabled" : "not a tty");
+        EXPECT_EQ(output.text(), "") << (disabled ? "disabled" : "not a tty");
     }
-    EXPECT_EQ(output.text(), "");
 }
 
-TEST(Progress, NonTtyWritesNothing) {
+// A step draws nothing before it has lasted delaySeconds, however many redraws looked: one that ends earlier leaves
+// no trace, a longer one draws once the delay is reached.
+TEST(Progress, StepsDrawOnlyOnceTheyHaveLastedTheDelay) {
     CapturedOutput output;
-    TerminalProgressOptions options = immediateOptions(output.fd());
-    options.requireTty = true; // a regular file is not a terminal
-    {
-        auto progress = makeTerminalProgress(true, options);
-        progress->begin("not a tty", 100);
-        progress->update(50);
-        std::this_thread::sleep_for(std::chrono::milliseconds(100));
-        progress->end();
-    }
-    EXPECT_EQ(output.text(), "");
-}
-
-TEST(Progress, ShortStepWritesNothing) {
-    CapturedOutput output;
-    TerminalProgressOptions options = immediateOptions(output.fd());
+    FixedClock clock;
+    TerminalProgressOptions options = immediateOptions(output.fd(), clock);
     options.delaySeconds = 60.0;
-    {
-        auto progress = makeTerminalProgress(true, options);
-        progress->begin("short", 100);
-        progress->update(100);
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));
-        progress->end();
-    }
+    auto progress = makeTerminalProgress(true, options);
+    progress->begin("short", 100);
+    progress->update(100);
+    clock.set(59.9);
+    ASSERT_TRUE(clock.waitForReads(5)); // five redraws saw 59.9 s
+    progress->end();
     EXPECT_EQ(output.text(), "");
+
+    clock.set(100.0);
+    progress->begin("long", 100);
+    progress->update(40);
+    clock.set(159.9);
+    ASSERT_TRUE(clock.waitForReads(5));
+    EXPECT_EQ(output.text(), "");
+    clock.set(160.0);
+    ASSERT_TRUE(output.waitForOutput("\rlong [") && output.waitForOutput(" 40% 40/100 1:00")) << output.text();
+    progress->end();
 }
 
-TEST(Progress, DrawsBarWithPercentAndFinishesLine) {
+TEST(Progress, DrawsBarWithPercentElapsedAndEtaAndFinishesLine) {
     CapturedOutput output;
-    auto progress = makeTerminalProgress(true, immediateOptions(output.fd()));
+    FixedClock clock;
+    auto progress = makeTerminalProgress(true, immediateOptions(output.fd(), clock));
     progress->begin("Building BVH", 200);
+    clock.set(10.0);
     progress->update(100);
-    ASSERT_TRUE(output.waitForOutput(" 50% 100/200")) << output.text();
+    // Half done after 10 s: 10 s to go.
+    ASSERT_TRUE(output.waitForOutput(" 50% 100/200 0:10 ETA 0:10")) << output.text();
     const std::string during = output.text();
     EXPECT_EQ(during.front(), '\r');
-    EXPECT_NE(during.find("Building BVH ["), std::string::npos) << during;
-    EXPECT_NE(during.find(" 50% 100/200"), std::string::npos) << during;
-    EXPECT_NE(during.find("ETA"), std::string::npos) << during;
+    EXPECT_NE(during.find("\rBuilding BVH [############............]  50% 100/200 0:10 ETA 0:10"), std::string::npos)
+        << during;
     EXPECT_EQ(during.find('\n'), std::string::npos) << "line finished before end()";
+    clock.set(30.0);
+    progress->update(150);
+    ASSERT_TRUE(output.waitForOutput(" 75% 150/200 0:30 ETA 0:10")) << output.text();
+    clock.set(41.0);
     progress->update(200);
     progress->end();
     const std::string after = output.text();
     EXPECT_EQ(after.back(), '\n');
-    EXPECT_NE(after.find("100% 200/200"), std::string::npos) << after;
+    // The final line, without an ETA (padded with spaces where it is shorter than the line it overwrites).
+    const std::string lastLine = after.substr(after.rfind('\r'));
+    const std::string expected = "\rBuilding BVH [########################] 100% 200/200 0:41";
+    EXPECT_EQ(lastLine.substr(0, expected.size()), expected) << lastLine;
+    EXPECT_EQ(lastLine.find_first_not_of(' ', expected.size()), lastLine.size() - 1) << lastLine;
 }
 
-TEST(Progress, UnknownTotalShowsCount) {
+TEST(Progress, UnknownTotalShowsCountAndElapsedTime) {
     CapturedOutput output;
-    auto progress = makeTerminalProgress(true, immediateOptions(output.fd()));
+    FixedClock clock;
+    auto progress = makeTerminalProgress(true, immediateOptions(output.fd(), clock));
     progress->begin("Loading", 0);
+    clock.set(7.5);
     progress->update(1234);
-    ASSERT_TRUE(output.waitForOutput(" 1234 ")) << output.text();
+    ASSERT_TRUE(output.waitForOutput(" 1234 0:07")) << output.text();
+    clock.set(3725.0);
+    ASSERT_TRUE(output.waitForOutput(" 1234 1:02:05")) << output.text(); // h:mm:ss from an hour on
     progress->end();
     const std::string text = output.text();
-    EXPECT_NE(text.find("Loading "), std::string::npos) << text;
-    EXPECT_NE(text.find(" 1234 0:0"), std::string::npos) << text; // count, then elapsed m:ss
+    EXPECT_NE(text.find("\rLoading "), std::string::npos) << text;
     EXPECT_EQ(text.find('%'), std::string::npos) << text;
 }
 
 TEST(Progress, ConcurrentUpdatesKeepTheMaximum) {
     CapturedOutput output;
-    auto progress = makeTerminalProgress(true, immediateOptions(output.fd()));
+    FixedClock clock;
+    auto progress = makeTerminalProgress(true, immediateOptions(output.fd(), clock));
     progress->begin("parallel", 4000);
     std::vector<std::thread> workers;
     for (int w = 0; w < 4; ++w) {
