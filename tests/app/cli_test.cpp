@@ -13,6 +13,7 @@
 #include <sstream>
 #include <string>
 #include <sys/wait.h>
+#include <vector>
 
 namespace {
 
@@ -186,9 +187,24 @@ TEST_F(CliTest, BenchWritesTheDocumentedJsonSchema) {
                                   "mrays_per_s", "speedup_vs_bvh", "diff_pixels", "psnr_db"}) {
             EXPECT_TRUE(row.contains(field)) << field;
         }
-        EXPECT_GT(row["mrays_per_s"].get<double>(), 0.0);
         EXPECT_EQ(row["diff_pixels"], 0);
+        // The derived columns follow from the measured ones: the median of the runs' times, active rays per frame
+        // over it, and the bvh row's median over it.
+        const std::vector<double> runs = row["ms_runs"].get<std::vector<double>>();
+        ASSERT_EQ(runs.size(), 2u);
+        const double ms = row["ms_median"].get<double>();
+        EXPECT_DOUBLE_EQ(ms, 0.5 * (runs[0] + runs[1]));
+        ASSERT_GT(ms, 0.0);
+        const double activeRays = row["active_rays_per_frame"].get<double>();
+        EXPECT_GT(activeRays, 0.0);
+        EXPECT_LE(activeRays, 48.0 * 32.0);
+        EXPECT_DOUBLE_EQ(row["mrays_per_s"].get<double>(), activeRays / (ms * 1000.0));
+        const nlohmann::json& bvhRow = j["rows"][row["ray_type"] == "primary" ? 0 : 2];
+        ASSERT_EQ(bvhRow["method"], "bvh");
+        EXPECT_EQ(row["active_rays_per_frame"], bvhRow["active_rays_per_frame"]); // the same rays for every method
+        EXPECT_DOUBLE_EQ(row["speedup_vs_bvh"].get<double>(), bvhRow["ms_median"].get<double>() / ms);
     }
+    EXPECT_EQ(j["rows"][0]["active_rays_per_frame"], 48 * 32); // every primary ray is active
     EXPECT_DOUBLE_EQ(j["rows"][0]["speedup_vs_bvh"].get<double>(), 1.0);
     EXPECT_TRUE(exists("b.csv"));
 }
