@@ -626,6 +626,9 @@ void ChcrtTracer::trace(const TraceRequest& request, const RayTextures& rays, Hi
         adaptive_.try_emplace(adaptiveKey(request), arms, options_.adaptiveProbeInterval, options_.adaptiveProbeBudget)
             .first->second;
     const uint32_t arm = canFallBack ? choice.next() : 1;
+    const auto timed = [this](uint32_t ran, double ms) {
+        return options_.adaptiveTiming ? options_.adaptiveTiming(ran, ms) : ms;
+    };
     const auto start = Clock::now();
     if (arm != AdaptiveChoice::kPureArm) {
         ChcrtTracer& tracer = armTracer(arm);
@@ -636,13 +639,13 @@ void ChcrtTracer::trace(const TraceRequest& request, const RayTextures& rays, Hi
         last_.heightSum = tracer.hierarchy_.maxSubtreeHeight;
         // The culling traces end with glFinish. A debug trace's time includes the instrumentation: not a sample
         // of culling's cost for the choice.
-        if (canFallBack) choice.report(arm, millisecondsSince(start), warm);
+        if (canFallBack) choice.report(arm, timed(arm, millisecondsSince(start)), warm);
         stats.passes += 1 + last_.shaderCalls + last_.queries;
     } else {
         fullTracer_->trace(request, rays, hits, width, height, stats);
         glFinish();
         const double ms = millisecondsSince(start);
-        choice.report(arm, ms, true);
+        choice.report(arm, timed(arm, ms), true);
         last_.fallbackTraces = 1;
         last_.fallbackMs = ms;
     }

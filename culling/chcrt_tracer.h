@@ -83,6 +83,10 @@ struct ChcrtOptions {
     // More culling arms of the adaptive choice (in core only): the same options at these termination heights,
     // each with its own culling hierarchy, built on first use. Empty: the configured height only.
     std::vector<uint32_t> adaptiveHeights;
+    // What the adaptive choice is told a trace of `arm` took (0 = the pure pass, 1 = this configuration, 2.. =
+    // adaptiveHeights), given its measured wall time; empty = the wall time. Tests fix the times so that the
+    // choices do not depend on the machine.
+    std::function<double(uint32_t arm, double wallMs)> adaptiveTiming;
     // Extra defines of the subtree-intersection shader per any-hit (e.g. Line Space traversal, methods
     // chcrt+ls*: linespace/README.md) and the binding of what they read, called before subtree draws. Empty =
     // pure subtree traversal; a traversal named there (CHCRT_BVH_TRAVERSAL) turns the leaf cache and merged batches off.

@@ -5,7 +5,12 @@
 
 #include "culling/chcrt_tracer.h"
 
+#include <algorithm>
 #include <cstring>
+#include <functional>
+#include <map>
+#include <set>
+#include <string>
 #include <vector>
 
 namespace chcrt::test {
@@ -30,6 +35,19 @@ struct ExactnessCase {
 };
 
 class ChcrtExactnessTest : public RenderTest, public ::testing::WithParamInterface<ExactnessCase> {};
+
+// Fixed times for the adaptive choice instead of the wall clock, so that its choices are the same on every machine:
+// a pure pass takes 5 ms, the configured culling 6 ms before frame 3 (the pure pass wins: a stretch of fallbacks,
+// culling re-probed) and 1 ms from then on (culling wins again and resumes from fronts several frames old), the
+// further heights 7 ms.
+std::function<double(uint32_t, double)> fixedAdaptiveTiming(const int& frame) {
+    return [&frame](uint32_t arm, double) { return arm == 0 ? 5.0 : arm == 1 ? (frame < 3 ? 6.0 : 1.0) : 7.0; };
+}
+
+// What a trace was: "F" for a pure pass of the adaptive fallback, else the termination height it culled with.
+std::string traceKind(const ChcrtStats& last) {
+    return last.fallbackTraces ? "F" : std::to_string(last.heightSum);
+}
 
 bool sameHit(const Hit& a, const Hit& b, bool anyHit) {
     const bool hitA = a.triangleId != CHCRT_NO_HIT_ID, hitB = b.triangleId != CHCRT_NO_HIT_ID;
@@ -58,11 +76,14 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
     options.boundsPreviousFront = c.boundsPreviousFront;
     options.adaptiveHeights = c.adaptiveHeights;
     options.cellListLimit = c.cellListLimit;
+    int frame = 0;
+    if (c.adaptive) options.adaptiveTiming = fixedAdaptiveTiming(frame);
     ChcrtTracer chcrt(bvh_, options);
     const CameraPath path = proceduralNearPath(spec_);
 
     uint64_t compared = 0, hits = 0;
-    for (int frame = 0; frame < 6; ++frame) {
+    std::map<std::string, std::vector<std::string>> kinds; // per ray type, the traceKind of each trace
+    for (frame = 0; frame < 6; ++frame) {
         const Camera camera = path.cameraAtFrame(frame * 2);
         FrameStats stats;
         renderer.renderGBuffer(camera, stats);
@@ -74,6 +95,7 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
                 const std::vector<Hit> reference = renderer.readHits(0);
                 renderer.useTracer(&chcrt);
                 renderer.traceRayPass(camera, type, sample, stats);
+                kinds[toString(type)].push_back(traceKind(chcrt.lastStats()));
                 const std::vector<Hit> culled = renderer.readHits(0);
                 ASSERT_EQ(reference.size(), culled.size());
                 size_t differing = 0;
@@ -130,12 +152,37 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
         EXPECT_EQ(total.queriesSkippedExtent, 0u);
         EXPECT_EQ(total.leavesSkippedExtent, 0u);
     }
+    // The configured culling runs first (its height: the hierarchy's, at most maxSubtreeHeight).
+    const std::string configured = kinds["primary"].front();
+    const auto has = [](const std::vector<std::string>& sequence, const std::string& kind) {
+        return std::find(sequence.begin(), sequence.end(), kind) != sequence.end();
+    };
     if (c.adaptive) {
-        // The adaptive choice measures every arm first, whatever the times: per ray kind the configured culling,
-        // the pure pass twice, then each further height, so both branches are compared above.
+        // The adaptive choice measures every arm first: per ray kind the configured culling, the pure pass twice,
+        // then each further height, so both branches are compared above. With the fixed times the pure pass then
+        // wins for a stretch; with the configured height alone culling is re-probed, wins from frame 3 on, and
+        // resumes from fronts several frames old (e.g. primary 8 8 F F F F F F F 8 8 8).
         EXPECT_GE(total.fallbackTraces, 2u * 4u);
         EXPECT_GE(total.traces - total.fallbackTraces, (1u + c.adaptiveHeights.size()) * 4u);
+        for (const auto& [type, sequence] : kinds) {
+            std::string text;
+            for (const std::string& kind : sequence) text += kind + " ";
+            std::printf("[ adaptive ] %s: %s\n", type.c_str(), text.c_str());
+            EXPECT_TRUE(has(sequence, "F")) << type << ": " << text;
+            std::set<std::string> heights(sequence.begin(), sequence.end());
+            heights.erase("F");
+            EXPECT_EQ(heights.size(), 1u + c.adaptiveHeights.size()) << type << ": " << text; // every arm ran
+            if (c.adaptiveHeights.empty()) {
+                const auto lastPure = std::find(sequence.rbegin(), sequence.rend(), "F");
+                const auto isConfigured = [&](const std::string& kind) { return kind == configured; };
+                EXPECT_TRUE(lastPure != sequence.rbegin() && std::all_of(sequence.rbegin(), lastPure, isConfigured))
+                    << type << ": " << text;
+            }
+        }
     } else {
+        for (const auto& [type, sequence] : kinds) {
+            EXPECT_EQ(std::count(sequence.begin(), sequence.end(), configured), 12) << type; // no fallback, one height
+        }
         // per sample index for AO and diffuse, one state each for primary and shadow (§5.3)
         EXPECT_EQ(chcrt.rayStateCount(), 2u + 2u + 2u);
     }
@@ -170,9 +217,11 @@ TEST_P(ChcrtExactnessTest, ShadedFrameEqualsPureBvhFrame) {
     options.boundsPreviousFront = c.boundsPreviousFront;
     options.adaptiveHeights = c.adaptiveHeights;
     options.cellListLimit = c.cellListLimit;
+    int frame = 0;
+    if (c.adaptive) options.adaptiveTiming = fixedAdaptiveTiming(frame);
     ChcrtTracer chcrt(bvh_, options);
     const CameraPath path = proceduralNearPath(spec_);
-    for (int frame : {0, 1}) {
+    for (frame = 0; frame < 2; ++frame) {
         const Camera camera = path.cameraAtFrame(frame);
         renderer.useTracer(nullptr);
         renderer.renderFrame(camera);
