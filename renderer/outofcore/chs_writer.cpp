@@ -11,6 +11,17 @@
 #include <unistd.h>
 
 namespace chcrt::outofcore {
+
+// One termination subtree as written (chs_format.h): nodes with local indices, triangles, per-vertex normals and
+// texture coordinates; `source` is the BVH node of each local node.
+struct SubtreeBlob {
+    std::vector<BvhNodeGpu> nodes;
+    std::vector<TriangleGpu> tris;
+    std::vector<glm::vec3> normals;
+    std::vector<glm::vec2> uvs;
+    std::vector<uint32_t> source;
+};
+
 namespace {
 
 void setBounds(float (&lo)[3], float (&hi)[3], const glm::vec3& a, const glm::vec3& b) {
@@ -78,6 +89,109 @@ std::vector<ChsUpperNode> buildTopLevel(const std::vector<Aabb>& boxes) {
     return nodes;
 }
 
+// Height (edges to the deepest leaf) and triangle count of every BVH node, bottom-up (children have larger
+// indices than their parents).
+struct NodeExtents {
+    std::vector<uint32_t> height, count;
+};
+
+NodeExtents nodeExtents(const Bvh& bvh) {
+    const size_t n = bvh.nodes.size();
+    NodeExtents e{std::vector<uint32_t>(n, 0), std::vector<uint32_t>(n, 0)};
+    for (size_t i = n; i-- > 0;) {
+        const BvhNodeGpu& node = bvh.nodes[i];
+        if (node.triCount != 0) {
+            e.count[i] = node.triCount;
+            continue;
+        }
+        e.height[i] = 1 + std::max(e.height[node.leftFirst], e.height[node.leftFirst + 1]);
+        e.count[i] = e.count[node.leftFirst] + e.count[node.leftFirst + 1];
+    }
+    return e;
+}
+
+// Where a chunk's triangles land in the file: original ids offset, positions moved by `translation`.
+struct ChunkPlacement {
+    uint64_t idOffset;
+    glm::vec3 translation;
+    bool moved; // translation != 0
+    bool hasUv; // the scene has texture coordinates
+};
+
+// Copies the subtree under BVH node `root` into `blob` in breadth-first order with local indices.
+void copySubtree(const Scene& scene, const Bvh& bvh, uint32_t root, const ChunkPlacement& placement,
+                 SubtreeBlob& blob) {
+    blob.nodes.clear(), blob.tris.clear(), blob.normals.clear(), blob.uvs.clear(), blob.source.assign(1, root);
+    blob.nodes.push_back(bvh.nodes[root]);
+    for (size_t k = 0; k < blob.source.size(); ++k) {
+        const BvhNodeGpu& s = bvh.nodes[blob.source[k]];
+        if (s.triCount != 0) {
+            blob.nodes[k].leftFirst = uint32_t(blob.tris.size());
+            for (uint32_t t = 0; t < s.triCount; ++t) {
+                TriangleGpu tri = bvh.triangles[s.leftFirst + t];
+                const glm::uvec3 idx = scene.triangles[tri.originalId];
+                for (int v = 0; v < 3; ++v) {
+                    blob.normals.push_back(scene.normals[idx[v]]);
+                    if (placement.hasUv) blob.uvs.push_back(scene.texcoords[idx[v]]);
+                }
+                tri.originalId = uint32_t(tri.originalId + placement.idOffset);
+                if (placement.moved) {
+                    tri.v0 += placement.translation, tri.v1 += placement.translation, tri.v2 += placement.translation;
+                }
+                blob.tris.push_back(tri);
+            }
+        } else {
+            blob.nodes[k].leftFirst = uint32_t(blob.nodes.size());
+            blob.nodes.push_back(bvh.nodes[s.leftFirst]);
+            blob.nodes.push_back(bvh.nodes[s.leftFirst + 1]);
+            blob.source.push_back(s.leftFirst);
+            blob.source.push_back(s.leftFirst + 1);
+        }
+    }
+}
+
+// Boxes of a moved subtree from its moved triangles, bottom-up (exactly conservative after rounding).
+void refitBoxes(SubtreeBlob& blob) {
+    std::vector<BvhNodeGpu>& nodes = blob.nodes;
+    for (size_t k = nodes.size(); k-- > 0;) {
+        Aabb b;
+        if (nodes[k].triCount != 0) {
+            for (uint32_t t = 0; t < nodes[k].triCount; ++t) {
+                const TriangleGpu& tri = blob.tris[nodes[k].leftFirst + t];
+                b.grow(tri.v0), b.grow(tri.v1), b.grow(tri.v2);
+            }
+        } else {
+            for (uint32_t c = 0; c < 2; ++c) {
+                b.grow(nodes[nodes[k].leftFirst + c].boundsMin);
+                b.grow(nodes[nodes[k].leftFirst + c].boundsMax);
+            }
+        }
+        nodes[k].boundsMin = b.lower, nodes[k].boundsMax = b.upper;
+    }
+}
+
+// Boxes of a chunk's upper nodes, bottom-up (BFS order: children after parents): termination roots take their
+// subtree's box; inner nodes the union of their children's, or, unmoved, exactly the builder's box of their BVH
+// node (cut[i] = (BVH node, upper node i)).
+void fitUpperBoxes(std::vector<ChsUpperNode>& upper, const std::vector<ChsSubtreeRecord>& records, const Bvh& bvh,
+                   const std::vector<std::pair<uint32_t, uint32_t>>& cut, bool moved) {
+    for (size_t i = upper.size(); i-- > 0;) {
+        ChsUpperNode& u = upper[i];
+        if (u.subtree != kChsNoSubtree) {
+            std::memcpy(u.boundsMin, records[u.subtree].boundsMin, sizeof(u.boundsMin));
+            std::memcpy(u.boundsMax, records[u.subtree].boundsMax, sizeof(u.boundsMax));
+            continue;
+        }
+        Aabb b = boundsOf(upper[u.firstChild]);
+        b.grow(boundsOf(upper[u.firstChild + 1]));
+        if (!moved) {
+            const BvhNodeGpu& original = bvh.nodes[cut[i].first];
+            b.lower = original.boundsMin, b.upper = original.boundsMax;
+        }
+        setBounds(u.boundsMin, u.boundsMax, b.lower, b.upper);
+    }
+}
+
 } // namespace
 
 ChsWriter::ChsWriter(const std::filesystem::path& file, const ChsWriterOptions& options)
@@ -109,7 +223,7 @@ void ChsWriter::write(const void* data, size_t bytes) {
     offset_ += bytes;
 }
 
-void ChsWriter::addChunk(const Scene& scene, const Bvh& bvh, uint64_t idOffset, const glm::vec3& translation) {
+void ChsWriter::checkChunk(const Scene& scene, uint64_t idOffset) {
     const bool hasUv = !scene.texcoords.empty();
     if (texcoordsKnown_ && hasUv != texcoords_) throw InputError("prepare: chunks disagree on texture coordinates");
     texcoords_ = hasUv;
@@ -117,32 +231,48 @@ void ChsWriter::addChunk(const Scene& scene, const Bvh& bvh, uint64_t idOffset, 
     if (idOffset + scene.triangles.size() >= uint64_t(CHCRT_NO_HIT_ID)) {
         throw InputError("prepare: more than 4294967294 triangles (triangle ids are 32-bit)");
     }
-    const size_t n = bvh.nodes.size();
-    const bool moved = translation != glm::vec3(0.0f);
-    // Height and triangle count per node, bottom-up (children have larger indices than their parents).
-    std::vector<uint32_t> height(n, 0), count(n, 0);
-    for (size_t i = n; i-- > 0;) {
-        const BvhNodeGpu& node = bvh.nodes[i];
-        if (node.triCount != 0) {
-            count[i] = node.triCount;
-            continue;
-        }
-        height[i] = 1 + std::max(height[node.leftFirst], height[node.leftFirst + 1]);
-        count[i] = count[node.leftFirst] + count[node.leftFirst + 1];
-    }
+}
+
+uint32_t ChsWriter::writeSubtree(const SubtreeBlob& blob, uint32_t height) {
+    ChsSubtreeRecord record{};
+    record.offset = offset_;
+    record.nodeCount = uint32_t(blob.nodes.size());
+    record.triangleCount = uint32_t(blob.tris.size());
+    record.height = height;
+    setBounds(record.boundsMin, record.boundsMax, blob.nodes[0].boundsMin, blob.nodes[0].boundsMax);
+    const size_t before = offset_;
+    uint64_t sum = chsChecksum(blob.nodes.data(), blob.nodes.size() * sizeof(BvhNodeGpu));
+    sum = chsChecksum(blob.tris.data(), blob.tris.size() * sizeof(TriangleGpu), sum);
+    sum = chsChecksum(blob.normals.data(), blob.normals.size() * sizeof(glm::vec3), sum);
+    sum = chsChecksum(blob.uvs.data(), blob.uvs.size() * sizeof(glm::vec2), sum);
+    write(blob.nodes.data(), blob.nodes.size() * sizeof(BvhNodeGpu));
+    write(blob.tris.data(), blob.tris.size() * sizeof(TriangleGpu));
+    write(blob.normals.data(), blob.normals.size() * sizeof(glm::vec3));
+    write(blob.uvs.data(), blob.uvs.size() * sizeof(glm::vec2));
+    record.bytes = offset_ - before;
+    record.checksum = sum;
+    records_.push_back(record);
+    triangles_ += blob.tris.size();
+    nodes_ += blob.nodes.size();
+    maxNodes_ = std::max(maxNodes_, uint32_t(blob.nodes.size()));
+    maxTriangles_ = std::max(maxTriangles_, uint32_t(blob.tris.size()));
+    return uint32_t(records_.size() - 1);
+}
+
+void ChsWriter::addChunk(const Scene& scene, const Bvh& bvh, uint64_t idOffset, const glm::vec3& translation) {
+    checkChunk(scene, idOffset);
+    const ChunkPlacement placement{idOffset, translation, translation != glm::vec3(0.0f), !scene.texcoords.empty()};
+    const NodeExtents extents = nodeExtents(bvh);
     Chunk chunk;
     chunk.nodes.resize(1);
-    std::vector<BvhNodeGpu> nodes;
-    std::vector<TriangleGpu> tris;
-    std::vector<glm::vec3> normals;
-    std::vector<glm::vec2> uvs;
-    std::vector<uint32_t> source;
-    // Breadth-first over the upper part; (bvh node, chunk node).
+    SubtreeBlob blob; // reused for every subtree of the chunk
+    // Breadth-first over the upper part; (bvh node, chunk node): entry i is chunk node i.
     std::vector<std::pair<uint32_t, uint32_t>> queue{{0u, 0u}};
     for (size_t q = 0; q < queue.size(); ++q) {
         const auto [bvhNode, upperIndex] = queue[q];
         const BvhNodeGpu& node = bvh.nodes[bvhNode];
-        const bool fits = height[bvhNode] <= options_.subtreeHeight && count[bvhNode] <= options_.subtreeTriangles;
+        const bool fits = extents.height[bvhNode] <= options_.subtreeHeight &&
+                          extents.count[bvhNode] <= options_.subtreeTriangles;
         if (!(fits || node.triCount != 0)) {
             const uint32_t child = uint32_t(chunk.nodes.size());
             chunk.nodes.resize(chunk.nodes.size() + 2);
@@ -152,91 +282,13 @@ void ChsWriter::addChunk(const Scene& scene, const Bvh& bvh, uint64_t idOffset, 
             queue.push_back({node.leftFirst + 1, child + 1});
             continue;
         }
-        // A termination root: copy its subtree in breadth-first order with local indices.
-        nodes.clear(), tris.clear(), normals.clear(), uvs.clear(), source.assign(1, bvhNode);
-        nodes.push_back(node);
-        for (size_t k = 0; k < source.size(); ++k) {
-            const BvhNodeGpu& s = bvh.nodes[source[k]];
-            if (s.triCount != 0) {
-                nodes[k].leftFirst = uint32_t(tris.size());
-                for (uint32_t t = 0; t < s.triCount; ++t) {
-                    TriangleGpu tri = bvh.triangles[s.leftFirst + t];
-                    const glm::uvec3 idx = scene.triangles[tri.originalId];
-                    for (int v = 0; v < 3; ++v) {
-                        normals.push_back(scene.normals[idx[v]]);
-                        if (hasUv) uvs.push_back(scene.texcoords[idx[v]]);
-                    }
-                    tri.originalId = uint32_t(tri.originalId + idOffset);
-                    if (moved) tri.v0 += translation, tri.v1 += translation, tri.v2 += translation;
-                    tris.push_back(tri);
-                }
-            } else {
-                nodes[k].leftFirst = uint32_t(nodes.size());
-                nodes.push_back(bvh.nodes[s.leftFirst]);
-                nodes.push_back(bvh.nodes[s.leftFirst + 1]);
-                source.push_back(s.leftFirst);
-                source.push_back(s.leftFirst + 1);
-            }
-        }
-        if (moved) { // boxes from the moved triangles, bottom-up (exactly conservative after rounding)
-            for (size_t k = nodes.size(); k-- > 0;) {
-                Aabb b;
-                if (nodes[k].triCount != 0) {
-                    for (uint32_t t = 0; t < nodes[k].triCount; ++t) {
-                        const TriangleGpu& tri = tris[nodes[k].leftFirst + t];
-                        b.grow(tri.v0), b.grow(tri.v1), b.grow(tri.v2);
-                    }
-                } else {
-                    for (uint32_t c = 0; c < 2; ++c) {
-                        b.grow(nodes[nodes[k].leftFirst + c].boundsMin);
-                        b.grow(nodes[nodes[k].leftFirst + c].boundsMax);
-                    }
-                }
-                nodes[k].boundsMin = b.lower, nodes[k].boundsMax = b.upper;
-            }
-        }
-        ChsSubtreeRecord record{};
-        record.offset = offset_;
-        record.nodeCount = uint32_t(nodes.size());
-        record.triangleCount = uint32_t(tris.size());
-        record.height = height[bvhNode];
-        setBounds(record.boundsMin, record.boundsMax, nodes[0].boundsMin, nodes[0].boundsMax);
-        const size_t before = offset_;
-        uint64_t sum = chsChecksum(nodes.data(), nodes.size() * sizeof(BvhNodeGpu));
-        sum = chsChecksum(tris.data(), tris.size() * sizeof(TriangleGpu), sum);
-        sum = chsChecksum(normals.data(), normals.size() * sizeof(glm::vec3), sum);
-        sum = chsChecksum(uvs.data(), uvs.size() * sizeof(glm::vec2), sum);
-        write(nodes.data(), nodes.size() * sizeof(BvhNodeGpu));
-        write(tris.data(), tris.size() * sizeof(TriangleGpu));
-        write(normals.data(), normals.size() * sizeof(glm::vec3));
-        write(uvs.data(), uvs.size() * sizeof(glm::vec2));
-        record.bytes = offset_ - before;
-        record.checksum = sum;
+        copySubtree(scene, bvh, bvhNode, placement, blob);
+        if (placement.moved) refitBoxes(blob);
         ChsUpperNode& u = chunk.nodes[upperIndex];
         u.firstChild = 0;
-        u.subtree = uint32_t(records_.size());
-        records_.push_back(record);
-        triangles_ += tris.size();
-        nodes_ += nodes.size();
-        maxNodes_ = std::max(maxNodes_, uint32_t(nodes.size()));
-        maxTriangles_ = std::max(maxTriangles_, uint32_t(tris.size()));
+        u.subtree = writeSubtree(blob, extents.height[bvhNode]);
     }
-    // Upper boxes: from the subtree records and children, bottom-up (BFS order: children after parents).
-    for (size_t i = chunk.nodes.size(); i-- > 0;) {
-        ChsUpperNode& u = chunk.nodes[i];
-        if (u.subtree != kChsNoSubtree) {
-            std::memcpy(u.boundsMin, records_[u.subtree].boundsMin, sizeof(u.boundsMin));
-            std::memcpy(u.boundsMax, records_[u.subtree].boundsMax, sizeof(u.boundsMax));
-            continue;
-        }
-        Aabb b = boundsOf(chunk.nodes[u.firstChild]);
-        b.grow(boundsOf(chunk.nodes[u.firstChild + 1]));
-        if (!moved) { // keep the builder's boxes exactly
-            const BvhNodeGpu& original = bvh.nodes[queue[i].first];
-            b.lower = original.boundsMin, b.upper = original.boundsMax;
-        }
-        setBounds(u.boundsMin, u.boundsMax, b.lower, b.upper);
-    }
+    fitUpperBoxes(chunk.nodes, records_, bvh, queue, placement.moved);
     chunks_.push_back(std::move(chunk));
 }
 

@@ -14,6 +14,8 @@
 
 namespace chcrt::outofcore {
 
+struct SubtreeBlob; // one termination subtree as written (chs_writer.cpp)
+
 struct ChsWriterOptions {
     uint32_t subtreeTriangles = 1u << 16;
     uint32_t subtreeHeight = 24;
@@ -51,6 +53,10 @@ private:
         std::vector<ChsUpperNode> nodes; // root = 0; termination roots carry their subtree index
     };
     void write(const void* data, size_t bytes);
+    // Checks a chunk against the earlier ones (texture coordinates) and the 32-bit triangle ids.
+    void checkChunk(const Scene& scene, uint64_t idOffset);
+    // Appends the subtree and its directory record; returns its index in the directory.
+    uint32_t writeSubtree(const SubtreeBlob& blob, uint32_t height);
 
     std::filesystem::path file_, temp_;
     ChsWriterOptions options_;
