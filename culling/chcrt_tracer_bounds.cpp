@@ -10,6 +10,7 @@
 #include "culling/chcrt_tracer.h"
 
 #include "renderer/core/error.h"
+#include "renderer/core/timing.h"
 #include "renderer/render/trace_pass.h"
 #include "shaders/shared/culling_layout.h"
 #include "shaders/shared/render_layout.h"
@@ -19,12 +20,7 @@
 
 namespace chcrt {
 namespace {
-
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
 } // namespace
 
 void ChcrtTracer::updateBounds(const RayTextures& rays, GLuint hitImage, bool anyHit, int width, int height) {
@@ -36,7 +32,7 @@ void ChcrtTracer::updateBounds(const RayTextures& rays, GLuint hitImage, bool an
     if (hitImage != 0) glBindImageTexture(CHCRT_CULLING_IMAGE_HIT, hitImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32UI);
     mode_ = Mode::None;
     ++last_.boundsUpdates;
-    last_.boundsMs += msSince(start);
+    last_.boundsMs += millisecondsSince(start);
 }
 
 bool ChcrtTracer::decideByBounds(int32_t first, VisibilityState& state, std::vector<Scheduled>& out) {
@@ -121,7 +117,7 @@ void ChcrtTracer::intersectCells(std::vector<Scheduled>& work, bool anyHit, cons
         last_.subtreesScheduled += resident.size();
         last_.cellsDrawn += cells_->draw(anyHit, debugDefine, width, height, maskFramebuffer, writeMask);
         last_.cellsWholeTree += cells_->wholeTreeCells();
-        last_.cellListMs += msSince(listStart); // CPU: lists, sorting, uploads, submitting the draw (not its GPU work)
+        last_.cellListMs += millisecondsSince(listStart); // CPU: lists, sorting, uploads, submitting the draw (not its GPU work)
         ++last_.shaderCalls;
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT); // the next round continues from these hits
     });
@@ -153,7 +149,7 @@ bool ChcrtTracer::traceBounded(const TraceRequest& request, const RayTextures& r
         intersectCells(work, anyHit, rays, hits, true, width, height);
         glFinish();
     }
-    last_.phase1Ms = msSince(start);
+    last_.phase1Ms = millisecondsSince(start);
 
     // Phases 2 and 3 (lines 5-34), decided on the CPU against the hits Phase 1 found: visible leaves out of reach
     // join the invisible front (the lazy re-query, every frame and free); invisible pairs in reach are traversed
@@ -169,13 +165,13 @@ bool ChcrtTracer::traceBounded(const TraceRequest& request, const RayTextures& r
     const auto decideStart = Clock::now();
     std::vector<Scheduled> newlyVisible;
     for (int32_t p : invisibleLeaves) decideByBounds(p, state, newlyVisible);
-    last_.decideMs += msSince(decideStart);
-    last_.phase2Ms = msSince(start);
+    last_.decideMs += millisecondsSince(decideStart);
+    last_.phase2Ms = millisecondsSince(start);
 
     start = Clock::now();
     intersectCells(newlyVisible, anyHit, rays, hits, !phase1, width, height);
     endTrace(state, width, height);
-    last_.phase3Ms = msSince(start);
+    last_.phase3Ms = millisecondsSince(start);
     return warm;
 }
 
