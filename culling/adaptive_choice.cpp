@@ -6,17 +6,18 @@
 namespace chcrt {
 
 double RecentTimes::estimate() const {
-    if (count_ == 0) return 0.0;
-    if (count_ == 1) return ms_[0];
-    if (count_ == 2) return 0.5 * (ms_[0] + ms_[1]);
-    return std::max(std::min(ms_[0], ms_[1]), std::min(std::max(ms_[0], ms_[1]), ms_[2]));
+    const size_t n = std::min<size_t>(count_, ms_.size());
+    if (n == 0) return 0.0;
+    std::array<double, 5> sorted = ms_;
+    std::sort(sorted.begin(), sorted.begin() + n);
+    return n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
 }
 
 AdaptiveChoice::AdaptiveChoice(uint32_t arms, uint32_t probeInterval, double probeBudget)
     : arms_(std::max<uint32_t>(arms, 2)), base_(std::max<uint32_t>(probeInterval, 1)),
       budget_(probeBudget > 0.0 ? probeBudget : 0.03) {}
 
-uint32_t AdaptiveChoice::best() const {
+uint32_t AdaptiveChoice::lowest() const {
     uint32_t best = kPureArm;
     double bestMs = 0.0;
     bool any = false;
@@ -65,6 +66,12 @@ void AdaptiveChoice::report(uint32_t arm, double ms, bool counted) {
     for (uint32_t a = 0; a < arms_.size(); ++a) {
         if (a != arm) ++arms_[a].since;
     }
+    // Until every arm is measured the lowest runs outright; afterwards a challenger needs the margin.
+    const uint32_t challenger = lowest();
+    if (!explored_ || arms_[challenger].times.estimate() < (1.0 - kSwitchMargin) * arms_[current_].times.estimate()) {
+        current_ = challenger;
+    }
+    explored_ = std::all_of(arms_.begin(), arms_.end(), [](const Arm& a) { return a.times.known(); });
 }
 
 } // namespace chcrt

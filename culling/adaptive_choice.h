@@ -7,7 +7,7 @@
 //
 // Rule: every arm is measured first, in order (arm 1, the configured culling, first; then the pure pass, whose
 // first trace is not counted: it compiles shaders and fills caches; then the other culling arms). Afterwards the
-// arm with the lowest median of its last three times runs, and each other arm is re-measured after an interval
+// arm with the lowest median of its last five times runs (another takes over once it is 5 % below), and each other arm is re-measured after an interval
 // that keeps the expected cost of all probes under `probeBudget` of the trace time: an arm r times as slow as the
 // best costs (r - 1) of a trace per probe, so with k losing arms it waits k (r - 1) / probeBudget traces (at
 // least `probeInterval`, at most kMaxProbeInterval). Probes re-measure losers whose cost changed with the view;
@@ -19,16 +19,18 @@
 
 namespace chcrt {
 
-// The last three measured wall times of one way of tracing.
+// The last five measured wall times of one way of tracing (five, not three: the ray sets of one kind differ —
+// light samples, AO directions — and an arm is measured on whichever set it ran, so each time is noisier than
+// the machine alone makes it).
 class RecentTimes {
 public:
     void add(double ms) { ms_[count_++ % ms_.size()] = ms; }
     bool known() const { return count_ > 0; }
-    // Median of the last three (of two: their mean; of one: it).
+    // Median of the last five (of an even count: the mean of the middle two).
     double estimate() const;
 
 private:
-    std::array<double, 3> ms_{};
+    std::array<double, 5> ms_{};
     uint32_t count_ = 0;
 };
 
@@ -36,6 +38,9 @@ class AdaptiveChoice {
 public:
     static constexpr uint32_t kPureArm = 0;
     static constexpr uint32_t kMaxProbeInterval = 1024;
+    // Another arm takes over only when its estimate is this much below the running arm's: near-equal arms would
+    // otherwise swap on noise, and every swap runs the loser until its median moves.
+    static constexpr double kSwitchMargin = 0.05;
 
     // `arms` >= 2: the pure pass and at least one culling configuration.
     explicit AdaptiveChoice(uint32_t arms = 2, uint32_t probeInterval = 8, double probeBudget = 0.03);
@@ -48,8 +53,9 @@ public:
 
     uint32_t arms() const { return uint32_t(arms_.size()); }
     const RecentTimes& times(uint32_t arm) const { return arms_[arm].times; }
-    // The arm with the lowest estimate among the measured ones (kPureArm before any is measured).
-    uint32_t best() const;
+    // The running arm: after every arm was measured, the one with the lowest estimate, kept until another is
+    // kSwitchMargin below it (kPureArm before any is measured).
+    uint32_t best() const { return current_; }
     // Traces a losing arm waits between probes under the budget (its current value).
     uint32_t probeInterval(uint32_t arm) const;
 
@@ -66,9 +72,12 @@ private:
         uint32_t since = 0; // traces since this arm last ran
         uint32_t runs = 0;
     };
+    uint32_t lowest() const; // the arm with the lowest estimate among the measured ones
     std::vector<Arm> arms_;
     uint32_t base_;
     double budget_;
+    uint32_t current_ = kPureArm;
+    bool explored_ = false; // every arm has a measured time
 };
 
 } // namespace chcrt

@@ -23,7 +23,19 @@ int run(AdaptiveChoice& choice, int traces, double cullMs, double fullMs) {
     return culled;
 }
 
-TEST(RecentTimes, MedianOfTheLastThree) {
+// Runs `traces` traces of fixed per-arm costs; returns the total time and counts the traces per arm.
+double runArms(AdaptiveChoice& choice, int traces, const std::vector<double>& ms, std::vector<int>* counts = nullptr) {
+    double total = 0.0;
+    for (int i = 0; i < traces; ++i) {
+        const uint32_t arm = choice.next();
+        choice.report(arm, ms[arm], true);
+        total += ms[arm];
+        if (counts) ++(*counts)[arm];
+    }
+    return total;
+}
+
+TEST(RecentTimes, MedianOfTheLastFive) {
     RecentTimes t;
     EXPECT_FALSE(t.known());
     t.add(10.0);
@@ -33,11 +45,26 @@ TEST(RecentTimes, MedianOfTheLastThree) {
     EXPECT_DOUBLE_EQ(t.estimate(), 15.0);
     t.add(100.0); // one outlier does not move the median
     EXPECT_DOUBLE_EQ(t.estimate(), 20.0);
-    t.add(30.0); // 20, 100, 30: the oldest (10) is gone
-    EXPECT_DOUBLE_EQ(t.estimate(), 30.0);
-    t.add(1.0);
-    t.add(2.0); // 1, 2 and 30
-    EXPECT_DOUBLE_EQ(t.estimate(), 2.0);
+    t.add(30.0); // 10, 20, 30, 100: the mean of the middle two
+    EXPECT_DOUBLE_EQ(t.estimate(), 25.0);
+    t.add(1.0);  // 1, 10, 20, 30, 100
+    EXPECT_DOUBLE_EQ(t.estimate(), 20.0);
+    t.add(2.0);  // 20, 100, 30, 1, 2: the oldest (10) is gone
+    EXPECT_DOUBLE_EQ(t.estimate(), 20.0);
+    t.add(3.0);  // 100, 30, 1, 2, 3
+    EXPECT_DOUBLE_EQ(t.estimate(), 3.0);
+}
+
+TEST(AdaptiveChoice, NearlyEqualArmsDoNotSwapOnNoise) {
+    AdaptiveChoice choice(2, 8);
+    runArms(choice, 4, {10.0, 10.3}); // pure runs
+    ASSERT_EQ(choice.best(), AdaptiveChoice::kPureArm);
+    // Culling now measures 2 % cheaper than pure: within the switch margin, pure keeps running.
+    runArms(choice, 200, {10.0, 9.8});
+    EXPECT_EQ(choice.best(), AdaptiveChoice::kPureArm);
+    // 10 % cheaper: it takes over.
+    runArms(choice, 200, {10.0, 9.0});
+    EXPECT_EQ(choice.best(), 1u);
 }
 
 TEST(AdaptiveChoice, StartsCullingThenMeasuresThePurePassTwice) {
@@ -53,18 +80,6 @@ TEST(AdaptiveChoice, StartsCullingThenMeasuresThePurePassTwice) {
     choice.tracedFull(10.0);
     EXPECT_DOUBLE_EQ(choice.fullTimes().estimate(), 10.0);
     EXPECT_FALSE(choice.shouldCull()); // culling (12) loses
-}
-
-// Runs `traces` traces of fixed per-arm costs; returns the total time and counts the traces per arm.
-double runArms(AdaptiveChoice& choice, int traces, const std::vector<double>& ms, std::vector<int>* counts = nullptr) {
-    double total = 0.0;
-    for (int i = 0; i < traces; ++i) {
-        const uint32_t arm = choice.next();
-        choice.report(arm, ms[arm], true);
-        total += ms[arm];
-        if (counts) ++(*counts)[arm];
-    }
-    return total;
 }
 
 TEST(AdaptiveChoice, ProbesOfLosingArmsCostAtMostTheBudget) {
