@@ -40,19 +40,20 @@ uint32_t AdaptiveChoice::probeInterval(uint32_t arm) const {
 }
 
 uint32_t AdaptiveChoice::next() const {
-    // Measure every arm once, the configured culling first.
+    // The configured culling and the pure pass first; the further arms once 2 * probeInterval traces have run, so
+    // that a short run does not spend itself on them.
     if (!arms_[1].times.known()) return 1;
     if (!arms_[kPureArm].times.known()) return kPureArm;
     for (uint32_t a = 2; a < arms_.size(); ++a) {
-        if (!arms_[a].times.known()) return a;
+        if (!arms_[a].times.known() && traces_ >= 2 * base_) return a;
     }
     // The most overdue probe, else the best arm.
     const uint32_t winner = best();
     uint32_t probe = winner;
     double overdue = 0.0;
     for (uint32_t a = 0; a < arms_.size(); ++a) {
-        if (a == winner) continue;
-        const double due = double(arms_[a].since + 1) / double(probeInterval(a));
+        if (a == winner || !arms_[a].times.known()) continue;
+        const double due = double(arms_[a].since) / double(probeInterval(a)); // waited a whole interval
         if (due >= 1.0 && due > overdue) probe = a, overdue = due;
     }
     return probe;
@@ -68,6 +69,7 @@ void AdaptiveChoice::report(uint32_t arm, double ms, bool counted) {
     }
     // Until every arm is measured the lowest runs outright; afterwards a challenger needs the margin.
     const uint32_t challenger = lowest();
+    ++traces_;
     if (!explored_ || arms_[challenger].times.estimate() < (1.0 - kSwitchMargin) * arms_[current_].times.estimate()) {
         current_ = challenger;
     }

@@ -5,8 +5,9 @@
 // configurations (termination heights, query modes) — from measured wall times, so that the tracer picks its own
 // height and falls back to the pure pass where culling does not pay.
 //
-// Rule: every arm is measured first, in order (arm 1, the configured culling, first; then the pure pass, whose
-// first trace is not counted: it compiles shaders and fills caches; then the other culling arms). Afterwards the
+// Rule: arm 1 (the configured culling) and the pure pass are measured first (the pure pass's first trace is not
+// counted: it compiles shaders and fills caches); the other culling arms once 2 * probeInterval traces have run,
+// so that a short run does not spend itself exploring. Afterwards the
 // arm with the lowest median of its last five times runs (another takes over once it is 5 % below), and each other arm is re-measured after an interval
 // that keeps the expected cost of all probes under `probeBudget` of the trace time: an arm r times as slow as the
 // best costs (r - 1) of a trace per probe, so with k losing arms it waits k (r - 1) / probeBudget traces (at
@@ -78,6 +79,7 @@ private:
     double budget_;
     uint32_t current_ = kPureArm;
     bool explored_ = false; // every arm has a measured time
+    uint32_t traces_ = 0;
 };
 
 } // namespace chcrt

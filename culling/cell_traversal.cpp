@@ -27,6 +27,17 @@ const ShaderProgram& CellTraversal::program(bool anyHit, const std::string& debu
     return programs_.emplace(std::make_pair(debugDefine, anyHit), std::move(program)).first->second;
 }
 
+void CellTraversal::compile() {
+    program(false, "");
+    program(true, "");
+    if (!maskProgram_.valid()) maskProgram_ = makeMaskProgram();
+}
+
+ShaderProgram CellTraversal::makeMaskProgram() {
+    return ShaderProgram({{GL_VERTEX_SHADER, "culling/chcrt_cells.vert.glsl"},
+                          {GL_FRAGMENT_SHADER, "culling/chcrt_cells_mask.frag.glsl"}});
+}
+
 void CellTraversal::upload(TextureBuffer& target, const void* data, size_t bytes, GLenum format) {
     if (bytes > target.bytes || target.texture.id() == 0) {
         // Grow by half again, so that a slowly growing list does not reallocate every frame.
@@ -101,10 +112,7 @@ uint32_t CellTraversal::draw(bool anyHit, const std::string& debugDefine, int wi
     glEnable(GL_PROGRAM_POINT_SIZE);
     glEnable(GL_DEPTH_TEST);
     if (writeMask) {
-        if (!maskProgram_.valid()) {
-            maskProgram_ = ShaderProgram({{GL_VERTEX_SHADER, "culling/chcrt_cells.vert.glsl"},
-                                          {GL_FRAGMENT_SHADER, "culling/chcrt_cells_mask.frag.glsl"}});
-        }
+        if (!maskProgram_.valid()) maskProgram_ = makeMaskProgram();
         const GLfloat skip = 0.0f;
         glClearNamedFramebufferfv(maskFramebuffer, GL_DEPTH, 0, &skip);
         glDepthFunc(GL_ALWAYS);

@@ -44,6 +44,8 @@ public:
         listLimit_ = limit;
     }
     uint32_t wholeTreeCells() const { return wholeTreeCells_; } // cells that did so in the last draw
+    // Compiles the programs of both ray kinds and the mask program now (they are otherwise compiled on first use).
+    void compile();
 
     // Uploads the lists and traverses them into `maskFramebuffer` (a depth-only target of the ray set's size whose
     // depth is 1 where a ray is to be traced), with the ray textures, hit image and BVH buffers bound. `writeMask`:
@@ -63,6 +65,7 @@ private:
     const ShaderProgram& program(bool anyHit, const std::string& debugDefine);
     void drawPoints(const ShaderProgram& program, int width, int height) const;
     static void upload(TextureBuffer& target, const void* data, size_t bytes, GLenum format);
+    static ShaderProgram makeMaskProgram();
 
     Defines defines_;
     std::map<std::pair<std::string, bool>, ShaderProgram> programs_;

@@ -87,7 +87,7 @@ TEST(AdaptiveChoice, ProbesOfLosingArmsCostAtMostTheBudget) {
                                           std::vector<double>{10.0, 12.0, 25.0, 11.0},
                                           std::vector<double>{14.0, 10.0, 11.0}}) {
         AdaptiveChoice choice(uint32_t(ms.size()), 8, 0.03);
-        runArms(choice, 10, ms); // start-up: every arm measured
+        runArms(choice, 40, ms); // start-up: every arm measured
         const double best = *std::min_element(ms.begin(), ms.end());
         const int traces = 2000;
         const double total = runArms(choice, traces, ms);
@@ -99,15 +99,16 @@ TEST(AdaptiveChoice, ProbesOfLosingArmsCostAtMostTheBudget) {
 
 TEST(AdaptiveChoice, ASlowerLoserWaitsLonger) {
     AdaptiveChoice choice(3, 8, 0.03);
-    runArms(choice, 6, {10.0, 12.0, 30.0});
+    runArms(choice, 24, {10.0, 12.0, 30.0});
     EXPECT_EQ(choice.best(), AdaptiveChoice::kPureArm);
     // Two losers: arm 1 (1.2x) every 2 * 0.2 / 0.03 = 14 traces, arm 2 (3x) every 2 * 2 / 0.03 = 134.
     EXPECT_EQ(choice.probeInterval(1), 14u);
     EXPECT_EQ(choice.probeInterval(2), 134u);
     std::vector<int> counts(3, 0);
     runArms(choice, 1340, {10.0, 12.0, 30.0}, &counts);
-    EXPECT_NEAR(counts[1], 1340 / 14, 2);
-    EXPECT_NEAR(counts[2], 1340 / 134, 1);
+    // A loser runs after waiting a whole interval: once every interval + 1 traces.
+    EXPECT_NEAR(counts[1], 1340 / 15, 2);
+    EXPECT_NEAR(counts[2], 1340 / 135, 1);
 }
 
 TEST(AdaptiveChoice, TheIntervalHasAFloorAndACeiling) {
@@ -119,15 +120,16 @@ TEST(AdaptiveChoice, TheIntervalHasAFloorAndACeiling) {
     EXPECT_EQ(far.probeInterval(1), AdaptiveChoice::kMaxProbeInterval);
 }
 
-TEST(AdaptiveChoice, EveryCullingArmIsMeasuredBeforeChoosing) {
-    AdaptiveChoice choice(4, 8);
+TEST(AdaptiveChoice, FurtherArmsAreMeasuredAfterTwoProbeIntervals) {
+    AdaptiveChoice choice(4, 2);
     std::vector<uint32_t> order;
-    for (int i = 0; i < 5; ++i) {
+    for (int i = 0; i < 7; ++i) {
         order.push_back(choice.next());
         choice.report(order.back(), 10.0, true);
     }
-    // The configured culling, the pure pass twice (its first trace is not counted), then the other heights.
-    EXPECT_EQ(order, (std::vector<uint32_t>{1, 0, 0, 2, 3}));
+    // The configured culling, the pure pass twice (its first trace is not counted), culling (best by the order of
+    // arms) until 2 * 2 traces have run, then the other heights.
+    EXPECT_EQ(order, (std::vector<uint32_t>{1, 0, 0, 1, 2, 3, 1}));
 }
 
 TEST(AdaptiveChoice, WinningCullingStillRemeasuresThePurePass) {
@@ -136,7 +138,7 @@ TEST(AdaptiveChoice, WinningCullingStillRemeasuresThePurePass) {
     std::vector<int> counts(2, 0);
     runArms(choice, 90, {10.0, 8.0}, &counts);
     EXPECT_EQ(choice.probeInterval(0), 9u); // 0.25 / 0.03
-    EXPECT_EQ(counts[0], 10);
+    EXPECT_EQ(counts[0], 9);               // once every 9 + 1 traces
 }
 
 TEST(AdaptiveChoice, OneSlowPurePassDoesNotSwitchToCulling) {
