@@ -70,10 +70,7 @@ int runBench(const BenchOptions& options) {
     std::vector<RayType> rayTypes;
     for (const std::string& name : splitList(options.rayTypes)) rayTypes.push_back(parseRayType(name));
     bool wantEmbree = false;
-    for (const std::string& m : methods) {
-        if (m == "embree") wantEmbree = true;
-        else findGpuMethod(m);
-    }
+    for (const std::string& m : methods) wantEmbree |= !findMethod(m).gpu;
     if (options.runs < 1) throw InputError("--runs must be at least 1");
     if (options.warmupRuns < 0) throw InputError("--warmup must not be negative");
     const RenderSettings settings = toRenderSettings(o, 1);
@@ -89,9 +86,9 @@ int runBench(const BenchOptions& options) {
     if (session.sceneInCore) gpuMethodNames.push_back("bvh");
     std::map<std::string, std::unique_ptr<Tracer>> tracers;
     for (const std::string& m : methods) {
-        if (m == "embree" || m == "bvh") continue;
+        if (!findMethod(m).gpu || m == kPureBvhMethod) continue;
         gpuMethodNames.push_back(m);
-        tracers[m] = makeTracer(m, session, gpu);
+        tracers[m] = makeTracer(m, session);
     }
     outofcore::OutOfCoreTracer* gbufferTracer = nullptr; // scene not in core: primary visibility for secondary rays
     for (const auto& [name, tracer] : tracers) {

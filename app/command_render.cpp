@@ -26,17 +26,17 @@ int runRender(const RenderOptions& options) {
     const CommonOptions& o = options.common;
     const RenderSettings settings = toRenderSettings(o, 4);
     if (options.output.empty()) throw InputError("no output file: give -o out.png (#### is replaced by the frame number)");
-    findGpuMethod(options.method);
+    const MethodInfo& method = findGpuMethod(options.method);
     const ChcrtDebugImage debugKind =
         options.debugImage.empty() ? ChcrtDebugImage::None : parseChcrtDebugImage(options.debugImage);
-    if (debugKind != ChcrtDebugImage::None && options.method.rfind("chcrt", 0) != 0) {
+    if (debugKind != ChcrtDebugImage::None && !method.chcrtDebugImages) {
         throw InputError("--debug-image needs a CHC+RT method (--method chcrt, chcrt-aggressive or chcrt-noadapt)");
     }
     SceneSession session = openSceneSession(o);
     const std::vector<int> frames = selectFrames(o, session.path, "0");
     GpuSession gpu = openGpuSession(o, session, settings);
     Renderer& renderer = *gpu.renderer;
-    const std::unique_ptr<Tracer> tracer = makeTracer(options.method, session, gpu);
+    const std::unique_ptr<Tracer> tracer = makeTracer(options.method, session);
     auto* outOfCore = dynamic_cast<outofcore::OutOfCoreTracer*>(tracer.get()); // --out-of-core (Table 3 stats)
     auto* chcrtTracer = outOfCore ? &outOfCore->chcrt() : dynamic_cast<ChcrtTracer*>(tracer.get()); // CHC+RT statistics and debug images
     if (chcrtTracer) chcrtTracer->setDebugImage(debugKind);

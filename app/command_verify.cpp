@@ -38,7 +38,7 @@ void printDifference(const Scene& scene, const Ray& ray, const Hit& method, cons
 int runVerify(const VerifyOptions& options) {
     const CommonOptions& o = options.common;
     findGpuMethod(options.method);
-    const bool againstEmbree = options.method == "bvh";
+    const bool againstEmbree = options.method == kPureBvhMethod;
     std::vector<RayType> rayTypes;
     for (const std::string& name : splitList(options.rayTypes)) rayTypes.push_back(parseRayType(name));
     const RenderSettings settings = toRenderSettings(o, 1);
@@ -49,7 +49,7 @@ int runVerify(const VerifyOptions& options) {
     const std::vector<int> frames = selectFrames(o, session.path, "spread:5");
     GpuSession gpu = openGpuSession(o, session, settings);
     Renderer& renderer = *gpu.renderer;
-    const std::unique_ptr<Tracer> method = makeTracer(options.method, session, gpu, /*alwaysCull=*/true);
+    const std::unique_ptr<Tracer> method = makeTracer(options.method, session, /*alwaysCull=*/true);
     std::unique_ptr<EmbreeTracer> embree;
     if (againstEmbree) embree = std::make_unique<EmbreeTracer>(session.scene);
     HitTolerance tolerance;

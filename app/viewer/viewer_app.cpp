@@ -137,6 +137,9 @@ nlohmann::json chcrtStatsToJson(const ViewerChcrtStats& c) {
             {"queries_skipped_extent", c.queriesSkippedExtent}};
 }
 
+// Whether the viewer's method `m` can trace a prepared scene out of core (the raster-only method has no tracer).
+bool hasOutOfCoreForm(const std::string& m) { return m != kRasterOnlyMethod && findGpuMethod(m).outOfCoreForm; }
+
 double median(std::vector<double> values) {
     if (values.empty()) return 0.0;
     std::sort(values.begin(), values.end());
@@ -269,14 +272,13 @@ private:
 
 Viewer::Viewer(const ViewOptions& options) : options_(options) {
     settings_.common = options.common;
-    if (settings_.common.spp < 1) settings_.common.spp = 1;
     settings_.renderScale = options.renderScale;
     settings_.accumulate = !options.noAccumulate;
     applySettings(settings_, {{"method", options.method}, {"viewMode", options.viewMode}}); // validates all
-    if (options.common.outOfCore && !outofcore::isPreparedScenePath(options.common.scene)) {
+    if (options.common.outOfCoreScene.enabled && !outofcore::isPreparedScenePath(options.common.scene)) {
         throw InputError("--out-of-core needs a prepared scene (--scene file.chs; see chcrt prepare)");
     }
-    if (options.common.outOfCore && !hasOutOfCoreForm(options.method)) {
+    if (options.common.outOfCoreScene.enabled && !hasOutOfCoreForm(options.method)) {
         // As `chcrt render --out-of-core` (app/methods.cpp); the panel refuses such methods with a message.
         throw InputError("--out-of-core: method " + options.method + " has no out-of-core form; use --method chcrt, "
                          "chcrt-noadapt or chcrt-aggressive");
@@ -288,7 +290,7 @@ Viewer::Viewer(const ViewOptions& options) : options_(options) {
         scripted_ = true;
     }
 
-    auto context = std::make_unique<GlfwWindowContext>(options.common.width, options.common.height,
+    auto context = std::make_unique<GlfwWindowContext>(options.common.render.width, options.common.render.height,
                                                        options.common.glDebug);
     window_ = context->window();
     uploadWindow_ = context->uploadWindow();
@@ -307,14 +309,13 @@ Viewer::Viewer(const ViewOptions& options) : options_(options) {
     panel_ = std::make_unique<ViewerPanel>(options.common.scene);
     // Out of core the interactive viewer streams a cold cache over frames (at most 16 subtree uploads per trace;
     // incomplete frames are re-rendered until complete); scripts get complete, exact frames unless they ask.
-    if (settings_.common.uploadsPerTrace == -1) settings_.common.uploadsPerTrace = scripted_ ? 0 : 16;
-    CommonOptions first = options.common;
-    first.uploadsPerTrace = settings_.common.uploadsPerTrace;
-    if (first.lsCache.empty() && !first.outOfCore) {
+    CommonOptions& c = settings_.common;
+    if (!c.isGiven("--uploads-per-trace")) c.outOfCore.maxUploadsPerTrace = scripted_ ? 0 : 16;
+    if (c.lineSpaceTracing.cacheDirectory.empty() && !c.outOfCoreScene.enabled) {
         privateCache_.create();
-        first.lsCache = settings_.common.lsCache = privateCache_.path().string();
+        c.lineSpaceTracing.cacheDirectory = privateCache_.path().string();
     }
-    loader_.start(first, workerUpload());
+    loader_.start(c, workerUpload());
 }
 
 std::string Viewer::tracerKey() const {
@@ -350,8 +351,7 @@ SceneLoader::GpuUpload Viewer::workerUpload() const {
     const std::string method = settings_.method;
     const bool alwaysCull = settings_.chcrtAlwaysCull;
     const std::string key = tracerKey();
-    const GpuSession* gpu = &gpu_;
-    return [window = uploadWindow_, method, alwaysCull, key, gpu](const SceneSession& session) {
+    return [window = uploadWindow_, method, alwaysCull, key](const SceneSession& session) {
         glfwMakeContextCurrent(window);
         struct Release { // also when the upload throws (GlError: a buffer beyond the texture-buffer limit)
             ~Release() {
@@ -361,9 +361,10 @@ SceneLoader::GpuUpload Viewer::workerUpload() const {
         } release;
         SceneLoader::Uploaded uploaded;
         uploaded.scene = std::make_unique<SceneGpu>(session.scene, session.bvh);
-        const bool outOfCore = session.options.outOfCore && outofcore::isPreparedScenePath(session.options.scene);
+        const bool outOfCore =
+            session.options.outOfCoreScene.enabled && outofcore::isPreparedScenePath(session.options.scene);
         if (outOfCore && hasOutOfCoreForm(method)) {
-            uploaded.tracer = makeTracer(method, session, *gpu, alwaysCull);
+            uploaded.tracer = makeTracer(method, session, alwaysCull);
             uploaded.tracerKey = key;
         }
         return uploaded;
@@ -474,7 +475,8 @@ void Viewer::finishLoading() {
     // --out-of-core applies to prepared scenes; another scene loaded from the panel is traced in core. A scene
     // that is not in core (docs/outofcore.md) renders as `chcrt render --out-of-core` does: traced primary
     // visibility resolved through the out-of-core tracer, no diffuse effect.
-    scene_->options.outOfCore = options_.common.outOfCore && outofcore::isPreparedScenePath(scene_->options.scene);
+    scene_->options.outOfCoreScene.enabled =
+        options_.common.outOfCoreScene.enabled && outofcore::isPreparedScenePath(scene_->options.scene);
     settings_.sceneNotInCore = !scene_->sceneInCore;
     int w = 1, h = 1;
     int fbWidth = 1, fbHeight = 1;
@@ -494,7 +496,7 @@ void Viewer::finishLoading() {
     walk_ = WalkController(camera_, scene_->scene.bounds());
     gpu_.renderer->warmUp(camera_);
     status_.sceneName = settings_.common.scene = loader_.scene();
-    status_.triangles = scene_->sceneInCore ? scene_->scene.triangleCount() : scene_->fileTriangles;
+    status_.triangles = sceneTriangles(*scene_);
     dirty_ = true;
     char text[160];
     std::snprintf(text, sizeof(text), "loaded %s: %llu triangles, %.2f s loading + BVH%s (worker thread), %.2f s "
@@ -510,7 +512,7 @@ void Viewer::applyMethod() {
         return;
     }
     const std::string previous = activeMethod_;
-    const bool outOfCore = scene_->options.outOfCore;
+    const bool outOfCore = scene_->options.outOfCoreScene.enabled;
     const std::string& m = settings_.method;
     const bool tracesOutOfCore = hasOutOfCoreForm(m) || (m == kRasterOnlyMethod && scene_->sceneInCore);
     if (outOfCore && !tracesOutOfCore && !previous.empty()) {
@@ -539,7 +541,7 @@ void Viewer::applyMethod() {
         if (premadeTracer_ && method == settings_.method && premadeKey_ == tracerKey()) {
             return std::move(premadeTracer_); // made by the loading worker (workerUpload)
         }
-        return makeTracer(method, *scene_, gpu_, settings_.chcrtAlwaysCull); // nullptr for "bvh": the renderer's own
+        return makeTracer(method, *scene_, settings_.chcrtAlwaysCull); // nullptr for "bvh": the renderer's own
     };
     try {
         tracer_ = create(settings_.method);
@@ -590,13 +592,15 @@ bool Viewer::prepareMethodCache() {
             return true;
         }
     }
-    std::function<void(Progress&)> job = methodCacheBuild(settings_.method, *scene_);
+    std::function<void(Progress&)> job =
+        settings_.method == kRasterOnlyMethod ? nullptr : methodCacheBuild(settings_.method, *scene_);
     if (!job) {
         cacheWarmKey_ = key;
         return true;
     }
     cacheJob_.start(key, std::move(job));
-    notice("building the Line Spaces of " + settings_.method + " on a worker thread into " + scene_->options.lsCache +
+    notice("building the Line Spaces of " + settings_.method + " on a worker thread into " +
+           scene_->options.lineSpaceTracing.cacheDirectory +
            (privateCache_.path().empty() ? "" : " (private to this session: --ls-cache \"\")"));
     if (!scripted_) return false;
     return prepareMethodCache(); // waits for it
@@ -1155,14 +1159,15 @@ void Viewer::renderResidency(FrameStats& stats) {
 // (Re)computes the picked Line Space node: on a new pick (at the current camera), or when N/D/T change (the same
 // pixel of the camera it was picked with). Without any pick the centre pixel is picked.
 void Viewer::updateShaftPick(int w, int h) {
-    const CommonOptions& c = settings_.common;
+    const ls::LineSpaceParams c = shownParameters(settings_, status_.triangles).lineSpace; // the method's N/D/T
     if (!scene_->sceneInCore) { // the node's Line Space is built from the in-core BVH
         shaftPick_.reset();
         status_.shaftInfo = {"the shafts view needs the scene in core (out of core only subtrees are on the GPU)"};
         if (status_.message != status_.shaftInfo.back()) notice(status_.shaftInfo.back());
         return;
     }
-    const std::string parameters = std::to_string(c.lsN) + "/" + std::to_string(c.lsDepth) + "/" + std::to_string(c.lsT);
+    const std::string parameters =
+        std::to_string(c.n) + "/" + std::to_string(c.depth) + "/" + std::to_string(c.triangleThreshold);
     if (pickJob_.busy()) {
         if (!pickJob_.finished() && !scripted_) return; // the previous pick stays shown meanwhile
         finishShaftPick(); // scripts wait for it in place
@@ -1181,7 +1186,7 @@ void Viewer::updateShaftPick(int w, int h) {
     pickResult_ = std::make_shared<std::optional<ShaftPick>>();
     pickJob_.start("Line Space of the picked node",
                    [result = pickResult_, &bvh = scene_->bvh, camera = pickCamera_, w = pickWidth_, h = pickHeight_,
-                    pixel = pickPixel_, n = c.lsN, depth = c.lsDepth, t = c.lsT](Progress& progress) {
+                    pixel = pickPixel_, n = c.n, depth = c.depth, t = c.triangleThreshold](Progress& progress) {
                        progress.begin("Line Space of the picked node", 0);
                        *result = pickLineSpaceNode(bvh, camera, w, h, pixel.first, pixel.second, n, depth, t);
                        progress.end();
@@ -1242,7 +1247,7 @@ int runViewer(const ViewOptions& options) {
     return viewer.run();
 }
 
-int runView(const ViewOptions& options) {
+int runView(const ViewOptions& options, const std::vector<std::string>& /*arguments*/) {
     return runViewer(options);
 }
 
