@@ -1,5 +1,6 @@
-// The command line's plumbing: error reporting (errors from the library are caught once and become a one-line
-// message and an exit code; app/commands.h, docs/cli.md), parsing, and the flags of `chcrt view`.
+// What build/bin/chcrt and build/bin/chcrt-view share on the command line: error reporting (errors from the
+// library are caught once and become a one-line message and an exit code; app/commands.h, docs/cli.md), parsing,
+// and the flags of `chcrt view`.
 #include "app/commands.h"
 
 #include "app/methods.h"

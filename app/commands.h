@@ -66,8 +66,10 @@ struct PrepareCommandOptions {
 };
 int runPrepare(const PrepareCommandOptions& options);
 
-// `chcrt view`: the interactive walkthrough viewer (app/viewer/). Without CHCRT_BUILD_VIEWER it reports that
-// the viewer was not built and returns kExitBadInput (app/viewer/viewer_disabled.cpp).
+// `chcrt view`: the interactive walkthrough viewer (app/viewer/), a program of its own (build/bin/chcrt-view,
+// which links GLFW and Dear ImGui; the CLI does not). `chcrt view ARGS` checks ARGS (addViewOptions) and runs
+// chcrt-view ARGS from its own directory (app/command_view.cpp). Without CHCRT_BUILD_VIEWER it reports that the
+// viewer was not built and returns kExitBadInput (app/viewer/viewer_disabled.cpp).
 struct ViewOptions {
     ViewOptions();                 // the viewer's defaults: a 1280×720 window, 1 spp, shadows only
     CommonOptions common;          // width/height: window size
@@ -80,16 +82,16 @@ struct ViewOptions {
     bool noAccumulate = false;
     bool hidePanel = false;
 };
-// The flags of `chcrt view`.
+// The flags of `chcrt view` (the CLI and chcrt-view parse the same ones).
 void addViewOptions(CLI::App& command, ViewOptions& options);
-// `arguments`: the words after `view` on the command line.
+// `arguments`: the words after `view`, handed to chcrt-view unchanged.
 int runView(const ViewOptions& options, const std::vector<std::string>& arguments);
 
 // Splits "a,b,c".
 std::vector<std::string> splitList(const std::string& text);
 
 // Runs `body` and turns the library's errors into a one-line message on stderr and an exit code: InputError 2,
-// GlError 3, anything else 1 (caught here, once).
+// GlError 3, anything else 1 (caught here, once, for both programs).
 int runReportingErrors(const std::function<int()>& body);
 // Parses the command line: nullopt when the program should go on, else its exit code (help and version 0, usage
 // errors 2 with a one-line message).

@@ -98,12 +98,12 @@ CLI::App* addPrepare(CLI::App& cli, PrepareCommandOptions& prepare) {
 }
 
 CLI::App* addView(CLI::App& cli, ViewOptions& view) {
-    CLI::App* c = cli.add_subcommand("view", "Interactive walkthrough viewer (GLFW window, ImGui panel)");
+    CLI::App* c = cli.add_subcommand("view", "Interactive walkthrough viewer (GLFW window, ImGui panel; build/bin/chcrt-view)");
     addViewOptions(*c, view);
     return c;
 }
 
-// The words after `view`.
+// The words after `view`, for chcrt-view.
 std::vector<std::string> argumentsAfter(const char* command, int argc, char** argv) {
     const auto end = argv + argc;
     const auto at = std::find_if(argv + 1, end, [command](const char* a) { return std::strcmp(a, command) == 0; });

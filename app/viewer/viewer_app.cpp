@@ -749,8 +749,4 @@ int runViewer(const ViewOptions& options) {
     return viewer.run();
 }
 
-int runView(const ViewOptions& options, const std::vector<std::string>& /*arguments*/) {
-    return runViewer(options);
-}
-
 } // namespace chcrt::app
