@@ -26,6 +26,31 @@ void exactLineSpaceDefaults(CommonOptions& d, const CommonOptions&, uint64_t) {
     d.lineSpaceTracing.baseModes = ls::LineSpaceModes::allExact();
 }
 
+// bvh+ls: the configuration of linespace/README.md's measurements that is good on every measured scene. N = 6,
+// D = 6, T = 8: D = 6 was the fastest depth on every scene of the RC table (69k-1M triangles; 14k-17k triangles per
+// Line Space node on the dragon and the 1M city), and larger scenes get one level more per doubling, so that a node
+// holds at most about as many triangles (kTrianglesPerLineSpace), up to D = 12 (361 MB at N = 6 on the dragon).
+// Diffuse rays use representative candidates (dragon 2.2x at 37.3 dB final, 1 spp; city 1.6x at 29.7 dB). Shadow
+// and bounce-shadow rays are exact: exact skipping gives the hits of no skipping and measured 0.49-1.03x of pure
+// BVH (69-98 % of the shafts filled on every scene), so they run without Line Spaces ("off"). AO rays too: AO
+// candidates pay on the dragon (AO 1.9x at 38.4 dB, 4 spp) but take the city to 23.8 dB (1 spp; short AO rays start
+// inside large nodes, linespace/README.md "The city target, swept"), and no measured property of a scene tells the
+// two apart (the patch edge over the AO length at D = 6: dragon 0.79, bunny 0.80, castle 0.87, city 0.69, interior
+// 0.77, plant 0.63), so they are opt-in: --ls-modes ao=candidate (the dragon's indirect target).
+constexpr uint64_t kTrianglesPerLineSpace = 24576; // 1.5M / 2^6
+uint32_t lineSpaceDepthFor(uint64_t triangles) {
+    uint32_t depth = 6;
+    while (depth < 12 && triangles > (kTrianglesPerLineSpace << depth)) ++depth;
+    return depth;
+}
+
+void candidateLineSpaceDefaults(CommonOptions& d, const CommonOptions&, uint64_t triangles) {
+    d.lineSpace.depth = lineSpaceDepthFor(triangles);
+    ls::LineSpaceModes& m = d.lineSpaceTracing.baseModes;
+    m.primary = m.shadow = m.bounceShadow = m.ao = ls::LineSpaceMode::Off;
+    m.diffuse = ls::LineSpaceMode::Candidate;
+}
+
 // SS Algorithm 1 "deep enough": the level above the N-tree's leaves.
 void nTreeDefaults(CommonOptions& d, const CommonOptions& user, uint64_t) {
     d.ntreeShadow.shadowLevel = user.ntree.depth > 0 ? user.ntree.depth - 1 : 0;
@@ -54,9 +79,9 @@ std::vector<MethodInfo> registerMethods() {
          .areas = lineSpace, .needs = kNeedsLineSpaces, .setDefaults = exactLineSpaceDefaults,
          .makeTracer = makeLineSpaceTracer, .cacheBuild = lineSpaceCacheBuild},
         {.name = "bvh+ls", .exact = false,
-         .description = "BVH + Line Space: shadow termination at occupied shafts, representative candidates for "
-                        "AO/diffuse (approximate; --ls-modes)",
-         .areas = lineSpace, .needs = kNeedsLineSpaces,
+         .description = "BVH + Line Space: representative candidates for diffuse rays, exact shadows and AO "
+                        "(approximate; --ls-modes ao=candidate also for AO)",
+         .areas = lineSpace, .needs = kNeedsLineSpaces, .setDefaults = candidateLineSpaceDefaults,
          .makeTracer = makeLineSpaceTracer, .cacheBuild = lineSpaceCacheBuild},
         {.name = "chcrt+ls-exact",
          .description = "CHC+RT with exact empty-space skipping at Line Space nodes inside its subtrees",

@@ -407,6 +407,7 @@ std::vector<Parameter> describeLineSpace() {
             .slider("N (patches per edge)", 1, 16)
             .integer<uint32_t>(FIELD(lineSpace.n), 1),
         Describe(Area::LineSpace, "--ls-depth", "lsDepth", "Line Space BVH depth D")
+            .defaults("9; bvh+ls: 6 up to 1.5M triangles and one more per doubling above, at most 12")
             .slider("depth D", 1, 16)
             .integer<uint32_t>(FIELD(lineSpace.depth), 1),
         Describe(Area::LineSpace, "--ls-t", "lsT", "Line Space triangle threshold T")
@@ -419,8 +420,8 @@ std::vector<Parameter> describeLineSpace() {
                  "Line Space mode per ray type on top of the method's, e.g. primary=exact,shadow=shadow,ao=candidate,"
                  "diffuse=candidate,bounce=shadow,faces=front-start (modes: off, exact, shadow, candidate, "
                  "candidate-exact-start; faces: front-start, front, both)")
-            .defaults("bvh+ls: primary=off,shadow=shadow,ao=off,diffuse=candidate,bounce=shadow; bvh+ls-exact: all "
-                      "exact, all off when more than half the shafts are filled")
+            .defaults("bvh+ls: diffuse=candidate, the others off; bvh+ls-exact: all exact, all off when more than "
+                      "half the shafts are filled")
             .value("type=mode,...")
             .text(FIELD(lineSpaceTracing.modes), [](const std::string& text) { ls::LineSpaceModes{}.parse(text); }),
         Describe(Area::LineSpaceCache, "--ls-cache", "", "Line Space and N-tree cache directory (empty: no cache)")
