@@ -59,56 +59,295 @@ void addSteps(const std::vector<Ray>& rays, const std::vector<uint32_t>& steps, 
 
 } // namespace
 
+namespace {
+
+// Everything a benchmark traces with: the scene, its renderer, the methods' tracers and the references.
+struct Bench {
+    const BenchOptions& options;
+    RenderSettings settings; // as given (out of core the renderer may drop the diffuse effect)
+    SceneSession session;
+    GpuSession gpu;
+    std::vector<int> frames;
+    std::vector<std::string> methods;        // as given (embree included)
+    std::vector<std::string> gpuMethodNames; // traced on the GPU: pure BVH first (the reference), when in core
+    std::map<std::string, std::unique_ptr<Tracer>> tracers;
+    outofcore::OutOfCoreTracer* gbufferTracer = nullptr; // scene not in core: primary visibility for secondary rays
+    std::unique_ptr<EmbreeTracer> embree;
+    HitTolerance tolerance;
+    std::map<std::string, ls::ImageError> imageErrors;
+
+    Tracer* tracer(const std::string& m) const { return m == kPureBvhMethod ? nullptr : tracers.at(m).get(); }
+    Renderer& renderer() { return *gpu.renderer; }
+};
+
+// Pure BVH tracing always runs: it is the reference for speedups and differing pixels. Not for an --out-of-core
+// scene that is not loaded in core: there is no whole-scene BVH to trace (docs/outofcore.md).
+void makeTracers(Bench& b, bool wantEmbree) {
+    if (!b.session.sceneInCore && wantEmbree) throw InputError("--method embree needs the scene in core (--load-in-core on)");
+    if (b.session.sceneInCore) b.gpuMethodNames.push_back(kPureBvhMethod);
+    for (const std::string& m : b.methods) {
+        if (!findMethod(m).gpu || m == kPureBvhMethod) continue;
+        b.gpuMethodNames.push_back(m);
+        b.tracers[m] = makeTracer(m, b.session);
+    }
+    for (const auto& [name, tracer] : b.tracers) {
+        auto* ooc = dynamic_cast<outofcore::OutOfCoreTracer*>(tracer.get());
+        if (ooc && !b.session.sceneInCore && !b.gbufferTracer) b.gbufferTracer = ooc;
+    }
+    if (b.gbufferTracer) installOutOfCorePrimary(b.renderer(), *b.gbufferTracer);
+    if (wantEmbree) b.embree = std::make_unique<EmbreeTracer>(b.session.scene);
+    b.tolerance.absoluteT *= b.renderer().sceneDiagonal();
+    // Image error of approximate methods against pure BVH tracing (Line Space issue): whole frames with the
+    // effects and spp of the command line, rendered once per tracer (untimed), final and indirect-only images.
+    for (const std::string& m : b.gpuMethodNames) {
+        if (m != kPureBvhMethod && !findGpuMethod(m).exact) {
+            b.imageErrors[m] = ls::measureImageError(b.renderer(), *b.tracers[m], b.session.path, b.frames);
+        }
+    }
+}
+
+// One pass of rays, as every method traces it in a run.
+struct Pass {
+    RayType type;
+    int frame = 0, sample = 0;
+    Camera camera;
+    bool timed = false, compare = false; // compare hits (and count steps) once, in the first timed run
+    std::vector<Ray> rays;
+    std::vector<Hit> bvhHits;
+};
+
+// Work, not time (--steps): pure BVH's cost target of the timed trace; CHC+RT counts only with its cost debug
+// image, so it traces the pass once more, untimed (its fronts advance once more; debug traces do not feed the
+// adaptive choice).
+void countSteps(Bench& b, const Pass& pass, const std::string& m, ChcrtTracer* chcrt, MethodResult& result) {
+    if (m == kPureBvhMethod) {
+        addSteps(pass.rays, b.renderer().readTraceSteps(0), m, result);
+    } else if (chcrt) {
+        chcrt->setDebugImage(ChcrtDebugImage::Cost);
+        chcrt->clearDebugImage();
+        FrameStats untimed;
+        b.renderer().traceRayPass(pass.camera, pass.type, pass.sample, untimed);
+        addSteps(pass.rays, chcrt->readDebugImage(), m, result);
+        chcrt->setDebugImage(ChcrtDebugImage::None);
+        chcrt->resetStats();
+    }
+}
+
+// Traces the pass with one GPU method: its time, CHC+RT and out-of-core counters, hits against pure BVH.
+void tracePass(Bench& b, Pass& pass, const std::string& m, double& runMs, MethodResult& result, bool comparing) {
+    Renderer& renderer = b.renderer();
+    renderer.useTracer(b.tracer(m));
+    FrameStats methodStats;
+    auto* outOfCore = dynamic_cast<outofcore::OutOfCoreTracer*>(b.tracer(m));
+    const outofcore::OutOfCoreStats oocBefore = outOfCore ? outOfCore->snapshot() : outofcore::OutOfCoreStats{};
+    renderer.traceRayPass(pass.camera, pass.type, pass.sample, methodStats);
+    if (outOfCore && pass.timed) {
+        const outofcore::OutOfCoreStats d = outofcore::OutOfCoreStats::difference(outOfCore->snapshot(), oocBefore);
+        result.outOfCore += d;
+        if (pass.compare) {
+            nlohmann::json f = outOfCoreStatsJson(d, 1.0, *outOfCore);
+            f["frame"] = pass.frame;
+            f["sample"] = pass.sample;
+            result.outOfCoreFrames.push_back(f);
+        }
+    }
+    if (methodStats.cappedRays > 0) throw std::runtime_error("rays reached the shader loop cap during the benchmark (" + m + ")");
+    runMs += methodStats.traceMs();
+    ChcrtTracer* chcrt = outOfCore ? &outOfCore->chcrt() : dynamic_cast<ChcrtTracer*>(b.tracer(m));
+    if (chcrt) {
+        if (pass.timed) result.chcrt += chcrt->totalStats(); // CHC+RT counters (no warm-up)
+        chcrt->resetStats();
+    }
+    if (comparing) {
+        if (m == kPureBvhMethod) pass.bvhHits = renderer.readHits(0);
+        else result.comparison.differing += compareHitsExactly(pass.rays, renderer.readHits(0), pass.bvhHits, isAnyHit(pass.type)).differing;
+    }
+    if (b.options.steps && pass.compare) countSteps(b, pass, m, chcrt, result);
+}
+
+// Embree on the pass's read-back rays (timed), and its hits against pure BVH's in the comparing run.
+void traceEmbree(Bench& b, const Pass& pass, double& runMs, MethodResult& result) {
+    std::vector<Hit> hits(pass.rays.size());
+    const auto start = std::chrono::steady_clock::now();
+    b.embree->trace(pass.rays, hits, isAnyHit(pass.type));
+    runMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    if (!pass.compare) return;
+    // Closest-hit Embree for the comparison, so ids are known (any-hit results carry none).
+    std::vector<Hit> reference(pass.rays.size());
+    b.embree->trace(pass.rays, reference, false);
+    result.comparison.add(compareHits(b.session.scene, pass.rays, pass.bvhHits, reference, isAnyHit(pass.type), b.tolerance));
+}
+
+// Every run, frame and sample of one ray type: the rays are generated once and each method traces those.
+std::map<std::string, MethodResult> benchRayType(Bench& b, RayType type, uint64_t& progressDone) {
+    Renderer& renderer = b.renderer();
+    const int samples = b.settings.samplesPerPixel;
+    std::map<std::string, MethodResult> results;
+    for (int run = 0; run < b.options.warmupRuns + b.options.runs; ++run) {
+        std::map<std::string, double> runMs;
+        for (int frame : b.frames) {
+            Pass pass{type, frame, 0, b.session.path.cameraAtFrame(frame), run >= b.options.warmupRuns,
+                      run == b.options.warmupRuns};
+            FrameStats scratch;
+            if (type != RayType::Primary) {
+                // Not in core: the G-buffer comes from out-of-core primary rays (docs/outofcore.md).
+                if (b.gbufferTracer) renderer.useTracer(b.gbufferTracer);
+                renderer.renderGBuffer(pass.camera, scratch);
+                renderer.useTracer(nullptr);
+            }
+            for (pass.sample = 0; pass.sample < samples; ++pass.sample) {
+                renderer.generateRayPass(pass.camera, type, pass.sample, scratch);
+                // Read back once per pass, outside the timed tracing: for the comparisons and the ray count.
+                pass.rays = pass.compare || pass.timed ? renderer.readRays(0) : std::vector<Ray>{};
+                pass.bvhHits.clear();
+                const bool comparing = pass.compare && b.session.sceneInCore && (b.embree || b.gpuMethodNames.size() > 1);
+                for (const std::string& m : b.gpuMethodNames) tracePass(b, pass, m, runMs[m], results[m], comparing);
+                renderer.useTracer(nullptr);
+                if (!pass.timed) continue;
+                const uint64_t active = countActive(pass.rays);
+                for (const std::string& m : b.methods) results[m].activeRays += active;
+                if (b.embree) traceEmbree(b, pass, runMs["embree"], results["embree"]);
+            }
+            b.session.progress->update(++progressDone);
+        }
+        if (run < b.options.warmupRuns) continue;
+        for (const std::string& m : b.methods) results[m].runMs.push_back(runMs[m] / double(b.frames.size()));
+        if (std::find(b.methods.begin(), b.methods.end(), kPureBvhMethod) == b.methods.end()) {
+            results[kPureBvhMethod].runMs.push_back(runMs[kPureBvhMethod] / double(b.frames.size())); // reference for speedups
+        }
+    }
+    return results;
+}
+
+nlohmann::json finiteOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+nlohmann::json lineSpaceJson(const ls::LineSpaceTracer& t) {
+    const ls::LineSpaceStats& st = t.buildStats;
+    return {{"params", t.paramsText}, {"modes", t.modes().toString()},
+            {"cache", t.cacheOutcome}, {"build_s", st.buildSeconds}, {"spaces", st.spaceCount},
+            {"bytes", st.totalBytes()}, {"mb", double(st.totalBytes()) / 1e6},
+            {"binary_filled", st.binaryShafts ? double(st.binaryFilled) / double(st.binaryShafts) : 0.0},
+            {"candidate_filled", st.candidateShafts ? double(st.candidateFilled) / double(st.candidateShafts) : 0.0},
+            {"bytes_per_shaft", double(st.totalBytes()) / double(std::max<uint64_t>(1, st.binaryShafts + st.candidateShafts))},
+            {"gpu_bytes", t.gpu().gpuBytes()}};
+}
+
+nlohmann::json nTreeJson(const ls::NTreeTracer& nt) {
+    const ls::NTreeStats& st = nt.buildStats;
+    return {{"params", nt.paramsText}, {"cache", nt.cacheOutcome}, {"build_s", st.buildSeconds},
+            {"nodes", st.nodeCount}, {"spaces", st.subdividedCount},
+            {"binary_filled", st.binaryShafts ? double(st.binaryFilled) / double(st.binaryShafts) : 0.0},
+            {"linespace_mb", double(st.lineSpaceBytes) / 1e6}, {"node_pool_mb", double(st.nodeBytes) / 1e6},
+            {"gpu_bytes", nt.gpuBytes()}, {"shadow_level", nt.options().shadowLevel},
+            {"start_exact", nt.options().startExact}, {"near_edges", nt.options().nearEdges}};
+}
+
+// The image error of an approximate method (Line Space issue) in its JSON row.
+void addImageError(nlohmann::json& row, const ls::ImageError& e, const RenderSettings& settings, RayType type,
+                   uint64_t diff, double raysPerFrame, size_t frames) {
+    row["psnr_db"] = finiteOrNull(e.finalPsnrDb);
+    row["image_error"] = {{"frames", e.frames}, {"effects", toString(settings.effects)},
+                          {"spp", settings.samplesPerPixel}, {"final_mae", e.finalMae},
+                          {"final_psnr_db", finiteOrNull(e.finalPsnrDb)},
+                          {"final_pixels_over_2_255", e.finalOver2Of255}, {"indirect_mae", e.indirectMae},
+                          {"indirect_psnr_db", finiteOrNull(e.indirectPsnrDb)}};
+    if (type == RayType::Shadow && raysPerFrame > 0) {
+        // The hit comparison runs in the first timed run: differing any-hit answers / active rays.
+        row["shadow_samples_differing_fraction"] = double(diff) / (raysPerFrame * double(frames));
+    }
+}
+
+// The table row and JSON row of one method and ray type.
+void addRows(Bench& b, RayType type, const std::string& m, const MethodResult& r, double bvhMs, Table& table,
+             nlohmann::json& rowsJson) {
+    const RenderSettings& settings = b.settings;
+    const SceneSession& session = b.session;
+    const double frames = double(b.frames.size());
+    const double ms = median(r.runMs);
+    const double raysPerFrame = double(r.activeRays) / double(b.options.runs) / frames;
+    const double mrays = ms > 0 ? raysPerFrame / (ms * 1000.0) : 0.0;
+    const double speedup = ms > 0 ? bvhMs / ms : 0.0;
+    const uint64_t diff = m == kPureBvhMethod ? 0 : r.comparison.differing; // bvh is the reference itself
+    const auto imageError = b.imageErrors.find(m);
+    table.rows.push_back({session.scene.name, session.path.name, toString(type), m,
+                          std::to_string(settings.width) + "x" + std::to_string(settings.height),
+                          std::to_string(settings.samplesPerPixel), formatFixed(ms, 1), formatFixed(mrays, 2),
+                          formatFixed(speedup, 2), session.sceneInCore ? std::to_string(diff) : "-",
+                          imageError != b.imageErrors.end() ? formatFixed(imageError->second.finalPsnrDb, 1) : "-"});
+    const bool stepsCounted = b.options.steps && r.stepRays > 0;
+    const double stepsPerRay = stepsCounted ? double(r.steps) / double(r.stepRays) : 0.0;
+    if (b.options.steps) table.rows.back().push_back(stepsCounted ? formatFixed(stepsPerRay, 1) : "-");
+    const uint64_t culledTraces = r.chcrt.traces - r.chcrt.fallbackTraces;
+    table.rows.back().push_back(
+        r.chcrt.traces ? formatFixed(100.0 * double(culledTraces) / double(r.chcrt.traces), 0) + "%" : "-");
+    table.rows.back().push_back(culledTraces ? formatFixed(double(r.chcrt.heightSum) / double(culledTraces), 1) : "-");
+    nlohmann::json row = {{"scene", session.scene.name},
+                          {"path", session.path.name},
+                          {"ray_type", toString(type)},
+                          {"method", m},
+                          {"width", settings.width},
+                          {"height", settings.height},
+                          {"spp", settings.samplesPerPixel},
+                          {"frames", b.frames.size()},
+                          {"runs", b.options.runs},
+                          {"ms_median", ms},
+                          {"ms_runs", r.runMs},
+                          {"mrays_per_s", mrays},
+                          {"active_rays_per_frame", raysPerFrame},
+                          {"speedup_vs_bvh", speedup},
+                          {"diff_pixels", session.sceneInCore ? nlohmann::json(diff) : nlohmann::json(nullptr)},
+                          {"edge_cases", m == kPureBvhMethod ? 0 : r.comparison.edgeCases},
+                          {"psnr_db", nullptr},
+                          {"steps_per_ray", stepsCounted ? nlohmann::json(stepsPerRay) : nlohmann::json(nullptr)}};
+    if (imageError != b.imageErrors.end()) {
+        addImageError(row, imageError->second, settings, type, diff, raysPerFrame, b.frames.size());
+    }
+    const Tracer* tracer = findMethod(m).gpu ? b.tracer(m) : nullptr;
+    if (const auto* lsTracer = dynamic_cast<const ls::LineSpaceTracer*>(tracer)) row["linespace"] = lineSpaceJson(*lsTracer);
+    if (const auto* nt = dynamic_cast<const ls::NTreeTracer*>(tracer)) row["ntree"] = nTreeJson(*nt);
+    if (const auto* ooc = dynamic_cast<const outofcore::OutOfCoreTracer*>(tracer)) {
+        nlohmann::json j = outOfCoreStatsJson(r.outOfCore, double(b.options.runs) * frames, *ooc);
+        j["frames"] = r.outOfCoreFrames;
+        row["outofcore"] = j;
+    }
+    if (r.chcrt.traces > 0) row["chcrt"] = chcrtStatsJson(r.chcrt, double(b.options.runs) * frames);
+    rowsJson.push_back(std::move(row));
+}
+
+void writeOutputs(const Bench& b, const Table& table, const nlohmann::json& rowsJson) {
+    const GlInfo info = queryGlInfo();
+    const SceneSession& session = b.session;
+    std::printf("bench: %s (%s triangles%s), %zu frame(s) of %s, median of %d run(s) after %d warm-up, %s\n",
+                session.scene.name.c_str(), formatCount(sceneTriangles(session)).c_str(),
+                session.sceneInCore ? "" : ", not in core", b.frames.size(), session.path.name.c_str(), b.options.runs,
+                b.options.warmupRuns, info.renderer.c_str());
+    std::fputs(table.toText().c_str(), stdout);
+    if (!b.options.jsonFile.empty()) {
+        writeJsonFile(b.options.jsonFile, {{"scene", toJson(session.scene)},
+                                           {"bvh", toJson(session.bvh.stats)},
+                                           {"gl_renderer", info.renderer},
+                                           {"rows", rowsJson}});
+    }
+    if (!b.options.csvFile.empty()) writeTextFileAtomically(b.options.csvFile, table.toCsv());
+    if (!b.options.markdownFile.empty()) writeTextFileAtomically(b.options.markdownFile, table.toMarkdown());
+}
+
+} // namespace
+
 int runBench(const BenchOptions& options) {
     const CommonOptions& o = options.common;
     const std::vector<std::string> methods = splitList(options.methods);
     std::vector<RayType> rayTypes;
     for (const std::string& name : splitList(options.rayTypes)) rayTypes.push_back(parseRayType(name));
     bool wantEmbree = false;
-    for (const std::string& m : methods) {
-        if (m == "embree") wantEmbree = true;
-        else findGpuMethod(m);
-    }
+    for (const std::string& m : methods) wantEmbree |= !findMethod(m).gpu;
     if (options.runs < 1) throw InputError("--runs must be at least 1");
     if (options.warmupRuns < 0) throw InputError("--warmup must not be negative");
-    const RenderSettings settings = toRenderSettings(o, 1);
-
-    SceneSession session = openSceneSession(o);
-    const std::vector<int> frames = selectFrames(o, session.path, "spread:5");
-    GpuSession gpu = openGpuSession(o, session, settings);
-    Renderer& renderer = *gpu.renderer;
-    // Pure BVH tracing always runs: it is the reference for speedups and differing pixels. Not for an
-    // --out-of-core scene that is not loaded in core: there is no whole-scene BVH to trace (docs/outofcore.md).
-    if (!session.sceneInCore && wantEmbree) throw InputError("--method embree needs the scene in core (--load-in-core on)");
-    std::vector<std::string> gpuMethodNames;
-    if (session.sceneInCore) gpuMethodNames.push_back("bvh");
-    std::map<std::string, std::unique_ptr<Tracer>> tracers;
-    for (const std::string& m : methods) {
-        if (m == "embree" || m == "bvh") continue;
-        gpuMethodNames.push_back(m);
-        tracers[m] = makeTracer(m, session, gpu);
-    }
-    outofcore::OutOfCoreTracer* gbufferTracer = nullptr; // scene not in core: primary visibility for secondary rays
-    for (const auto& [name, tracer] : tracers) {
-        auto* ooc = dynamic_cast<outofcore::OutOfCoreTracer*>(tracer.get());
-        if (ooc && !session.sceneInCore && !gbufferTracer) gbufferTracer = ooc;
-    }
-    if (gbufferTracer) installOutOfCorePrimary(renderer, *gbufferTracer);
-    std::unique_ptr<EmbreeTracer> embree;
-    if (wantEmbree) embree = std::make_unique<EmbreeTracer>(session.scene);
-    const float diagonal = renderer.sceneDiagonal();
-    HitTolerance tolerance;
-    tolerance.absoluteT *= diagonal;
-
-    // Image error of approximate methods against pure BVH tracing (Line Space issue): whole frames with the
-    // effects and spp of the command line, rendered once per tracer (untimed), final and indirect-only images.
-    std::map<std::string, ls::ImageError> imageErrors;
-    for (const std::string& m : gpuMethodNames) {
-        if (m != "bvh" && !findGpuMethod(m).exact) {
-            imageErrors[m] = ls::measureImageError(renderer, *tracers[m], session.path, frames);
-        }
-    }
-    const auto finiteOrNull = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
+    Bench b{options, toRenderSettings(o, 1), openSceneSession(o)};
+    b.methods = methods;
+    b.frames = selectFrames(o, b.session.path, "spread:5");
+    b.gpu = openGpuSession(o, b.session, b.settings);
+    makeTracers(b, wantEmbree);
 
     Table table;
     table.header = {"scene", "path", "ray_type", "method", "size", "spp", "ms/frame", "Mrays/s", "speedup", "diff_px",
@@ -119,214 +358,16 @@ int runBench(const BenchOptions& options) {
     table.header.push_back("culled");
     table.header.push_back("H");
     nlohmann::json rowsJson = nlohmann::json::array();
-    const int totalRuns = options.warmupRuns + options.runs;
-    session.progress->begin("Benchmarking", uint64_t(rayTypes.size()) * totalRuns * frames.size());
+    b.session.progress->begin("Benchmarking",
+                              uint64_t(rayTypes.size()) * (options.warmupRuns + options.runs) * b.frames.size());
     uint64_t progressDone = 0;
     for (RayType type : rayTypes) {
-        std::map<std::string, MethodResult> results;
-        for (int run = 0; run < totalRuns; ++run) {
-            const bool timed = run >= options.warmupRuns;
-            const bool compare = run == options.warmupRuns; // compare hits once, in the first timed run
-            std::map<std::string, double> runMs;
-            for (int frame : frames) {
-                const Camera camera = session.path.cameraAtFrame(frame);
-                FrameStats scratch;
-                if (type != RayType::Primary) {
-                    // Not in core: the G-buffer comes from out-of-core primary rays (docs/outofcore.md).
-                    if (gbufferTracer) renderer.useTracer(gbufferTracer);
-                    renderer.renderGBuffer(camera, scratch);
-                    renderer.useTracer(nullptr);
-                }
-                for (int sample = 0; sample < settings.samplesPerPixel; ++sample) {
-                    renderer.generateRayPass(camera, type, sample, scratch);
-                    // Read back once per pass, outside the timed tracing: for the comparisons and the ray count.
-                    std::vector<Ray> rays;
-                    if (compare || timed) rays = renderer.readRays(0);
-                    const bool comparing = compare && session.sceneInCore && (embree || gpuMethodNames.size() > 1);
-                    std::vector<Hit> bvhHits;
-                    for (const std::string& m : gpuMethodNames) {
-                        renderer.useTracer(m == "bvh" ? nullptr : tracers[m].get());
-                        FrameStats methodStats;
-                        auto* outOfCore =
-                            m == "bvh" ? nullptr : dynamic_cast<outofcore::OutOfCoreTracer*>(tracers[m].get());
-                        const outofcore::OutOfCoreStats oocBefore =
-                            outOfCore ? outOfCore->snapshot() : outofcore::OutOfCoreStats{};
-                        renderer.traceRayPass(camera, type, sample, methodStats);
-                        if (outOfCore && timed) {
-                            const outofcore::OutOfCoreStats d =
-                                outofcore::OutOfCoreStats::difference(outOfCore->snapshot(), oocBefore);
-                            results[m].outOfCore += d;
-                            if (compare) {
-                                nlohmann::json f = outOfCoreStatsJson(d, 1.0, *outOfCore);
-                                f["frame"] = frame;
-                                f["sample"] = sample;
-                                results[m].outOfCoreFrames.push_back(f);
-                            }
-                        }
-                        if (methodStats.cappedRays > 0) {
-                            throw std::runtime_error("rays reached the shader loop cap during the benchmark (" + m + ")");
-                        }
-                        runMs[m] += methodStats.traceMs();
-                        ChcrtTracer* c = nullptr;
-                        if (m != "bvh") {
-                            c = dynamic_cast<ChcrtTracer*>(tracers[m].get());
-                            if (auto* ooc = dynamic_cast<outofcore::OutOfCoreTracer*>(tracers[m].get())) c = &ooc->chcrt();
-                            if (c) {
-                                if (timed) results[m].chcrt += c->totalStats(); // CHC+RT counters (no warm-up)
-                                c->resetStats();
-                            }
-                        }
-                        if (comparing) {
-                            if (m == "bvh") {
-                                bvhHits = renderer.readHits(0);
-                            } else {
-                                results[m].comparison.differing +=
-                                    compareHitsExactly(rays, renderer.readHits(0), bvhHits, isAnyHit(type)).differing;
-                            }
-                        }
-                        if (!options.steps || !compare) continue;
-                        // Work, not time: pure BVH's cost target of the timed trace; CHC+RT counts only with its
-                        // cost debug image, so it traces the pass once more, untimed (its fronts advance once
-                        // more; debug traces do not feed the adaptive choice).
-                        if (m == "bvh") {
-                            addSteps(rays, renderer.readTraceSteps(0), m, results[m]);
-                        } else if (c) {
-                            c->setDebugImage(ChcrtDebugImage::Cost);
-                            c->clearDebugImage();
-                            FrameStats untimed;
-                            renderer.traceRayPass(camera, type, sample, untimed);
-                            addSteps(rays, c->readDebugImage(), m, results[m]);
-                            c->setDebugImage(ChcrtDebugImage::None);
-                            c->resetStats();
-                        }
-                    }
-                    renderer.useTracer(nullptr);
-                    if (!timed) continue;
-                    const uint64_t active = countActive(rays);
-                    for (const std::string& m : methods) results[m].activeRays += active;
-                    if (!embree) continue;
-                    std::vector<Hit> hits(rays.size());
-                    const auto start = std::chrono::steady_clock::now();
-                    embree->trace(rays, hits, isAnyHit(type));
-                    runMs["embree"] +=
-                        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-                    if (compare) {
-                        // Closest-hit Embree for the comparison, so ids are known (any-hit results carry none).
-                        std::vector<Hit> reference(rays.size());
-                        embree->trace(rays, reference, false);
-                        results["embree"].comparison.add(
-                            compareHits(session.scene, rays, bvhHits, reference, isAnyHit(type), tolerance));
-                    }
-                }
-                session.progress->update(++progressDone);
-            }
-            if (!timed) continue;
-            for (const std::string& m : methods) results[m].runMs.push_back(runMs[m] / double(frames.size()));
-            if (std::find(methods.begin(), methods.end(), "bvh") == methods.end()) {
-                results["bvh"].runMs.push_back(runMs["bvh"] / double(frames.size())); // reference for speedups
-            }
-        }
-        const double bvhMs = median(results["bvh"].runMs);
-        for (const std::string& m : methods) {
-            const MethodResult& r = results[m];
-            const double ms = median(r.runMs);
-            const double raysPerFrame = double(r.activeRays) / double(options.runs) / double(frames.size());
-            const double mrays = ms > 0 ? raysPerFrame / (ms * 1000.0) : 0.0;
-            const double speedup = ms > 0 ? bvhMs / ms : 0.0;
-            const uint64_t diff = m == "bvh" ? 0 : r.comparison.differing; // bvh is the reference itself
-            table.rows.push_back({session.scene.name, session.path.name, toString(type), m,
-                                  std::to_string(settings.width) + "x" + std::to_string(settings.height),
-                                  std::to_string(settings.samplesPerPixel), formatFixed(ms, 1), formatFixed(mrays, 2),
-                                  formatFixed(speedup, 2), session.sceneInCore ? std::to_string(diff) : "-",
-                                  imageErrors.count(m) ? formatFixed(imageErrors[m].finalPsnrDb, 1) : "-"});
-            const bool stepsCounted = options.steps && r.stepRays > 0;
-            const double stepsPerRay = stepsCounted ? double(r.steps) / double(r.stepRays) : 0.0;
-            if (options.steps) table.rows.back().push_back(stepsCounted ? formatFixed(stepsPerRay, 1) : "-");
-            const uint64_t culledTraces = r.chcrt.traces - r.chcrt.fallbackTraces;
-            table.rows.back().push_back(r.chcrt.traces ? formatFixed(100.0 * double(culledTraces) / double(r.chcrt.traces), 0) + "%" : "-");
-            table.rows.back().push_back(culledTraces ? formatFixed(double(r.chcrt.heightSum) / double(culledTraces), 1) : "-");
-            rowsJson.push_back({{"scene", session.scene.name},
-                                {"path", session.path.name},
-                                {"ray_type", toString(type)},
-                                {"method", m},
-                                {"width", settings.width},
-                                {"height", settings.height},
-                                {"spp", settings.samplesPerPixel},
-                                {"frames", frames.size()},
-                                {"runs", options.runs},
-                                {"ms_median", ms},
-                                {"ms_runs", r.runMs},
-                                {"mrays_per_s", mrays},
-                                {"active_rays_per_frame", raysPerFrame},
-                                {"speedup_vs_bvh", speedup},
-                                {"diff_pixels", session.sceneInCore ? nlohmann::json(diff) : nlohmann::json(nullptr)},
-                                {"edge_cases", m == "bvh" ? 0 : r.comparison.edgeCases},
-                                {"psnr_db", nullptr},
-                                {"steps_per_ray", stepsCounted ? nlohmann::json(stepsPerRay) : nlohmann::json(nullptr)}});
-            if (imageErrors.count(m)) {
-                const ls::ImageError& e = imageErrors[m];
-                nlohmann::json& row = rowsJson.back();
-                row["psnr_db"] = finiteOrNull(e.finalPsnrDb);
-                row["image_error"] = {{"frames", e.frames}, {"effects", toString(settings.effects)},
-                                      {"spp", settings.samplesPerPixel}, {"final_mae", e.finalMae},
-                                      {"final_psnr_db", finiteOrNull(e.finalPsnrDb)},
-                                      {"final_pixels_over_2_255", e.finalOver2Of255}, {"indirect_mae", e.indirectMae},
-                                      {"indirect_psnr_db", finiteOrNull(e.indirectPsnrDb)}};
-                if (type == RayType::Shadow && raysPerFrame > 0) {
-                    // The hit comparison runs in the first timed run: differing any-hit answers / active rays.
-                    row["shadow_samples_differing_fraction"] =
-                        double(diff) / (raysPerFrame * double(frames.size()));
-                }
-            }
-            if (auto* lsTracer = dynamic_cast<ls::LineSpaceTracer*>(m == "bvh" ? nullptr : tracers[m].get())) {
-                const ls::LineSpaceStats& st = lsTracer->buildStats;
-                rowsJson.back()["linespace"] = {
-                    {"params", lsTracer->paramsText}, {"modes", lsTracer->modes().toString()},
-                    {"cache", lsTracer->cacheOutcome}, {"build_s", st.buildSeconds}, {"spaces", st.spaceCount},
-                    {"bytes", st.totalBytes()}, {"mb", double(st.totalBytes()) / 1e6},
-                    {"binary_filled", st.binaryShafts ? double(st.binaryFilled) / double(st.binaryShafts) : 0.0},
-                    {"candidate_filled", st.candidateShafts ? double(st.candidateFilled) / double(st.candidateShafts) : 0.0},
-                    {"bytes_per_shaft", double(st.totalBytes()) / double(std::max<uint64_t>(1, st.binaryShafts + st.candidateShafts))},
-                    {"gpu_bytes", lsTracer->gpu().gpuBytes()}};
-            }
-            if (auto* nt = dynamic_cast<ls::NTreeTracer*>(m == "bvh" ? nullptr : tracers[m].get())) {
-                const ls::NTreeStats& st = nt->buildStats;
-                rowsJson.back()["ntree"] = {
-                    {"params", nt->paramsText}, {"cache", nt->cacheOutcome}, {"build_s", st.buildSeconds},
-                    {"nodes", st.nodeCount},
-                    {"spaces", st.subdividedCount},
-                    {"binary_filled", st.binaryShafts ? double(st.binaryFilled) / double(st.binaryShafts) : 0.0},
-                    {"linespace_mb", double(st.lineSpaceBytes) / 1e6}, {"node_pool_mb", double(st.nodeBytes) / 1e6},
-                    {"gpu_bytes", nt->gpuBytes()}, {"shadow_level", nt->options().shadowLevel},
-                    {"start_exact", nt->options().startExact}, {"near_edges", nt->options().nearEdges}};
-            }
-            if (auto* ooc = dynamic_cast<outofcore::OutOfCoreTracer*>(m == "bvh" ? nullptr : tracers[m].get())) {
-                nlohmann::json j = outOfCoreStatsJson(r.outOfCore, double(options.runs) * double(frames.size()), *ooc);
-                j["frames"] = r.outOfCoreFrames;
-                rowsJson.back()["outofcore"] = j;
-            }
-            if (r.chcrt.traces > 0) {
-                rowsJson.back()["chcrt"] = chcrtStatsJson(r.chcrt, double(options.runs) * double(frames.size()));
-            }
-        }
+        std::map<std::string, MethodResult> results = benchRayType(b, type, progressDone);
+        const double bvhMs = median(results[kPureBvhMethod].runMs);
+        for (const std::string& m : methods) addRows(b, type, m, results[m], bvhMs, table, rowsJson);
     }
-    session.progress->end();
-
-    const GlInfo info = queryGlInfo();
-    std::printf("bench: %s (%s triangles%s), %zu frame(s) of %s, median of %d run(s) after %d warm-up, %s\n",
-                session.scene.name.c_str(),
-                formatCount(session.sceneInCore ? session.scene.triangleCount() : session.fileTriangles).c_str(),
-                session.sceneInCore ? "" : ", not in core", frames.size(),
-                session.path.name.c_str(), options.runs, options.warmupRuns, info.renderer.c_str());
-    std::fputs(table.toText().c_str(), stdout);
-    if (!options.jsonFile.empty()) {
-        writeJsonFile(options.jsonFile, {{"scene", toJson(session.scene)},
-                                         {"bvh", toJson(session.bvh.stats)},
-                                         {"gl_renderer", info.renderer},
-                                         {"rows", rowsJson}});
-    }
-    if (!options.csvFile.empty()) writeTextFileAtomically(options.csvFile, table.toCsv());
-    if (!options.markdownFile.empty()) writeTextFileAtomically(options.markdownFile, table.toMarkdown());
+    b.session.progress->end();
+    writeOutputs(b, table, rowsJson);
     return kExitOk;
 }
 

@@ -1,5 +1,7 @@
-// `chcrt info`: the OpenGL implementation, its limits and the scene's statistics.
+// `chcrt info`: the OpenGL implementation, its limits and the scene's statistics; `chcrt methods`: the tracing
+// methods of the registry (app/methods.h).
 #include "app/commands.h"
+#include "app/methods.h"
 #include "app/report.h"
 #include "app/session.h"
 #include "renderer/gl/context.h"
@@ -11,7 +13,7 @@ namespace chcrt::app {
 
 int runInfo(const InfoOptions& options) {
     const CommonOptions& o = options.common;
-    const auto context = createHeadlessContext(parseGlBackend(o.gl), o.glDebug);
+    const auto context = createHeadlessContext(o.gl, o.glDebug);
     const GlInfo info = queryGlInfo();
     std::printf("OpenGL\n  context      %s\n  vendor       %s\n  renderer     %s\n  version      %s\n  GLSL         %s\n",
                 context->description().c_str(), info.vendor.c_str(), info.renderer.c_str(), info.version.c_str(),
@@ -59,6 +61,12 @@ int runInfo(const InfoOptions& options) {
         j["bvh"] = toJson(s.bvh.stats);
     }
     if (!o.statsJson.empty()) writeJsonFile(o.statsJson, j);
+    return kExitOk;
+}
+
+int runMethods(const MethodsOptions& options) {
+    const Table table = methodTable();
+    std::fputs((options.markdown ? table.toMarkdown() : table.toText()).c_str(), stdout);
     return kExitOk;
 }
 

@@ -20,128 +20,174 @@ bool isHdrFormat(const std::string& file) {
     return ext == ".exr" || ext == ".EXR" || ext == ".hdr" || ext == ".HDR";
 }
 
-} // namespace
+// The method's tracer and its CHC+RT / out-of-core views, installed in the renderer.
+struct RenderTracer {
+    std::unique_ptr<Tracer> tracer;
+    outofcore::OutOfCoreTracer* outOfCore = nullptr; // --out-of-core (Table 3 statistics)
+    ChcrtTracer* chcrt = nullptr;                    // CHC+RT statistics and debug images
+    ChcrtDebugImage debugImage = ChcrtDebugImage::None;
+};
 
-int runRender(const RenderOptions& options) {
-    const CommonOptions& o = options.common;
-    const RenderSettings settings = toRenderSettings(o, 4);
-    if (options.output.empty()) throw InputError("no output file: give -o out.png (#### is replaced by the frame number)");
-    findGpuMethod(options.method);
-    const ChcrtDebugImage debugKind =
+// --debug-image, checked before anything is loaded.
+ChcrtDebugImage debugImageOf(const RenderOptions& options) {
+    const MethodInfo& method = findGpuMethod(options.method);
+    const ChcrtDebugImage kind =
         options.debugImage.empty() ? ChcrtDebugImage::None : parseChcrtDebugImage(options.debugImage);
-    if (debugKind != ChcrtDebugImage::None && options.method.rfind("chcrt", 0) != 0) {
+    if (kind != ChcrtDebugImage::None && !method.chcrtDebugImages) {
         throw InputError("--debug-image needs a CHC+RT method (--method chcrt, chcrt-aggressive or chcrt-noadapt)");
     }
-    SceneSession session = openSceneSession(o);
-    const std::vector<int> frames = selectFrames(o, session.path, "0");
-    GpuSession gpu = openGpuSession(o, session, settings);
-    Renderer& renderer = *gpu.renderer;
-    const std::unique_ptr<Tracer> tracer = makeTracer(options.method, session, gpu);
-    auto* outOfCore = dynamic_cast<outofcore::OutOfCoreTracer*>(tracer.get()); // --out-of-core (Table 3 stats)
-    auto* chcrtTracer = outOfCore ? &outOfCore->chcrt() : dynamic_cast<ChcrtTracer*>(tracer.get()); // CHC+RT statistics and debug images
-    if (chcrtTracer) chcrtTracer->setDebugImage(debugKind);
-    if (outOfCore && !session.sceneInCore) installOutOfCorePrimary(renderer, *outOfCore); // docs/outofcore.md
-    renderer.useTracer(tracer.get());
+    return kind;
+}
 
-    nlohmann::json frameJson = nlohmann::json::array();
+RenderTracer makeRenderTracer(const RenderOptions& options, ChcrtDebugImage debugImage, const SceneSession& session,
+                              Renderer& renderer) {
+    RenderTracer t;
+    t.debugImage = debugImage;
+    t.tracer = makeTracer(options.method, session);
+    t.outOfCore = dynamic_cast<outofcore::OutOfCoreTracer*>(t.tracer.get());
+    t.chcrt = t.outOfCore ? &t.outOfCore->chcrt() : dynamic_cast<ChcrtTracer*>(t.tracer.get());
+    if (t.chcrt) t.chcrt->setDebugImage(t.debugImage);
+    if (t.outOfCore && !session.sceneInCore) installOutOfCorePrimary(renderer, *t.outOfCore); // docs/outofcore.md
+    renderer.useTracer(t.tracer.get());
+    return t;
+}
+
+// Writes the frame just rendered: the shaded image, or the CHC+RT debug image accumulated over every trace of
+// the frame (all ray sets).
+void writeFrameImage(const std::string& file, const RenderTracer& t, Renderer& renderer) {
+    if (t.debugImage == ChcrtDebugImage::None) {
+        writeImage(file, isHdrFormat(file) ? renderer.readHdrImage() : renderer.readDisplayImage());
+        return;
+    }
+    ImageRgba32f image;
+    image.width = t.chcrt->debugWidth();
+    image.height = t.chcrt->debugHeight();
+    const std::vector<float> rgb = colorizeChcrtDebugImage(t.debugImage, t.chcrt->readDebugImage(), image.width, image.height);
+    image.pixels.resize(size_t(image.width) * image.height * 4, 1.0f);
+    for (size_t p = 0; p < rgb.size() / 3; ++p) {
+        for (int c = 0; c < 3; ++c) image.pixels[p * 4 + size_t(c)] = rgb[p * 3 + size_t(c)];
+    }
+    writeImage(file, image, /*alreadyDisplayEncoded=*/true);
+}
+
+void addFrameStats(FrameStats& sum, const FrameStats& stats) {
+    sum.totalMs += stats.totalMs;
+    sum.gbufferMs += stats.gbufferMs;
+    sum.raygenMs += stats.raygenMs;
+    sum.shadeMs += stats.shadeMs;
+    for (size_t t = 0; t < sum.trace.size(); ++t) {
+        sum.trace[t].milliseconds += stats.trace[t].milliseconds;
+        sum.trace[t].passes += stats.trace[t].passes;
+    }
+    sum.raysGenerated += stats.raysGenerated;
+    sum.cappedRays += stats.cappedRays;
+}
+
+struct RenderedFrames {
     std::vector<std::string> written;
     FrameStats sum;
+    nlohmann::json json = nlohmann::json::array();
+};
+
+RenderedFrames renderFrames(const RenderOptions& options, const SceneSession& session, Renderer& renderer,
+                            const RenderTracer& t, const std::vector<int>& frames) {
+    RenderedFrames out;
     renderer.warmUp(session.path.cameraAtFrame(frames.front()));
     // Progress per pass, so that a single slow frame (many samples, a big scene) shows progress too.
     uint64_t passesDone = 0;
     session.progress->begin("Rendering", uint64_t(frames.size()) * renderer.passesPerFrame());
     renderer.setPassCallback([&] { session.progress->update(++passesDone); });
-    for (size_t i = 0; i < frames.size(); ++i) {
-        if (chcrtTracer) {
-            chcrtTracer->resetStats();
-            chcrtTracer->clearDebugImage();
+    const RenderSettings& settings = renderer.settings();
+    for (int frame : frames) {
+        if (t.chcrt) {
+            t.chcrt->resetStats();
+            t.chcrt->clearDebugImage();
         }
-        const outofcore::OutOfCoreStats oocBefore = outOfCore ? outOfCore->snapshot() : outofcore::OutOfCoreStats{};
-        const FrameStats stats = renderer.renderFrame(session.path.cameraAtFrame(frames[i]));
-        const std::string file = formatFramePath(options.output, frames[i], int(frames.size()));
-        if (debugKind != ChcrtDebugImage::None) {
-            // The debug image accumulates over every CHC+RT trace of the frame (all ray sets).
-            ImageRgba32f image;
-            image.width = chcrtTracer->debugWidth();
-            image.height = chcrtTracer->debugHeight();
-            const std::vector<float> rgb =
-                colorizeChcrtDebugImage(debugKind, chcrtTracer->readDebugImage(), image.width, image.height);
-            image.pixels.resize(size_t(image.width) * image.height * 4, 1.0f);
-            for (size_t p = 0; p < rgb.size() / 3; ++p) {
-                for (int c = 0; c < 3; ++c) image.pixels[p * 4 + size_t(c)] = rgb[p * 3 + size_t(c)];
-            }
-            writeImage(file, image, /*alreadyDisplayEncoded=*/true);
-        } else {
-            writeImage(file, isHdrFormat(file) ? renderer.readHdrImage() : renderer.readDisplayImage());
-        }
-        written.push_back(file);
+        const outofcore::OutOfCoreStats oocBefore = t.outOfCore ? t.outOfCore->snapshot() : outofcore::OutOfCoreStats{};
+        const FrameStats stats = renderer.renderFrame(session.path.cameraAtFrame(frame));
+        const std::string file = formatFramePath(options.output, frame, int(frames.size()));
+        writeFrameImage(file, t, renderer);
+        out.written.push_back(file);
         nlohmann::json j = toJson(stats, uint64_t(settings.width) * settings.height);
-        j["frame"] = frames[i];
+        j["frame"] = frame;
         j["output"] = file;
         j["method"] = options.method;
-        if (chcrtTracer) j["chcrt"] = chcrtStatsJson(chcrtTracer->totalStats(), 1.0);
-        if (outOfCore) {
-            j["outofcore"] =
-                outOfCoreStatsJson(outofcore::OutOfCoreStats::difference(outOfCore->snapshot(), oocBefore), 1.0, *outOfCore);
+        if (t.chcrt) j["chcrt"] = chcrtStatsJson(t.chcrt->totalStats(), 1.0);
+        if (t.outOfCore) {
+            j["outofcore"] = outOfCoreStatsJson(outofcore::OutOfCoreStats::difference(t.outOfCore->snapshot(), oocBefore),
+                                                1.0, *t.outOfCore);
         }
-        frameJson.push_back(j);
-        sum.totalMs += stats.totalMs;
-        sum.gbufferMs += stats.gbufferMs;
-        sum.raygenMs += stats.raygenMs;
-        sum.shadeMs += stats.shadeMs;
-        for (size_t t = 0; t < sum.trace.size(); ++t) {
-            sum.trace[t].milliseconds += stats.trace[t].milliseconds;
-            sum.trace[t].passes += stats.trace[t].passes;
-        }
-        sum.raysGenerated += stats.raysGenerated;
-        sum.cappedRays += stats.cappedRays;
+        out.json.push_back(j);
+        addFrameStats(out.sum, stats);
     }
     renderer.setPassCallback(nullptr);
     session.progress->end();
+    return out;
+}
 
-    const double n = double(frames.size());
-    const GlInfo info = queryGlInfo();
-    std::printf("%s: %s, %s triangles (%s unique), BVH %.2f s (SAH %.1f, %u nodes)\n",
-                options.demo ? "demo" : "render", session.scene.name.c_str(),
-                formatCount(session.scene.triangleCount()).c_str(),
+void printSummary(const RenderOptions& options, const SceneSession& session, const GpuSession& gpu,
+                  const RenderedFrames& r, const std::string& glRenderer) {
+    const Renderer& renderer = *gpu.renderer;
+    const size_t frames = r.written.size();
+    const double n = double(frames);
+    const FrameStats& sum = r.sum;
+    std::printf("%s: %s, %s triangles (%s unique), BVH %.2f s (SAH %.1f, %u nodes)\n", options.demo ? "demo" : "render",
+                session.scene.name.c_str(), formatCount(session.scene.triangleCount()).c_str(),
                 formatCount(session.scene.stats.uniqueTriangles).c_str(), session.bvh.stats.buildSeconds,
                 session.bvh.stats.sahCost, session.bvh.stats.nodeCount);
-    std::printf("  scene %.2f s, GL setup %.2f s on %s\n", session.sceneSeconds, gpu.setupSeconds,
-                info.renderer.c_str());
-    std::printf("  %zu frame(s) %dx%d, %d spp, effects %s, primary visibility %s, path %s\n", frames.size(),
-                settings.width, settings.height, settings.samplesPerPixel, toString(renderer.settings().effects).c_str(),
-                toString(renderer.settings().primaryVisibility), session.path.name.c_str()); // as rendered (out of core may change them)
+    std::printf("  scene %.2f s, GL setup %.2f s on %s\n", session.sceneSeconds, gpu.setupSeconds, glRenderer.c_str());
+    std::printf("  %zu frame(s) %dx%d, %d spp, effects %s, primary visibility %s, path %s\n", frames,
+                renderer.settings().width, renderer.settings().height, renderer.settings().samplesPerPixel,
+                toString(renderer.settings().effects).c_str(), toString(renderer.settings().primaryVisibility),
+                session.path.name.c_str()); // as rendered (out of core may change them)
     std::printf("  per frame: %.1f ms total = G-buffer %.1f + ray generation %.1f + tracing %.1f + shading %.1f\n",
                 sum.totalMs / n, sum.gbufferMs / n, sum.raygenMs / n, sum.traceMs() / n, sum.shadeMs / n);
     for (RayType type : {RayType::Primary, RayType::Shadow, RayType::Ao, RayType::Diffuse}) { // primary: --primary traced
         const TraceStats& t = sum.trace[size_t(type)];
         if (t.passes == 0) continue;
         std::printf("    %-8s %3llu passes/frame, %.1f ms/frame\n", toString(type),
-                    (unsigned long long)(t.passes / frames.size()), t.milliseconds / n);
+                    (unsigned long long)(t.passes / frames), t.milliseconds / n);
     }
     std::printf("  %.2f Mrays/s (all generated rays, method %s)\n",
                 sum.traceMs() > 0 ? double(sum.raysGenerated) / (sum.traceMs() * 1000.0) : 0.0, options.method.c_str());
-    std::printf("  wrote %s%s\n", written.front().c_str(),
-                written.size() > 1 ? (" ... " + written.back()).c_str() : "");
+    std::printf("  wrote %s%s\n", r.written.front().c_str(), frames > 1 ? (" ... " + r.written.back()).c_str() : "");
     if (sum.cappedRays > 0) {
         std::fprintf(stderr, "warning: %llu rays reached the shader loop cap; their results are incomplete\n",
                      (unsigned long long)sum.cappedRays);
     }
-    if (!o.statsJson.empty()) {
-        nlohmann::json j = {{"command", options.demo ? "demo" : "render"},
-                            {"scene", toJson(session.scene)},
-                            {"bvh", toJson(session.bvh.stats)},
-                            {"path", session.path.name},
-                            {"width", settings.width},
-                            {"height", settings.height},
-                            {"spp", settings.samplesPerPixel},
-                            {"effects", toString(settings.effects)},
-                            {"primary", toString(settings.primaryVisibility)},
-                            {"seed", settings.seed},
-                            {"gl_renderer", info.renderer},
-                            {"frames", frameJson}};
-        writeJsonFile(o.statsJson, j);
-    }
+}
+
+void writeStatsJson(const RenderOptions& options, const SceneSession& session, const RenderSettings& settings,
+                    const RenderedFrames& r, const std::string& glRenderer) {
+    writeJsonFile(options.common.statsJson, {{"command", options.demo ? "demo" : "render"},
+                                             {"scene", toJson(session.scene)},
+                                             {"bvh", toJson(session.bvh.stats)},
+                                             {"path", session.path.name},
+                                             {"width", settings.width},
+                                             {"height", settings.height},
+                                             {"spp", settings.samplesPerPixel},
+                                             {"effects", toString(settings.effects)},
+                                             {"primary", toString(settings.primaryVisibility)},
+                                             {"seed", settings.seed},
+                                             {"gl_renderer", glRenderer},
+                                             {"frames", r.json}});
+}
+
+} // namespace
+
+int runRender(const RenderOptions& options) {
+    const CommonOptions& o = options.common;
+    const RenderSettings settings = toRenderSettings(o, 4);
+    if (options.output.empty()) throw InputError("no output file: give -o out.png (#### is replaced by the frame number)");
+    const ChcrtDebugImage debugImage = debugImageOf(options);
+    SceneSession session = openSceneSession(o);
+    const std::vector<int> frames = selectFrames(o, session.path, "0");
+    GpuSession gpu = openGpuSession(o, session, settings);
+    const RenderTracer tracer = makeRenderTracer(options, debugImage, session, *gpu.renderer);
+    const RenderedFrames rendered = renderFrames(options, session, *gpu.renderer, tracer, frames);
+    const GlInfo info = queryGlInfo();
+    printSummary(options, session, gpu, rendered, info.renderer);
+    if (!o.statsJson.empty()) writeStatsJson(options, session, settings, rendered, info.renderer);
     return kExitOk;
 }
 

@@ -33,12 +33,78 @@ void printDifference(const Scene& scene, const Ray& ray, const Hit& method, cons
     }
 }
 
+// What verify compares: the method's hits against Embree (bvh) or against pure BVH tracing (every other method).
+struct VerifyContext {
+    const VerifyOptions& options;
+    const SceneSession& session;
+    Renderer& renderer;
+    Tracer* method = nullptr;
+    EmbreeTracer* embree = nullptr; // against Embree
+    HitTolerance tolerance;
+    int shown = 0;                  // differing pixels printed so far (--show-diff)
+};
+
+void printHeader(const VerifyContext& v, const RenderSettings& settings, size_t frames) {
+    std::printf("verify: method %s against %s, %s (%s triangles), path %s, %zu frame(s), %dx%d, %d spp\n",
+                v.options.method.c_str(), v.embree ? "Embree" : "pure BVH tracing (exact)",
+                v.session.scene.name.c_str(), formatCount(v.session.scene.triangleCount()).c_str(),
+                v.session.path.name.c_str(), frames, settings.width, settings.height, settings.samplesPerPixel);
+    if (v.embree) {
+        std::printf("  tolerance: |dt| <= %.0e * t + %.1e + the triangle's float rounding bound; ties at equal t and "
+                    "border hits within %.0e (barycentric, + rounding bound) are not differences\n",
+                    double(v.tolerance.relativeT), double(v.tolerance.absoluteT), double(v.tolerance.barycentricEpsilon));
+    }
+}
+
+// One frame's rays of one type, every sample: the method's hits against the oracle's.
+HitComparison verifyFrame(VerifyContext& v, RayType type, int frame, FrameStats& stats) {
+    Renderer& renderer = v.renderer;
+    const Camera camera = v.session.path.cameraAtFrame(frame);
+    if (type != RayType::Primary) renderer.renderGBuffer(camera, stats);
+    HitComparison result;
+    for (int sample = 0; sample < renderer.settings().samplesPerPixel; ++sample) {
+        renderer.generateRayPass(camera, type, sample, stats);
+        renderer.useTracer(v.method);
+        renderer.traceRayPass(camera, type, sample, stats);
+        const std::vector<Ray> rays = renderer.readRays(0);
+        const std::vector<Hit> hits = renderer.readHits(0);
+        if (v.embree) {
+            std::vector<Hit> reference(rays.size());
+            v.embree->trace(rays, reference, false); // closest hit: same hit/miss as any-hit, and ids
+            std::vector<size_t> differing;
+            result.add(compareHits(v.session.scene, rays, hits, reference, isAnyHit(type), v.tolerance, &differing));
+            for (size_t pixel : differing) {
+                if (v.shown >= v.options.showDifferences) break;
+                printDifference(v.session.scene, rays[pixel], hits[pixel], reference[pixel], pixel,
+                                renderer.settings().width, frame);
+                ++v.shown;
+            }
+        } else {
+            renderer.useTracer(nullptr);
+            renderer.traceRayPass(camera, type, sample, stats);
+            result.add(compareHitsExactly(rays, hits, renderer.readHits(0), isAnyHit(type)));
+        }
+        renderer.useTracer(nullptr);
+    }
+    return result;
+}
+
+void printOutOfCoreCache(const Tracer* method) {
+    const auto* ooc = dynamic_cast<const outofcore::OutOfCoreTracer*>(method);
+    if (!ooc) return;
+    const outofcore::GpuCacheStats& c = ooc->cache().stats();
+    std::printf("  out of core: %u GPU cache slots (%.1f of %.1f MB allocated, %s), %llu hits, %llu misses, %llu "
+                "evictions, %.1f MB uploaded\n",
+                c.slots, double(c.allocatedBytes) / double(1u << 20), double(ooc->options().gpuCacheBytes) / double(1u << 20),
+                outofcore::toString(ooc->options().policy), (unsigned long long)c.hits, (unsigned long long)c.misses,
+                (unsigned long long)c.evictions, double(c.uploadedNodeBytes + c.uploadedTriangleBytes) / double(1u << 20));
+}
+
 } // namespace
 
 int runVerify(const VerifyOptions& options) {
     const CommonOptions& o = options.common;
     findGpuMethod(options.method);
-    const bool againstEmbree = options.method == "bvh";
     std::vector<RayType> rayTypes;
     for (const std::string& name : splitList(options.rayTypes)) rayTypes.push_back(parseRayType(name));
     const RenderSettings settings = toRenderSettings(o, 1);
@@ -48,58 +114,22 @@ int runVerify(const VerifyOptions& options) {
     }
     const std::vector<int> frames = selectFrames(o, session.path, "spread:5");
     GpuSession gpu = openGpuSession(o, session, settings);
-    Renderer& renderer = *gpu.renderer;
-    const std::unique_ptr<Tracer> method = makeTracer(options.method, session, gpu, /*alwaysCull=*/true);
+    const std::unique_ptr<Tracer> method = makeTracer(options.method, session, /*alwaysCull=*/true);
     std::unique_ptr<EmbreeTracer> embree;
-    if (againstEmbree) embree = std::make_unique<EmbreeTracer>(session.scene);
-    HitTolerance tolerance;
-    tolerance.absoluteT *= renderer.sceneDiagonal();
+    if (options.method == kPureBvhMethod) embree = std::make_unique<EmbreeTracer>(session.scene);
+    VerifyContext v{options, session, *gpu.renderer, method.get(), embree.get()};
+    v.tolerance.absoluteT *= v.renderer.sceneDiagonal();
+    printHeader(v, settings, frames.size());
 
-    std::printf("verify: method %s against %s, %s (%s triangles), path %s, %zu frame(s), %dx%d, %d spp\n",
-                options.method.c_str(), againstEmbree ? "Embree" : "pure BVH tracing (exact)",
-                session.scene.name.c_str(), formatCount(session.scene.triangleCount()).c_str(),
-                session.path.name.c_str(), frames.size(), settings.width, settings.height, settings.samplesPerPixel);
-    if (againstEmbree) {
-        std::printf("  tolerance: |dt| <= %.0e * t + %.1e + the triangle's float rounding bound; ties at equal t and "
-                    "border hits within %.0e (barycentric, + rounding bound) are not differences\n",
-                    double(tolerance.relativeT), double(tolerance.absoluteT), double(tolerance.barycentricEpsilon));
-    }
     uint64_t totalDiffering = 0, totalCapped = 0;
-    int shown = 0;
     nlohmann::json rows = nlohmann::json::array();
     session.progress->begin("Verifying", uint64_t(rayTypes.size()) * frames.size());
     uint64_t done = 0;
     for (RayType type : rayTypes) {
         HitComparison total;
         for (int frame : frames) {
-            const Camera camera = session.path.cameraAtFrame(frame);
             FrameStats stats;
-            if (type != RayType::Primary) renderer.renderGBuffer(camera, stats);
-            HitComparison frameResult;
-            for (int sample = 0; sample < settings.samplesPerPixel; ++sample) {
-                renderer.generateRayPass(camera, type, sample, stats);
-                renderer.useTracer(method.get());
-                renderer.traceRayPass(camera, type, sample, stats);
-                const std::vector<Ray> rays = renderer.readRays(0);
-                const std::vector<Hit> hits = renderer.readHits(0);
-                if (againstEmbree) {
-                    std::vector<Hit> reference(rays.size());
-                    embree->trace(rays, reference, false); // closest hit: same hit/miss as any-hit, and ids
-                    std::vector<size_t> differing;
-                    frameResult.add(
-                        compareHits(session.scene, rays, hits, reference, isAnyHit(type), tolerance, &differing));
-                    for (size_t pixel : differing) {
-                        if (shown >= options.showDifferences) break;
-                        printDifference(session.scene, rays[pixel], hits[pixel], reference[pixel], pixel, settings.width, frame);
-                        ++shown;
-                    }
-                } else {
-                    renderer.useTracer(nullptr);
-                    renderer.traceRayPass(camera, type, sample, stats);
-                    frameResult.add(compareHitsExactly(rays, hits, renderer.readHits(0), isAnyHit(type)));
-                }
-                renderer.useTracer(nullptr);
-            }
+            const HitComparison frameResult = verifyFrame(v, type, frame, stats);
             totalCapped += stats.cappedRays;
             total.add(frameResult);
             rows.push_back({{"ray_type", toString(type)}, {"frame", frame}, {"active_rays", frameResult.activeRays},
@@ -114,18 +144,8 @@ int runVerify(const VerifyOptions& options) {
         totalDiffering += total.differing;
     }
     session.progress->end();
-    if (totalCapped > 0) {
-        std::printf("  FAIL: %llu rays reached the shader loop cap\n", (unsigned long long)totalCapped);
-    }
-    if (auto* ooc = dynamic_cast<outofcore::OutOfCoreTracer*>(method.get())) {
-        const outofcore::GpuCacheStats& c = ooc->cache().stats();
-        std::printf("  out of core: %u GPU cache slots (%.1f of %.1f MB allocated, %s), %llu hits, %llu misses, %llu "
-                    "evictions, %.1f MB uploaded\n",
-                    c.slots, double(c.allocatedBytes) / double(1u << 20), double(ooc->options().gpuCacheBytes) / double(1u << 20),
-                    outofcore::toString(ooc->options().policy), (unsigned long long)c.hits, (unsigned long long)c.misses,
-                    (unsigned long long)c.evictions,
-                    double(c.uploadedNodeBytes + c.uploadedTriangleBytes) / double(1u << 20));
-    }
+    if (totalCapped > 0) std::printf("  FAIL: %llu rays reached the shader loop cap\n", (unsigned long long)totalCapped);
+    printOutOfCoreCache(method.get());
     const bool pass = totalDiffering <= options.maxDiffering && totalCapped == 0;
     std::printf("%s: %llu differing pixel(s)\n", pass ? "PASS" : "FAIL", (unsigned long long)totalDiffering);
     if (!o.statsJson.empty()) {

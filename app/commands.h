@@ -4,6 +4,8 @@
 //   differing pixels or rays that hit the shader loop cap).
 #include "app/options.h"
 
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,6 +48,12 @@ struct InfoOptions {
 };
 int runInfo(const InfoOptions& options);
 
+// `chcrt methods`: the registered tracing methods (app/methods.h) as a table; --markdown for docs/cli.md.
+struct MethodsOptions {
+    bool markdown = false;
+};
+int runMethods(const MethodsOptions& options);
+
 // `chcrt prepare`: writes a prepared scene (.chs) for out-of-core rendering (app/command_prepare.cpp).
 struct PrepareCommandOptions {
     std::string scene;
@@ -58,9 +66,12 @@ struct PrepareCommandOptions {
 };
 int runPrepare(const PrepareCommandOptions& options);
 
-// `chcrt view`: the interactive walkthrough viewer (app/viewer/). Without CHCRT_BUILD_VIEWER it reports that
-// the viewer was not built and returns kExitBadInput.
+// `chcrt view`: the interactive walkthrough viewer (app/viewer/), a program of its own (build/bin/chcrt-view,
+// which links GLFW and Dear ImGui; the CLI does not). `chcrt view ARGS` checks ARGS (addViewOptions) and runs
+// chcrt-view ARGS from its own directory (app/command_view.cpp). Without CHCRT_BUILD_VIEWER it reports that the
+// viewer was not built and returns kExitBadInput (app/viewer/viewer_disabled.cpp).
 struct ViewOptions {
+    ViewOptions();                 // the viewer's defaults: a 1280×720 window, 1 spp, shadows only
     CommonOptions common;          // width/height: window size
     std::string method = "bvh";    // "raster" or a GPU method
     std::string viewMode = "shaded";
@@ -71,9 +82,19 @@ struct ViewOptions {
     bool noAccumulate = false;
     bool hidePanel = false;
 };
-int runView(const ViewOptions& options);
+// The flags of `chcrt view` (the CLI and chcrt-view parse the same ones).
+void addViewOptions(CLI::App& command, ViewOptions& options);
+// `arguments`: the words after `view`, handed to chcrt-view unchanged.
+int runView(const ViewOptions& options, const std::vector<std::string>& arguments);
 
 // Splits "a,b,c".
 std::vector<std::string> splitList(const std::string& text);
+
+// Runs `body` and turns the library's errors into a one-line message on stderr and an exit code: InputError 2,
+// GlError 3, anything else 1 (caught here, once, for both programs).
+int runReportingErrors(const std::function<int()>& body);
+// Parses the command line: nullopt when the program should go on, else its exit code (help and version 0, usage
+// errors 2 with a one-line message).
+std::optional<int> parseCommandLine(CLI::App& cli, int argc, char** argv);
 
 } // namespace chcrt::app

@@ -1,7 +1,9 @@
 #pragma once
-// Tracing methods by name, for bench, verify and render: "bvh" (pure BVH GLSL tracing, the baseline) and the
-// methods later issues add (CHC+RT, Line Space variants). "embree" is the CPU reference and is handled by the
-// commands themselves (it traces read-back rays, not ray textures).
+// The tracing methods, registered once (methodRegistry(), app/methods.cpp): name, exact or approximate, what each
+// needs, which parameter areas it reads (app/parameters.h), its own defaults and the factory of its tracer. The
+// CLI's --method help and checks, bench, verify, render, the viewer's method list and panel sections and
+// `chcrt methods` (docs/cli.md's table) read it.
+#include "app/parameters.h"
 #include "app/session.h"
 #include "renderer/render/tracer.h"
 
@@ -12,25 +14,70 @@
 
 namespace chcrt::app {
 
+// The baseline every other method is measured and verified against: pure BVH traversal in GLSL (the renderer's
+// own tracer).
+inline constexpr const char* kPureBvhMethod = "bvh";
+
+// What a method needs beyond the scene's BVH on the GPU.
+enum MethodNeeds : uint8_t {
+    kNeedsNothing = 0,
+    kNeedsLineSpaces = 1, // binary (and candidate) Line Spaces of the BVH: built or loaded from --ls-cache
+    kNeedsNTree = 2,      // an N-tree with binary Line Spaces: built or loaded from --ls-cache
+    kNeedsEmbree = 4,     // the scene in core for Embree (CPU)
+};
+std::string describeNeeds(uint8_t needs); // "Line Spaces (--ls-cache)", "-" for none
+
+struct MethodInfo;
+// Makes a method's tracer from its resolved options (resolveMethodOptions); requires the session's GL context to
+// be current. `alwaysCull`: CHC+RT without the adaptive fallback to a pure pass, bvh+ls-exact without its
+// fallback to pure BVH traversal (verify checks the culling / the Line Space path itself).
+using TracerFactory = std::unique_ptr<Tracer> (*)(const MethodInfo& method, const SceneSession& session,
+                                                  const CommonOptions& resolved, bool alwaysCull);
+// The CPU part of a method's set-up that may run on another thread (methodCacheBuild).
+using CacheBuildFactory = std::function<void(Progress&)> (*)(const MethodInfo& method, const SceneSession& session,
+                                                            const CommonOptions& resolved);
+
 struct MethodInfo {
     std::string name;
-    bool exact = true; // must produce exactly the hits of pure BVH tracing
+    bool exact = true;        // must produce exactly the hits of pure BVH tracing (verify checks it)
     std::string description;
+    bool gpu = true;          // traces the renderer's ray textures; false: embree, the CPU reference on read-back rays
+    std::vector<ParameterArea> areas; // the parameter areas it reads
+    uint8_t needs = kNeedsNothing;    // MethodNeeds
+    bool outOfCoreForm = false;       // traces a prepared scene out of core (--out-of-core)
+    bool chcrtDebugImages = false;    // CHC+RT debug images (--debug-image, the viewer's debug views)
+    // Its own defaults, written into `defaults` (whose method parameters start from their structs' defaults);
+    // `user` holds the user's values, for defaults derived from them (ntree+ls: the shadow level d - 1).
+    void (*setDefaults)(CommonOptions& defaults, const CommonOptions& user, uint64_t sceneTriangles) = nullptr;
+    TracerFactory makeTracer = nullptr;    // nullptr: the renderer's pure BVH tracer (bvh), or not a GPU method
+    CacheBuildFactory cacheBuild = nullptr; // nullptr: nothing to build ahead
+    bool reads(ParameterArea area) const;
 };
-const std::vector<MethodInfo>& gpuMethods();
-const MethodInfo& findGpuMethod(const std::string& name); // throws InputError listing the available ones
+
+// Every method, embree (the CPU reference) last.
+const std::vector<MethodInfo>& methodRegistry();
+// The GPU methods (all but embree).
+std::vector<const MethodInfo*> gpuMethods();
+// Throw InputError listing the available methods for unknown names; findGpuMethod also for embree.
+const MethodInfo& findMethod(const std::string& name);
+const MethodInfo& findGpuMethod(const std::string& name);
+// "bvh, chcrt, ..., embree" (with embree, the CPU reference) or the GPU methods only, for --help and errors.
+std::string methodNames(bool withReference = true);
+// The methods as a table: name, description, exact / approximate, needs, out of core (`chcrt methods`).
+struct Table;
+Table methodTable();
+
+// The method's parameters: its defaults for a scene of `sceneTriangles` triangles, then the flags given in `user`
+// (all of them: the factories refuse those that contradict the method).
+CommonOptions resolveMethodOptions(const MethodInfo& method, const CommonOptions& user, uint64_t sceneTriangles);
+// The method's defaults alone (what --help and the viewer's panel show for parameters not given).
+CommonOptions methodDefaults(const MethodInfo& method, const CommonOptions& user, uint64_t sceneTriangles);
+// Triangles of the session's scene (of the file, for a prepared scene not in core).
+uint64_t sceneTriangles(const SceneSession& session);
 
 // Creates the tracer of a GPU method for a session (requires the session's GL context to be current).
 // Returns nullptr for "bvh": the renderer's own pure BVH tracer.
-std::unique_ptr<Tracer> makeTracer(const std::string& name, const SceneSession& session, const GpuSession& gpu);
-// `alwaysCull`: CHC+RT methods without the adaptive fallback to a pure pass, bvh+ls-exact without its fallback
-// to pure BVH traversal (verify checks the culling / the Line Space path itself).
-std::unique_ptr<Tracer> makeTracer(const std::string& name, const SceneSession& session, const GpuSession& gpu,
-                                   bool alwaysCull);
-
-// Whether a GPU method can trace a prepared scene out of core (--out-of-core): the CHC+RT methods without Line
-// Spaces (pure BVH and Line Space tracing need the whole scene on the GPU).
-bool hasOutOfCoreForm(const std::string& name);
+std::unique_ptr<Tracer> makeTracer(const std::string& name, const SceneSession& session, bool alwaysCull = false);
 
 // The CPU part of a method's set-up that can run on another thread: building its Line Spaces / N-tree into the
 // --ls-cache directory (nothing when the cache file exists), so that makeTracer afterwards only loads them (the

@@ -1,77 +1,89 @@
 #pragma once
-// Command-line options shared by the subcommands (pbrt/Blender style), and their translation into the
-// renderer's settings struct (renderer/render/render_settings.h).
+// The options shared by the subcommands (pbrt/Blender style). Each area's parameters live in that area's own
+// typed struct (RenderSettings, BvhBuildOptions, ChcrtOptions, ls::LineSpaceParams, ...), held here; every flag
+// that sets one of their fields is described once in app/parameters.cpp, which registers the flags, validates
+// them and tells the viewer and the methods about them. `given` says which flags the user set: a tracing
+// method's own defaults (app/methods.h) apply to the others.
+#include "culling/chcrt_tracer.h"
+#include "linespace/linespace_build.h"
+#include "linespace/linespace_tracer.h"
+#include "linespace/ntree.h"
+#include "linespace/ntree_gpu.h"
+#include "linespace/ntree_tracer.h"
 #include "renderer/bvh/bvh.h"
+#include "renderer/gl/context.h"
+#include "culling/outofcore/out_of_core_tracer.h"
 #include "renderer/render/render_settings.h"
 
 #include <CLI/CLI.hpp>
 
-#include <optional>
+#include <set>
 #include <string>
 
 namespace chcrt::app {
 
+// Line Space tracing settings that have no field in linespace/'s structs.
+struct LineSpaceTracing {
+    float candidateAngleDegrees = 30.0f; // --ls-angle: LineSpaceTracer's normal-angle threshold of candidates
+    // The method's own modes per ray type (set by its defaults, app/methods.cpp); --ls-modes applies on top.
+    ls::LineSpaceModes baseModes;
+    std::string modes;                   // --ls-modes text, "" = the method's modes as they are
+    std::string cacheDirectory = "out/cache/linespace"; // --ls-cache: "" disables caching
+};
+
+// --load-in-core: whether an --out-of-core prepared scene is also loaded in core (references, id-indexed shading).
+enum class LoadInCore : uint8_t { Auto, On, Off };
+
+// Out-of-core settings of the session (the tracer's budgets are outofcore::OutOfCoreOptions).
+struct OutOfCoreScene {
+    bool enabled = false;                   // --out-of-core: chcrt methods trace through the GPU subtree cache
+    LoadInCore loadInCore = LoadInCore::Auto;
+};
+
 struct CommonOptions {
+    // The session: what to render and from where (no typed home outside app/).
     std::string scene = "city";     // procedural spec or file; default: the embedded city
     std::string cameraPath;         // JSON file, or "near" / "far" for generated scenes; default near / default camera
     std::string camera;             // "gltf:<index or name>" selects a camera stored in a glTF file
     std::string eye, target;        // "x,y,z": an explicit single camera (overrides paths)
     float fovY = 60.0f;
     std::string frames;             // --frames; default depends on the command
-    int width = 512;
-    int height = 512;
-    int spp = -1;                   // -1: the command's default
-    std::string effects = "shadow,ao,diffuse";
-    std::string primary = "raster"; // --primary raster|traced (RenderSettings::primaryVisibility)
-    uint32_t seed = 1;
-    float rotation = 36.0f;
-    float aoLength = 0.02f;
-    float exposure = 1.0f;
-    std::string gl = "egl";
+    GlBackend gl = GlBackend::Egl;
     bool glDebug = false;
     std::string statsJson;
     bool quiet = false;
-    uint32_t bvhLeafSize = 4;
-    uint32_t bvhBins = 16;
-    // CHC+RT parameters of the chcrt methods (culling/README.md); negative / empty = the method's default.
-    int chcrtThreshold = -1;        // --chcrt-threshold: §7 aggressive visibility threshold in rays
-    int chcrtMinTile = -1;          // --chcrt-min-tile: §5.2 minimum tile edge in pixels
-    int chcrtHeight = -1;           // --chcrt-height: §5.2 maximum termination-subtree height
-    int chcrtMultiQuery = -1;       // --chcrt-multi-query: §5.1 pairs per multi-query (1 = off)
-    std::string chcrtTighterBounds; // --chcrt-tighter-bounds on|off (§5.1)
-    std::string chcrtLeafCache;     // --chcrt-leaf-cache on|off (§5.2)
-    std::string chcrtMergedBatch;   // --chcrt-merged-batch on|off (§5.2 batches as one traversal)
-    std::string chcrtRayExtent;     // --chcrt-ray-extent on|off (culling/ray_bounds_grid.h)
-    std::string chcrtQueries;       // --chcrt-queries gl|bounds-only (ChcrtOptions::queries)
-    int chcrtBoundsCell = -1;       // --chcrt-bounds-cell: ray bounds grid cell edge in pixels
-    int chcrtBoundsPieces = -1;     // --chcrt-bounds-pieces: boxes per cell
-    // Line Space methods (bvh+ls-exact, bvh+ls; linespace/README.md)
-    uint32_t lsN = 6;             // --ls-n: patches per face edge
-    uint32_t lsDepth = 9;         // --ls-depth: D
-    uint32_t lsT = 8;             // --ls-t: T
-    float lsAngle = 30.0f;        // --ls-angle: normal-angle threshold of candidates, degrees
-    std::string lsNtree;          // --ls-ntree N:d of method ntree+ls (default 6:3)
-    int lsNtreeLevel = -1;        // --ls-ntree-level: level whose occupied shafts terminate (-1 = d-1, >= d exact)
-    float lsNtreeNear = 0.0f;     // --ls-ntree-near: nodes this many node edges from the origin count as the start
-    std::string lsNtreeStart = "skip"; // --ls-ntree-start skip (SS §4.1) | exact: node a shadow ray starts/ends in
-    std::string lsModes;          // --ls-modes type=mode,... on top of the method's defaults
-    std::string lsCache = "out/cache/linespace"; // --ls-cache: "" disables caching
-    // Out-of-core CHC+RT of a prepared scene (.chs; renderer/outofcore/README.md, docs/outofcore.md).
-    bool outOfCore = false;         // --out-of-core: chcrt methods trace through the GPU subtree cache
-    int gpuCacheMb = 1024;          // --gpu-cache-mb
-    int hostCacheMb = 2048;         // --host-cache-mb
-    // --uploads-per-trace: subtrees a trace may upload at most (0 = no limit: complete, exact traces; -1, never
-    // given on the command line, = the command's default: 0, the interactive viewer 16 — it streams a cold cache)
-    int uploadsPerTrace = -1;
-    std::string cachePolicy = "lru"; // --cache-policy round-robin|lru
-    std::string loadInCore = "auto"; // --load-in-core auto|on|off: also load an --out-of-core scene in core (references)
+
+    // Each area's typed home (app/parameters.cpp: the flags that set their fields).
+    RenderSettings render;          // samplesPerPixel: the command's default unless --spp is given
+    BvhBuildOptions bvh;
+    ChcrtOptions chcrt;             // the chcrt* methods (culling/README.md)
+    ls::LineSpaceParams lineSpace;  // Line Space methods (linespace/README.md)
+    LineSpaceTracing lineSpaceTracing;
+    ls::NTreeParams ntree;          // ntree+ls
+    ls::NTreeShadowOptions ntreeShadow; // shadowLevel: d - 1 unless --ls-ntree-level is given
+    // --out-of-core budgets; maxUploadsPerTrace: the command's default unless --uploads-per-trace is given (0 = no
+    // limit: complete, exact traces; the interactive viewer 16: it streams a cold cache).
+    outofcore::OutOfCoreOptions outOfCore;
+    OutOfCoreScene outOfCoreScene;
+
+    // Flags the user set (the table's `flag` names): on the command line, or in the viewer's panel and scripts.
+    std::set<std::string> given;
+    bool isGiven(const std::string& flag) const { return given.count(flag) != 0; }
 };
 
-// Adds the shared options to a subcommand. `withEffects`: the command renders shaded images.
-void addCommonOptions(CLI::App& command, CommonOptions& options, bool withEffects);
+// Commands whose flags a parameter belongs to (Parameter::commands).
+enum CommandSet : uint8_t {
+    kEveryCommand = 0,
+    kShadedCommands = 1, // commands that render shaded images (--effects, --exposure): demo, render, bench, view
+    kHeadlessCommands = 2, // commands with a headless GL context (--gl): not view
+};
 
+// Adds every described parameter of the commands in `commands` to a subcommand, in CLI11 option groups per
+// area; values are validated as they are parsed (InputError naming the flag).
+void addCommonOptions(CLI::App& command, CommonOptions& options, uint8_t commands);
+
+// The renderer's settings: `options.render` with --spp or the command's default.
 RenderSettings toRenderSettings(const CommonOptions& options, int defaultSpp);
-BvhBuildOptions toBvhOptions(const CommonOptions& options);
 
 // "x,y,z" → vector; throws InputError naming the flag.
 glm::vec3 parseVec3(const std::string& text, const char* flag);

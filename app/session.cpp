@@ -72,10 +72,8 @@ int parseFrameCountSuffix(const std::string& text, size_t prefixLength) {
 // Whether a prepared scene is loaded in core: always without --out-of-core; with it by --load-in-core (auto: when
 // the estimated footprint is below a quarter of the physical memory).
 bool loadPreparedInCore(const CommonOptions& o) {
-    if (!o.outOfCore) return true;
-    if (o.loadInCore == "on") return true;
-    if (o.loadInCore == "off") return false;
-    if (o.loadInCore != "auto") throw InputError("--load-in-core must be auto, on or off, not '" + o.loadInCore + "'");
+    if (!o.outOfCoreScene.enabled) return true;
+    if (o.outOfCoreScene.loadInCore != LoadInCore::Auto) return o.outOfCoreScene.loadInCore == LoadInCore::On;
     const uint64_t triangles = outofcore::ChsFile(o.scene).header().triangleCount;
     const uint64_t ram = uint64_t(sysconf(_SC_PHYS_PAGES)) * uint64_t(sysconf(_SC_PAGE_SIZE));
     return outofcore::estimatedInCoreBytes(triangles) < ram / 4;
@@ -112,7 +110,7 @@ SceneSession openSceneSession(const CommonOptions& o, std::unique_ptr<Progress> 
     validateScene(s.scene);
     s.sceneSeconds = secondsSince(start);
     s.path = resolveCameraPath(o, s);
-    if (!prepared) s.bvh = buildBvh(s.scene, toBvhOptions(o), *s.progress);
+    if (!prepared) s.bvh = buildBvh(s.scene, o.bvh, *s.progress);
     return s;
 }
 
@@ -142,7 +140,7 @@ std::vector<int> selectFrames(const CommonOptions& o, const CameraPath& path, co
 GpuSession openGpuSession(const CommonOptions& o, const SceneSession& s, const RenderSettings& settings) {
     const auto start = Clock::now();
     GpuSession g;
-    g.context = createHeadlessContext(parseGlBackend(o.gl), o.glDebug);
+    g.context = createHeadlessContext(o.gl, o.glDebug);
     RenderSettings effective = settings;
     if (!s.sceneInCore) {
         // Not in core (docs/outofcore.md): primary visibility from out-of-core primary rays; the diffuse effect

@@ -6,8 +6,10 @@
 #                     ms/frame and Mrays/s for AO and diffuse rays, speedup, image error (final and indirect-only
 #                     PSNR/MAE). Shadow rays stay exact here (--ls-modes shadow=exact,bounce=exact) so that the
 #                     error is the indirect approximation's. bvh+ls-exact (exact skipping) runs alongside.
-#                     bvh+ls traces primary and AO rays with pure BVH by default (its AO row is then ~1x); the
-#                     given --ls-modes also stops bvh+ls-exact from falling back, so its rows measure skipping.
+#                     AO rays are traced with pure BVH (ao=off, bvh+ls's default when these tables were made;
+#                     its AO row is then ~1x); the given --ls-modes also stops bvh+ls-exact from falling back,
+#                     so its rows measure skipping. Every table names its modes in full: bvh+ls's own defaults
+#                     changed since (AO candidates, shadows off: app/methods.cpp), the tables' settings did not.
 #   SS Table 1 shape  25 shadow rays per pixel (--spp 25 --effects shadow): BVH vs BVH+LS with shadow
 #                     termination for N in CHCRT_LS_SS_N at depth CHCRT_LS_SS_DEPTH; pixels > 2/255 differing.
 #   N-tree rows    the same 25 shadow rays per pixel: BVH vs ntree+ls (SS Algorithm 1 over the N-tree; start
@@ -71,7 +73,7 @@ for scene in "${scenes[@]}"; do
     [[ " $tables " == *" rc "* ]] || break
     echo "bench_linespace: $scene RC table, D=$d"
     "$chcrt" bench "${common[@]}" --method bvh,bvh+ls-exact,bvh+ls --ray-type primary,ao,diffuse --spp "$spp" \
-      --effects shadow,ao,diffuse --ls-n "$n" --ls-depth "$d" --ls-modes shadow=exact,bounce=exact \
+      --effects shadow,ao,diffuse --ls-n "$n" --ls-depth "$d" --ls-modes shadow=exact,bounce=exact,ao=off \
       --json "$out/${scene}_rc_D${d}.json"
   done
   for d in $depths; do
@@ -97,14 +99,14 @@ for scene in "${scenes[@]}"; do
     [[ " $tables " == *" ss "* ]] || break
     echo "bench_linespace: $scene SS table, N=$sn D=$ss_depth"
     "$chcrt" bench "${common[@]}" --method bvh,bvh+ls --ray-type shadow --spp 25 --effects shadow \
-      --ls-n "$sn" --ls-depth "$ss_depth" --ls-modes ao=exact,diffuse=exact \
+      --ls-n "$sn" --ls-depth "$ss_depth" --ls-modes shadow=shadow,bounce=shadow,ao=exact,diffuse=exact \
       --json "$out/${scene}_ss_N${sn}.json"
   done
   for nd in $ss_candidate; do
     [[ " $tables " == *" sscand "* ]] || break
     echo "bench_linespace: $scene SS table with candidates, N:D=$nd"
     "$chcrt" bench "${common[@]}" --method bvh,bvh+ls --ray-type shadow --spp 25 --effects shadow \
-      --ls-n "${nd%%:*}" --ls-depth "${nd##*:}" --ls-modes shadow=candidate,ao=exact,diffuse=exact \
+      --ls-n "${nd%%:*}" --ls-depth "${nd##*:}" --ls-modes shadow=candidate,bounce=shadow,ao=exact,diffuse=exact \
       --json "$out/${scene}_ss_N${nd%%:*}_D${nd##*:}_candidate.json"
   done
 done

@@ -1,5 +1,7 @@
 #include "app/viewer/background_job.h"
 
+#include "renderer/core/error.h"
+
 #include <cassert>
 #include <utility>
 
@@ -90,6 +92,14 @@ void BackgroundJob::take() {
 
 double BackgroundJob::elapsedSeconds() const {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+void discardJob(BackgroundJob& job) {
+    if (!job.busy()) return;
+    try {
+        job.take();
+    } catch (const InputError&) {
+    }
 }
 
 } // namespace chcrt::app

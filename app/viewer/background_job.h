@@ -80,4 +80,8 @@ private:
     std::chrono::steady_clock::time_point start_;
 };
 
+// Waits for a job whose result no longer matters (it reads a scene that is being replaced): what it made or threw
+// (InputError) is dropped.
+void discardJob(BackgroundJob& job);
+
 } // namespace chcrt::app

@@ -82,7 +82,7 @@ void ViewDisplay::visualize(const FrameTargets& frame, const ViewerSettings& set
     p.use();
     p.set("viewMode", int(settings.viewMode));
     p.set("accumulatedFrames", accumulatedFrames_);
-    p.set("exposure", settings.common.exposure);
+    p.set("exposure", settings.common.render.exposure);
     p.set("sceneLower", bounds.lower);
     p.set("sceneExtent", bounds.extent());
     p.set("sceneDiagonal", bounds.diagonal());

@@ -5,7 +5,7 @@
 
 namespace chcrt::app {
 
-int runView(const ViewOptions& /*options*/) {
+int runView(const ViewOptions& /*options*/, const std::vector<std::string>& /*arguments*/) {
     std::fprintf(stderr, "chcrt: error: this build has no viewer (configure with -DCHCRT_BUILD_VIEWER=ON, which "
                          "needs GLFW 3.3 and Dear ImGui)\n");
     return kExitBadInput;

@@ -1,7 +1,9 @@
 #include "app/viewer/viewer_script.h"
 
 #include "renderer/core/error.h"
+#include "renderer/render/render_settings.h"
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -138,6 +140,72 @@ std::vector<ScriptStep> loadViewerScript(const std::filesystem::path& file) {
     std::stringstream text;
     text << in.rdbuf();
     return parseViewerScript(text.str(), file.string());
+}
+
+std::vector<std::string> unmetExpectations(const nlohmann::json& expect, const ScriptObservation& seen) {
+    std::vector<std::string> unmet;
+    const auto check = [&](bool met, const std::string& what) {
+        if (!met) unmet.push_back(what);
+    };
+    const auto flag = [](bool value) { return std::string(value ? "true" : "false"); };
+    for (const auto& [key, value] : expect.items()) {
+        if (key == "cappedRays") {
+            check(seen.cappedRays == value.get<uint64_t>(), "cappedRays = " + std::to_string(seen.cappedRays));
+        } else if (key == "minRaysGenerated") {
+            check(seen.raysGenerated >= value.get<uint64_t>(), "raysGenerated = " + std::to_string(seen.raysGenerated));
+        } else if (key == "tracePasses") {
+            for (const auto& [type, passes] : value.items()) {
+                const uint64_t actual = seen.tracePasses[size_t(parseRayType(type))];
+                check(actual == passes.get<uint64_t>(), type + " passes = " + std::to_string(actual));
+            }
+        } else if (key == "accumulatedFrames") {
+            check(seen.accumulatedFrames == value.get<int>(), "accumulatedFrames = " + std::to_string(seen.accumulatedFrames));
+        } else if (key == "imageSize") {
+            const auto size = value.get<std::vector<int>>();
+            check(size.size() == 2 && size[0] == seen.width && size[1] == seen.height,
+                  "imageSize = " + std::to_string(seen.width) + "x" + std::to_string(seen.height));
+        } else if (key == "method") {
+            check(seen.method == value.get<std::string>(), "method = " + seen.method);
+        } else if (key == "primary") {
+            check(seen.primary == value.get<std::string>(), "primary = " + seen.primary);
+        } else if (key == "viewMode") {
+            check(seen.viewMode == value.get<std::string>(), "viewMode = " + seen.viewMode);
+        } else if (key == "playing") {
+            check(seen.playing == value.get<bool>(), "playing = " + flag(seen.playing));
+        } else if (key == "scene") {
+            check(seen.scene == value.get<std::string>(), "scene = " + seen.scene);
+        } else if (key == "pathFrame") {
+            check(seen.pathFrame == value.get<int>(), "pathFrame = " + std::to_string(seen.pathFrame));
+        } else if (key == "shaftNodePicked") {
+            check(seen.shaftNodePicked == value.get<bool>(), "shaftNodePicked = " + flag(seen.shaftNodePicked));
+        } else if (key == "outOfCore") {
+            check(seen.outOfCore == value.get<bool>(), "outOfCore = " + flag(seen.outOfCore));
+        } else if (key == "loadProgress") {
+            check(std::abs(seen.loadProgress - value.get<double>()) <= 1e-9, "loadProgress = " + std::to_string(seen.loadProgress));
+        } else {
+            throw InputError("script: unknown expectation '" + key + "'");
+        }
+    }
+    return unmet;
+}
+
+ScriptRunner::Advance ScriptRunner::advance(const std::function<void(const ScriptStep&)>& actions,
+                                            const std::function<void(const ScriptStep&)>& checks,
+                                            const std::function<bool()>& waiting) {
+    while (framesLeft_ == 0) {
+        if (current_) { // the step's frames are done: its checks see their result
+            checks(*current_);
+            current_ = nullptr;
+        }
+        if (next_ >= steps_.size() || failures_ > 0) return Advance::Ended;
+        current_ = &steps_[next_++];
+        actions(*current_);
+        framesLeft_ = current_->frames;
+        if (waiting()) return Advance::Waiting;
+    }
+    --framesLeft_;
+    ++frame_;
+    return Advance::Frame;
 }
 
 } // namespace chcrt::app

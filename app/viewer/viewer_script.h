@@ -23,11 +23,14 @@
 //                "primary": "traced", "shaftNodePicked": true, "loadProgress": 1.0}}]
 // An unmet expectation ends the session with exit code 4 (after the remaining steps are skipped).
 #include "app/viewer/walk_controller.h"
+#include "renderer/render/render_settings.h"
 #include "renderer/scene/scene.h"
 
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -58,5 +61,46 @@ inline constexpr const char* kPressableKeys[] = {"R", "F", "P", "V", "C", "F9", 
 // Throws InputError naming the step (0-based) and key for malformed scripts.
 std::vector<ScriptStep> parseViewerScript(const std::string& jsonText, const std::string& nameForErrors);
 std::vector<ScriptStep> loadViewerScript(const std::filesystem::path& file);
+
+// What a step's "expect" can check: the viewer's state after the step's frames.
+struct ScriptObservation {
+    uint64_t cappedRays = 0, raysGenerated = 0;
+    std::array<uint64_t, 4> tracePasses{}; // per RayType (render_settings.h), of the last rendered frame
+    int accumulatedFrames = 0;
+    int width = 0, height = 0;             // internal image
+    std::string method, primary, viewMode, scene;
+    bool playing = false;
+    int pathFrame = 0;
+    bool shaftNodePicked = false;
+    bool outOfCore = false;                // the method traces through the GPU subtree cache
+    double loadProgress = 0;
+};
+// The unmet expectations of `expect`, one line each ("accumulatedFrames = 1"); InputError for unknown keys.
+std::vector<std::string> unmetExpectations(const nlohmann::json& expect, const ScriptObservation& seen);
+
+// Steps a script one rendered frame at a time: a step's actions run when it begins, its checks once its frames are
+// rendered (at once for a step without frames), then the next step begins.
+class ScriptRunner {
+public:
+    enum class Advance { Frame, Waiting, Ended };
+    explicit ScriptRunner(std::vector<ScriptStep> steps) : steps_(std::move(steps)) {}
+    // Moves to the next frame to render. `waiting()` true after a step's actions (a scene loads) stops there until
+    // the next call; Ended once every step ran or an expectation failed (fail()).
+    Advance advance(const std::function<void(const ScriptStep&)>& actions,
+                    const std::function<void(const ScriptStep&)>& checks, const std::function<bool()>& waiting);
+    const ScriptStep* current() const { return current_; } // the step whose frames render
+    size_t currentIndex() const { return next_ - 1; }      // 0-based, for messages
+    int frame() const { return frame_; }                   // frames advanced so far
+    void fail() { ++failures_; }
+    int failures() const { return failures_; }
+
+private:
+    std::vector<ScriptStep> steps_;
+    size_t next_ = 0;
+    int framesLeft_ = 0;
+    const ScriptStep* current_ = nullptr;
+    int failures_ = 0;
+    int frame_ = 0;
+};
 
 } // namespace chcrt::app

@@ -1,7 +1,9 @@
 #pragma once
 // Everything the viewer's panel, keys and scripts can change, in one struct built on the CLI's CommonOptions:
 // one place turns it into the renderer's RenderSettings and into the `chcrt render` / `chcrt bench` command
-// lines that reproduce the current view.
+// lines that reproduce the current view. Parameters are set and printed through the
+// parameter table (app/parameters.h), as the CLI parses them.
+#include "app/methods.h"
 #include "app/options.h"
 #include "app/viewer/view_modes.h"
 #include "renderer/render/render_settings.h"
@@ -15,8 +17,8 @@
 namespace chcrt::app {
 
 // "raster": G-buffer and unshadowed direct light only (no secondary rays; with primary "traced" the G-buffer's
-// primary rays are traced with pure BVH). Every other name is a GPU tracing method of
-// app/methods.h (pure BVH now; CHC+RT and Line Space appear here as they register there).
+// primary rays are traced with pure BVH). Every other name is a GPU tracing method of the registry
+// (app/methods.h).
 inline constexpr const char* kRasterOnlyMethod = "raster";
 std::vector<std::string> viewerMethods();
 
@@ -47,14 +49,18 @@ void internalSize(const ViewerSettings& settings, int windowWidth, int windowHei
 // The renderer settings of refinement frame `accumulatedFrame` (0 = the plain frame, as `chcrt render` draws it).
 RenderSettings toRenderSettings(const ViewerSettings& settings, int width, int height, int accumulatedFrame);
 
-// Applies {"name": value, ...} (names as in docs: method, viewMode, primary (raster | traced), chcrtAlwaysCull,
-// the method parameters chcrtThreshold, chcrtMinTile, chcrtHeight, chcrtMultiQuery (ints), chcrtTighterBounds,
-// chcrtLeafCache, chcrtRayExtent, chcrtMergedBatch (bools), lsN, lsDepth, lsT (ints), lsAngle, the N-tree
-// parameters of ntree+ls lsNtree ("N:d"),
-// lsNtreeLevel (int, -1 = d-1), lsNtreeStart ("skip" | "exact"), lsNtreeNear, effects, spp, seed, rotation, aoLength,
-// exposure, renderScale, accumulate, maxAccumulatedFrames, costRayType, costScale, refineWithFullRotation).
+// Applies {"name": value, ...}: the viewer's own settings (method, viewMode, chcrtAlwaysCull, renderScale,
+// accumulate, maxAccumulatedFrames, refineWithFullRotation, costRayType, costScale) and every parameter of the
+// table with a viewer key (app/parameters.cpp: primary, effects, spp, seed, rotation, aoLength, exposure, the
+// chcrt*, ls* and lsNtree* method parameters; -1 gives a method parameter back to the method's default).
 // Validates everything before changing anything; throws InputError naming the key.
 void applySettings(ViewerSettings& settings, const nlohmann::json& changes);
+
+// The registered method of the settings (app/methods.h); nullptr for the raster-only method.
+const MethodInfo* viewerMethod(const ViewerSettings& settings);
+// The method parameters the settings' method runs with on a scene of `sceneTriangles` triangles: its defaults
+// with the given ones on top (what the panel shows and the shafts view uses).
+CommonOptions shownParameters(const ViewerSettings& settings, uint64_t sceneTriangles);
 
 // The tracing methods' parameters of `common` (CHC+RT --chcrt-*, Line Space --ls-*) as one string: the viewer
 // recreates the tracer when it changes (methods read them from SceneSession::options, app/methods.cpp).

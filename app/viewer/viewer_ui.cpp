@@ -1,5 +1,7 @@
 #include "app/viewer/viewer_ui.h"
 
+#include "app/parameters.h"
+
 #include "renderer/core/error.h"
 
 #include <imgui.h>
@@ -51,7 +53,7 @@ ViewerActions ViewerPanel::draw(ViewerSettings& settings, const ViewerStatus& st
         ImGui::CollapsingHeader("Line Space shafts", ImGuiTreeNodeFlags_DefaultOpen)) {
         for (const std::string& line : status.shaftInfo) ImGui::TextUnformatted(line.c_str());
     }
-    if (ImGui::CollapsingHeader("Rendering", ImGuiTreeNodeFlags_DefaultOpen)) drawSettings(settings, actions);
+    if (ImGui::CollapsingHeader("Rendering", ImGuiTreeNodeFlags_DefaultOpen)) drawSettings(settings, status, actions);
     if (ImGui::CollapsingHeader("Camera and paths", ImGuiTreeNodeFlags_DefaultOpen)) drawCamera(status, actions);
     if (ImGui::CollapsingHeader("Scene")) {
         ImGui::Text("%s: %llu triangles", status.sceneName.c_str(), static_cast<unsigned long long>(status.triangles));
@@ -139,7 +141,7 @@ void ViewerPanel::drawOutOfCore(const ViewerOutOfCoreStatus& o) {
     }
 }
 
-void ViewerPanel::drawSettings(ViewerSettings& settings, ViewerActions& actions) {
+void ViewerPanel::drawSettings(ViewerSettings& settings, const ViewerStatus& status, ViewerActions& actions) {
     // Edits go through applySettings, the same validation the scripts use; invalid values are refused.
     nlohmann::json changes = nlohmann::json::object();
     const std::vector<std::string> methods = viewerMethods();
@@ -156,91 +158,13 @@ void ViewerPanel::drawSettings(ViewerSettings& settings, ViewerActions& actions)
         }
         ImGui::EndCombo();
     }
-    // Primary visibility: rasterised G-buffer, or primary rays traced with the method's tracer (CHC+RT §5 "Prim").
-    // The raster-only method traces its primary rays (when chosen) with pure BVH and no secondary rays.
-    bool traced = settings.common.primary == "traced" || settings.sceneNotInCore;
-    ImGui::BeginDisabled(settings.sceneNotInCore); // out of core: always out-of-core primary rays
-    if (ImGui::Checkbox("trace primary rays", &traced)) changes["primary"] = traced ? "traced" : "raster";
-    ImGui::EndDisabled();
-    if (settings.sceneNotInCore && ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) {
-        ImGui::SetTooltip("the scene is not in core: primary visibility comes from out-of-core primary rays");
+    drawPrimaryVisibility(settings, changes);
+    drawMethodParameters(settings, status, changes);
+    drawEffects(settings, changes);
+    const CommonOptions shown = shownParameters(settings, status.triangles);
+    for (const Parameter& p : parameterTable()) {
+        if (p.area == ParameterArea::Render) drawParameter(p, shown, changes);
     }
-    if (settings.method.rfind("chcrt", 0) == 0 && ImGui::TreeNode("CHC+RT parameters")) {
-        // Each change recreates the tracer (its visibility fronts start again); culling/README.md, CHC+RT §5.
-        const CommonOptions& c = settings.common;
-        bool alwaysCull = settings.chcrtAlwaysCull;
-        if (ImGui::Checkbox("always cull (no adaptive fallback)", &alwaysCull)) changes["chcrtAlwaysCull"] = alwaysCull;
-        int minTile = c.chcrtMinTile < 0 ? 64 : c.chcrtMinTile;
-        if (ImGui::SliderInt("min tile (px)", &minTile, 8, 256)) changes["chcrtMinTile"] = minTile;
-        int height = c.chcrtHeight < 0 ? 24 : c.chcrtHeight;
-        if (ImGui::SliderInt("subtree height", &height, 2, 32)) changes["chcrtHeight"] = height;
-        int multi = c.chcrtMultiQuery < 0 ? 4 : c.chcrtMultiQuery;
-        if (ImGui::SliderInt("pairs per multi-query", &multi, 1, 16)) changes["chcrtMultiQuery"] = multi;
-        bool tighter = c.chcrtTighterBounds != "off";
-        if (ImGui::Checkbox("tighter bounds", &tighter)) changes["chcrtTighterBounds"] = tighter;
-        ImGui::SameLine();
-        bool leafCache = c.chcrtLeafCache == "on"; // default off (culling/README.md: slower on llvmpipe)
-        if (ImGui::Checkbox("leaf cache", &leafCache)) changes["chcrtLeafCache"] = leafCache;
-        ImGui::SameLine();
-        bool merged = c.chcrtMergedBatch != "off"; // default on (culling/README.md, "Merged batch traversal")
-        if (ImGui::Checkbox("merged batches", &merged)) changes["chcrtMergedBatch"] = merged;
-        bool rayExtent = c.chcrtRayExtent != "off"; // culling/ray_extent_grid.h
-        if (ImGui::Checkbox("ray extent culling", &rayExtent)) changes["chcrtRayExtent"] = rayExtent;
-        if (settings.method == "chcrt-aggressive") {
-            int threshold = c.chcrtThreshold < 0 ? 20 : c.chcrtThreshold;
-            if (ImGui::SliderInt("visible threshold (rays)", &threshold, 0, 200)) changes["chcrtThreshold"] = threshold;
-        }
-        ImGui::TreePop();
-    }
-    if ((settings.method.find("+ls") != std::string::npos || settings.viewMode == ViewMode::Shafts) &&
-        ImGui::TreeNode("Line Space parameters")) { // N/D/T also drive the shafts view
-        // Each change rebuilds (or loads from the cache) the Line Space: the window waits for it.
-        const CommonOptions& c = settings.common;
-        int n = int(c.lsN), depth = int(c.lsDepth), t = int(c.lsT);
-        if (ImGui::SliderInt("N (patches per edge)", &n, 1, 16)) changes["lsN"] = n;
-        if (ImGui::SliderInt("depth D", &depth, 1, 16)) changes["lsDepth"] = depth;
-        if (ImGui::SliderInt("T", &t, 1, 32)) changes["lsT"] = t;
-        float angle = c.lsAngle;
-        if (ImGui::SliderFloat("candidate angle", &angle, 0.0f, 90.0f, "%.0f deg")) changes["lsAngle"] = angle;
-        if (settings.method == "ntree+ls") {
-            // The soft-shadow paper's N-tree (--ls-ntree N:d and its shadow options): each change rebuilds it.
-            int treeN = 6, treeD = 3;
-            std::sscanf(c.lsNtree.empty() ? "6:3" : c.lsNtree.c_str(), "%d:%d", &treeN, &treeD);
-            bool treeChanged = ImGui::SliderInt("N-tree N", &treeN, 2, 16);
-            treeChanged |= ImGui::SliderInt("N-tree depth d", &treeD, 1, 8);
-            if (treeChanged) changes["lsNtree"] = std::to_string(treeN) + ":" + std::to_string(treeD);
-            int level = c.lsNtreeLevel;
-            if (ImGui::SliderInt("shadow level (-1 = d-1)", &level, -1, 8)) changes["lsNtreeLevel"] = level;
-            bool exactStart = c.lsNtreeStart == "exact";
-            if (ImGui::Checkbox("exact start node", &exactStart)) changes["lsNtreeStart"] = exactStart ? "exact" : "skip";
-            float nearEdges = c.lsNtreeNear;
-            if (ImGui::SliderFloat("near (node edges)", &nearEdges, 0.0f, 8.0f, "%.2f")) changes["lsNtreeNear"] = nearEdges;
-        }
-        ImGui::TreePop();
-    }
-    EffectSet effects = parseEffects(settings.common.effects);
-    bool effectsChanged = ImGui::Checkbox("shadows", &effects.shadows);
-    ImGui::SameLine();
-    effectsChanged |= ImGui::Checkbox("AO", &effects.ao);
-    ImGui::SameLine();
-    ImGui::BeginDisabled(settings.sceneNotInCore); // bounce hits are shaded by id over the whole scene
-    effectsChanged |= ImGui::Checkbox("diffuse", &effects.diffuse);
-    ImGui::EndDisabled();
-    if (effectsChanged) changes["effects"] = toString(effects);
-    int spp = settings.common.spp;
-    if (ImGui::SliderInt("spp", &spp, 1, 16)) changes["spp"] = spp;
-    float rotation = settings.common.rotation;
-    if (ImGui::SliderFloat("rotation", &rotation, 0.0f, 360.0f, "%.0f deg")) changes["rotation"] = rotation;
-    float aoLength = settings.common.aoLength;
-    if (ImGui::SliderFloat("AO length", &aoLength, 0.001f, 0.2f, "%.3f", ImGuiSliderFlags_Logarithmic)) {
-        changes["aoLength"] = aoLength;
-    }
-    float exposure = settings.common.exposure;
-    if (ImGui::SliderFloat("exposure", &exposure, 0.05f, 8.0f, "%.2f", ImGuiSliderFlags_Logarithmic)) {
-        changes["exposure"] = exposure;
-    }
-    int seed = int(settings.common.seed);
-    if (ImGui::InputInt("seed", &seed) && seed >= 0) changes["seed"] = seed;
     float scale = settings.renderScale;
     if (ImGui::SliderFloat("render scale", &scale, 0.1f, 1.0f, "%.2f")) changes["renderScale"] = scale;
     bool accumulate = settings.accumulate;
@@ -262,6 +186,111 @@ void ViewerPanel::drawSettings(ViewerSettings& settings, ViewerActions& actions)
         } catch (const InputError&) {
             // Out-of-range slider input: keep the previous settings.
         }
+    }
+}
+
+// Primary visibility: rasterised G-buffer, or primary rays traced with the method's tracer (CHC+RT §5 "Prim").
+// The raster-only method traces its primary rays (when chosen) with pure BVH and no secondary rays.
+void ViewerPanel::drawPrimaryVisibility(const ViewerSettings& settings, nlohmann::json& changes) {
+    bool traced = settings.common.render.primaryVisibility == PrimaryVisibility::Traced || settings.sceneNotInCore;
+    ImGui::BeginDisabled(settings.sceneNotInCore); // out of core: always out-of-core primary rays
+    if (ImGui::Checkbox("trace primary rays", &traced)) changes["primary"] = traced ? "traced" : "raster";
+    ImGui::EndDisabled();
+    if (settings.sceneNotInCore && ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) {
+        ImGui::SetTooltip("the scene is not in core: primary visibility comes from out-of-core primary rays");
+    }
+}
+
+// The sections of the method's parameter areas (app/methods.h MethodInfo::areas), each parameter's widget from
+// the table. Each change recreates the tracer (CHC+RT's visibility fronts start again; Line Spaces and N-trees
+// are rebuilt or loaded from the cache on a worker).
+void ViewerPanel::drawMethodParameters(ViewerSettings& settings, const ViewerStatus& status, nlohmann::json& changes) {
+    const MethodInfo* method = viewerMethod(settings);
+    const CommonOptions shown = shownParameters(settings, status.triangles);
+    const auto section = [&](ParameterArea area) {
+        for (const Parameter& p : parameterTable()) {
+            if (p.area == area) drawParameter(p, shown, changes);
+        }
+    };
+    if (method && method->reads(ParameterArea::Chcrt) && ImGui::TreeNode("CHC+RT parameters")) {
+        bool alwaysCull = settings.chcrtAlwaysCull;
+        if (ImGui::Checkbox("always cull (no adaptive fallback)", &alwaysCull)) changes["chcrtAlwaysCull"] = alwaysCull;
+        section(ParameterArea::Chcrt);
+        if (method->reads(ParameterArea::ChcrtVisibility)) section(ParameterArea::ChcrtVisibility);
+        ImGui::TreePop();
+    }
+    const bool lineSpaces = method && method->reads(ParameterArea::LineSpace);
+    if ((lineSpaces || settings.viewMode == ViewMode::Shafts) && ImGui::TreeNode("Line Space parameters")) {
+        section(ParameterArea::LineSpace); // N/D/T also drive the shafts view
+        ImGui::TreePop();
+    }
+    if (method && method->reads(ParameterArea::NTree) && ImGui::TreeNode("N-tree parameters")) {
+        section(ParameterArea::NTree); // the soft-shadow paper's N-tree: each change rebuilds it
+        ImGui::TreePop();
+    }
+}
+
+void ViewerPanel::drawEffects(const ViewerSettings& settings, nlohmann::json& changes) {
+    EffectSet effects = settings.common.render.effects;
+    bool effectsChanged = ImGui::Checkbox("shadows", &effects.shadows);
+    ImGui::SameLine();
+    effectsChanged |= ImGui::Checkbox("AO", &effects.ao);
+    ImGui::SameLine();
+    ImGui::BeginDisabled(settings.sceneNotInCore); // bounce hits are shaded by id over the whole scene
+    effectsChanged |= ImGui::Checkbox("diffuse", &effects.diffuse);
+    ImGui::EndDisabled();
+    if (effectsChanged) changes["effects"] = toString(effects);
+}
+
+// One parameter's widget (ParameterWidget), showing its value in `shown`; a change goes to `changes` under its key.
+void ViewerPanel::drawParameter(const Parameter& p, const CommonOptions& shown, nlohmann::json& changes) {
+    const ParameterWidget& w = p.widget;
+    using Kind = ParameterWidget::Kind;
+    if (w.kind == Kind::None || w.kind == Kind::Custom || p.key.empty()) return;
+    if (w.sameLine) ImGui::SameLine();
+    const nlohmann::json value = p.json(shown);
+    switch (w.kind) {
+    case Kind::Slider:
+    case Kind::LogSlider:
+        if (value.is_number_integer()) {
+            int v = value.get<int>();
+            if (ImGui::SliderInt(w.label, &v, int(w.min), int(w.max))) changes[p.key] = v;
+        } else {
+            float v = value.get<float>();
+            const ImGuiSliderFlags flags = w.kind == Kind::LogSlider ? ImGuiSliderFlags_Logarithmic : 0;
+            if (ImGui::SliderFloat(w.label, &v, w.min, w.max, w.format ? w.format : "%.3f", flags)) changes[p.key] = v;
+        }
+        break;
+    case Kind::InputInt: {
+        int v = value.get<int>();
+        if (ImGui::InputInt(w.label, &v) && v >= 0) changes[p.key] = v;
+        break;
+    }
+    case Kind::Checkbox: {
+        bool v = value.get<bool>();
+        if (ImGui::Checkbox(w.label, &v)) changes[p.key] = v;
+        break;
+    }
+    case Kind::Combo: {
+        const std::string current = value.get<std::string>();
+        if (ImGui::BeginCombo(w.label, current.c_str())) {
+            for (const std::string& choice : p.choices) {
+                if (ImGui::Selectable(choice.c_str(), choice == current)) changes[p.key] = choice;
+            }
+            ImGui::EndCombo();
+        }
+        break;
+    }
+    case Kind::PairSliders: { // "A:B"
+        int a = 0, b = 0;
+        std::sscanf(value.get<std::string>().c_str(), "%d:%d", &a, &b);
+        bool changed = ImGui::SliderInt(w.label, &a, int(w.min), int(w.max));
+        changed |= ImGui::SliderInt(w.secondLabel, &b, int(w.secondMin), int(w.secondMax));
+        if (changed) changes[p.key] = std::to_string(a) + ":" + std::to_string(b);
+        break;
+    }
+    case Kind::None:
+    case Kind::Custom: break;
     }
 }
 

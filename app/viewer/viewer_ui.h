@@ -2,6 +2,7 @@
 // The viewer's ImGui panel: statistics (frame time, its split per pass, rays/s, a frame-time graph), the live
 // settings (method, view mode, effects, sampling, exposure, render scale) and camera-path controls. It edits
 // ViewerSettings in place and reports button presses as actions; the app applies them between frames.
+#include "app/parameters.h"
 #include "app/viewer/residency_view.h"
 #include "app/viewer/viewer_settings.h"
 #include "culling/outofcore/out_of_core_tracer.h"
@@ -74,7 +75,11 @@ public:
 private:
     void drawStatistics(const ViewerStatus& status);
     void drawOutOfCore(const ViewerOutOfCoreStatus& outOfCore);
-    void drawSettings(ViewerSettings& settings, ViewerActions& actions);
+    void drawSettings(ViewerSettings& settings, const ViewerStatus& status, ViewerActions& actions);
+    void drawPrimaryVisibility(const ViewerSettings& settings, nlohmann::json& changes);
+    void drawMethodParameters(ViewerSettings& settings, const ViewerStatus& status, nlohmann::json& changes);
+    void drawEffects(const ViewerSettings& settings, nlohmann::json& changes);
+    void drawParameter(const Parameter& parameter, const CommonOptions& shown, nlohmann::json& changes);
     void drawCamera(const ViewerStatus& status, ViewerActions& actions);
     std::string sceneField_;
 };

@@ -235,6 +235,29 @@ TEST_F(CliTest, BenchStepsOfOneSubtreeChcrtEqualPureBvhSteps) {
     EXPECT_TRUE(readJson("p.json")["rows"][0]["steps_per_ray"].is_null());
 }
 
+// The viewer is a program of its own (build/bin/chcrt-view, which `chcrt view` runs): the CLI links no GLFW and no
+// Dear ImGui. (libX11 still comes in through OpenImageIO's dependencies on Debian.)
+TEST_F(CliTest, TheCliLinksNoWindowSystemAndListsItsMethods) {
+    FILE* pipe = ::popen("ldd '" CHCRT_BINARY "' 2>&1", "r");
+    ASSERT_NE(pipe, nullptr);
+    std::string libraries;
+    std::array<char, 4096> buffer;
+    while (size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) libraries.append(buffer.data(), n);
+    ::pclose(pipe);
+    ASSERT_NE(libraries.find("libEGL"), std::string::npos) << libraries;
+    EXPECT_EQ(libraries.find("libglfw"), std::string::npos) << libraries;
+    EXPECT_EQ(libraries.find("imgui"), std::string::npos) << libraries;
+    const Result methods = run("methods --markdown");
+    ASSERT_EQ(methods.exitCode, 0) << methods.output;
+    for (const char* row : {"| bvh | pure BVH", "| bvh+ls | BVH + Line Space", "| reference (CPU) |", "| approximate |"}) {
+        EXPECT_NE(methods.output.find(row), std::string::npos) << row << "\n" << methods.output;
+    }
+    const Result view = run("view --help");
+    EXPECT_EQ(view.exitCode, 0) << view.output;
+    EXPECT_NE(view.output.find("--view-mode"), std::string::npos) << view.output;
+    EXPECT_EQ(run("view --no-such-flag").exitCode, 2);
+}
+
 TEST_F(CliTest, InfoReportsGlAndScene) {
     const Result r = run("info --scene interior:20k -q");
     ASSERT_EQ(r.exitCode, 0) << r.output;

@@ -1,4 +1,5 @@
 // Viewer scripts: what parses and what is refused (with the step and key named).
+#include "app/viewer/viewer_recording.h"
 #include "app/viewer/viewer_script.h"
 #include "renderer/core/error.h"
 
@@ -71,6 +72,75 @@ TEST(ViewerScript, RefusesMalformedScriptsNamingTheStep) {
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("s.json: step 1"), std::string::npos) << e.what();
     }
+}
+
+// A step's actions run when it begins, its checks after its frames; a step without frames is checked at once;
+// waiting (a scene loads) holds the frames back; a failure ends the script after the failing step's checks.
+TEST(ScriptRunner, RunsActionsFramesAndChecksInOrder) {
+    ScriptRunner runner(parseViewerScript(R"([{"frames": 2}, {"action": "reset"}, {"loadScene": "x", "frames": 1}])", "s"));
+    std::vector<std::string> log;
+    bool loading = false;
+    const auto actions = [&](const ScriptStep& s) {
+        log.push_back("actions " + std::to_string(s.frames));
+        loading = !s.loadScene.empty();
+    };
+    const auto checks = [&](const ScriptStep& s) { log.push_back("checks " + std::to_string(s.frames)); };
+    const auto waiting = [&] { return loading; };
+    EXPECT_EQ(runner.advance(actions, checks, waiting), ScriptRunner::Advance::Frame);
+    EXPECT_EQ(runner.advance(actions, checks, waiting), ScriptRunner::Advance::Frame);
+    EXPECT_EQ(runner.frame(), 2);
+    EXPECT_EQ(runner.advance(actions, checks, waiting), ScriptRunner::Advance::Waiting);
+    EXPECT_EQ(runner.currentIndex(), 2u);
+    loading = false;
+    EXPECT_EQ(runner.advance(actions, checks, waiting), ScriptRunner::Advance::Frame);
+    EXPECT_EQ(runner.advance(actions, checks, waiting), ScriptRunner::Advance::Ended);
+    const std::vector<std::string> expected = {"actions 2", "checks 2", "actions 0", "checks 0", "actions 1",
+                                               "checks 1"};
+    EXPECT_EQ(log, expected);
+
+    ScriptRunner failing(parseViewerScript(R"([{"frames": 1}, {"frames": 1}])", "s"));
+    const auto none = [](const ScriptStep&) {};
+    EXPECT_EQ(failing.advance(none, none, [] { return false; }), ScriptRunner::Advance::Frame);
+    failing.fail();
+    EXPECT_EQ(failing.advance(none, none, [] { return false; }), ScriptRunner::Advance::Ended);
+    EXPECT_EQ(failing.failures(), 1);
+}
+
+TEST(ScriptExpectations, ReportWhatDiffersAndRefuseUnknownKeys) {
+    ScriptObservation seen;
+    seen.method = "chcrt";
+    seen.width = 64;
+    seen.height = 36;
+    seen.tracePasses[size_t(RayType::Shadow)] = 1;
+    seen.accumulatedFrames = 2;
+    const nlohmann::json expect = nlohmann::json::parse(
+        R"({"method": "chcrt", "imageSize": [64, 36], "tracePasses": {"shadow": 1, "ao": 0}, "accumulatedFrames": 1})");
+    const std::vector<std::string> unmet = unmetExpectations(expect, seen);
+    ASSERT_EQ(unmet.size(), 1u);
+    EXPECT_EQ(unmet[0], "accumulatedFrames = 2");
+    EXPECT_THROW(unmetExpectations(nlohmann::json::parse(R"({"colour": "red"})"), seen), InputError);
+}
+
+TEST(PathRecorder, RecordsMovedCamerasAtTheScriptsTimeStep) {
+    PathRecorder recorder;
+    Camera camera;
+    camera.eye = {0, 1, 0};
+    camera.target = {0, 1, -5};
+    recorder.start(camera, 10);
+    recorder.record(camera, true, 11); // not moved
+    camera.eye.x = 1;
+    recorder.record(camera, true, 12);
+    camera.eye.x = 2;
+    recorder.record(camera, true, 12); // no time passed
+    EXPECT_EQ(recorder.keyframes(), 2u);
+    const std::filesystem::path file = std::filesystem::temp_directory_path() / "chcrt_recorder_test.json";
+    recorder.stop(file.string());
+    EXPECT_FALSE(recorder.recording());
+    const CameraPath path = loadCameraPath(file);
+    ASSERT_EQ(path.keyframes.size(), 2u);
+    EXPECT_DOUBLE_EQ(path.keyframes[1].t, 2 * PathRecorder::kScriptSecondsPerFrame);
+    std::filesystem::remove(file);
+    EXPECT_THROW(recorder.stop(file.string()), InputError); // no recording
 }
 
 } // namespace

@@ -1,0 +1,80 @@
+// What build/bin/chcrt and build/bin/chcrt-view share on the command line: error reporting (errors from the
+// library are caught once and become a one-line message and an exit code; app/commands.h, docs/cli.md), parsing,
+// and the flags of `chcrt view`.
+#include "app/commands.h"
+
+#include "app/methods.h"
+#include "app/viewer/view_modes.h"
+#include "renderer/core/error.h"
+
+#include <cstdio>
+#include <sstream>
+
+namespace chcrt::app {
+
+std::vector<std::string> splitList(const std::string& text) {
+    std::vector<std::string> items;
+    std::stringstream stream(text);
+    std::string item;
+    while (std::getline(stream, item, ',')) {
+        if (!item.empty()) items.push_back(item);
+    }
+    if (items.empty()) throw InputError("empty list '" + text + "'");
+    return items;
+}
+
+int runReportingErrors(const std::function<int()>& body) {
+    try {
+        return body();
+    } catch (const InputError& e) {
+        std::fprintf(stderr, "chcrt: error: %s\n", e.what());
+        return kExitBadInput;
+    } catch (const GlError& e) {
+        std::fprintf(stderr, "chcrt: OpenGL error: %s\n", e.what());
+        return kExitGl;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "chcrt: internal error: %s\n", e.what());
+        return kExitInternal;
+    }
+}
+
+std::optional<int> parseCommandLine(CLI::App& cli, int argc, char** argv) {
+    try {
+        cli.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return cli.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return cli.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return cli.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "chcrt: error: %s (see chcrt --help)\n", e.what());
+        return kExitBadInput;
+    }
+    return std::nullopt;
+}
+
+ViewOptions::ViewOptions() {
+    common.render.width = 1280;
+    common.render.height = 720;
+    common.render.samplesPerPixel = 1;
+    common.render.effects = EffectSet{true, false, false}; // interactive on a CPU rasteriser; the panel adds AO, diffuse
+}
+
+void addViewOptions(CLI::App& c, ViewOptions& view) {
+    addCommonOptions(c, view.common, kShadedCommands); // no --gl: the viewer's context is its GLFW window
+    c.add_option("--method", view.method, "Tracing method: raster (no secondary rays) or a GPU method (" +
+                                              methodNames(false) + ")")
+        ->capture_default_str();
+    std::string modes;
+    for (ViewMode mode : allViewModes()) modes += (modes.empty() ? "" : ", ") + std::string(toString(mode));
+    c.add_option("--view-mode", view.viewMode, modes)->capture_default_str();
+    c.add_option("--render-scale", view.renderScale, "Internal resolution / window resolution")->capture_default_str();
+    c.add_option("--script", view.script, "Run a scripted session (JSON list of steps) and exit");
+    c.add_option("--record", view.recordFile, "Where recorded walkthroughs are saved")->capture_default_str();
+    c.add_flag("--play", view.play, "Start playing the camera path");
+    c.add_flag("--no-accumulate", view.noAccumulate, "No progressive refinement when the camera stops");
+    c.add_flag("--hide-panel", view.hidePanel, "Start with the ImGui panel hidden (Tab toggles it)");
+}
+
+} // namespace chcrt::app

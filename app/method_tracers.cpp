@@ -1,0 +1,167 @@
+#include "app/method_tracers.h"
+
+#include "culling/chcrt_tracer.h"
+#include "linespace/linespace_cache.h"
+#include "linespace/linespace_gpu.h"
+#include "linespace/linespace_tracer.h"
+#include "linespace/ntree_cache.h"
+#include "linespace/ntree_tracer.h"
+#include "renderer/core/error.h"
+#include "renderer/outofcore/chs_file.h"
+#include "culling/outofcore/out_of_core_tracer.h"
+
+#include <cstdio>
+#include <filesystem>
+
+namespace chcrt::app {
+namespace {
+
+// Line Spaces of the session's BVH with `params`: from the cache directory, or built (and cached).
+ls::LineSpaces loadLineSpaces(const SceneSession& session, const CommonOptions& o, const ls::LineSpaceParams& params,
+                              ls::CacheOutcome& outcome) {
+    return ls::loadOrBuildLineSpaces(session.bvh, params, o.lineSpaceTracing.cacheDirectory, *session.progress, &outcome);
+}
+
+// --out-of-core: a prepared scene traced through the GPU subtree cache (CHC+RT §5.4, docs/outofcore.md).
+void checkOutOfCore(const CommonOptions& o) {
+    if (!outofcore::isPreparedScenePath(o.scene)) {
+        throw InputError("--out-of-core needs a prepared scene (--scene file.chs; see chcrt prepare)");
+    }
+}
+
+// Line Spaces inside CHC+RT's subtrees (chcrt+ls*): the subtree shader is compiled per any-hit, not per ray type:
+// any-hit rays (shadow, AO) get shadow termination (SS 4.1) in chcrt+ls, closest-hit rays (primary, diffuse) exact
+// skipping.
+void addSubtreeLineSpaces(const MethodInfo& method, const SceneSession& session, const CommonOptions& o,
+                          ChcrtOptions& options) {
+    if (o.outOfCoreScene.enabled) {
+        throw InputError("--out-of-core: " + method.name + " needs the whole BVH's Line Spaces; use chcrt");
+    }
+    const ls::LineSpaceParams params = lineSpaceBuildParams(method, o);
+    ls::CacheOutcome outcome = ls::CacheOutcome::Built;
+    const ls::LineSpaces spaces = loadLineSpaces(session, o, params, outcome);
+    auto gpu = std::make_shared<ls::LineSpaceGpu>(spaces, session.bvh, session.scene);
+    const ls::LineSpaceMode anyHitMode = method.exact ? ls::LineSpaceMode::Exact : ls::LineSpaceMode::Shadow;
+    const float angle = o.lineSpaceTracing.candidateAngleDegrees;
+    options.subtreeDefines = [gpu, anyHitMode, angle](bool anyHit) {
+        return gpu->defines(anyHit ? anyHitMode : ls::LineSpaceMode::Exact, angle);
+    };
+    options.bindSubtreeResources = [gpu] { gpu->bind(); };
+    options.queries = ChcrtQueries::Gl; // the Line Space traversal takes one subtree root per call
+    options.adaptive = false;           // the fallback's pure pass has no Line Spaces
+    if (!o.quiet) {
+        std::fprintf(stderr, "%s: Line Spaces %s (%s): %s\n", method.name.c_str(), ls::toString(outcome),
+                     params.toString().c_str(), spaces.stats.summary().c_str());
+    }
+}
+
+} // namespace
+
+ls::LineSpaceModes lineSpaceModes(const CommonOptions& o) {
+    ls::LineSpaceModes modes = o.lineSpaceTracing.baseModes;
+    modes.parse(o.lineSpaceTracing.modes);
+    return modes;
+}
+
+ls::LineSpaceParams lineSpaceBuildParams(const MethodInfo& method, const CommonOptions& o) {
+    ls::LineSpaceParams params = o.lineSpace;
+    params.candidates = false;
+    if (!method.reads(ParameterArea::LineSpaceModes)) return params; // chcrt+ls*: binary Line Spaces only
+    const ls::LineSpaceModes modes = lineSpaceModes(o);
+    for (ls::LineSpaceMode m : {modes.primary, modes.shadow, modes.ao, modes.diffuse, modes.bounceShadow}) {
+        if (m == ls::LineSpaceMode::Candidate || m == ls::LineSpaceMode::CandidateExactStart) params.candidates = true;
+    }
+    return params;
+}
+
+std::unique_ptr<Tracer> makeChcrtTracer(const MethodInfo& method, const SceneSession& session, const CommonOptions& o,
+                                        bool alwaysCull) {
+    ChcrtOptions options = o.chcrt;
+    if (alwaysCull) options.adaptive = false;
+    if (!method.reads(ParameterArea::ChcrtVisibility) && options.visibleThreshold > 0) {
+        throw InputError("--chcrt-threshold > 0 makes culling approximate: use --method chcrt-aggressive");
+    }
+    if (method.reads(ParameterArea::LineSpace)) addSubtreeLineSpaces(method, session, o, options);
+    if (o.outOfCoreScene.enabled) {
+        checkOutOfCore(o);
+        return std::make_unique<outofcore::OutOfCoreTracer>(o.scene, o.outOfCore, options, method.name);
+    }
+    return std::make_unique<ChcrtTracer>(session.bvh, options, method.name);
+}
+
+std::unique_ptr<Tracer> makeLineSpaceTracer(const MethodInfo& method, const SceneSession& session,
+                                            const CommonOptions& o, bool forceLineSpaces) {
+    ls::LineSpaceModes modes = lineSpaceModes(o);
+    const ls::LineSpaceParams params = lineSpaceBuildParams(method, o);
+    ls::CacheOutcome outcome = ls::CacheOutcome::Built;
+    const ls::LineSpaces spaces = loadLineSpaces(session, o, params, outcome);
+    // Exact skipping only pays where shafts are empty: measured on llvmpipe (docs/benchmarks.md), 0.49-1.03x of
+    // pure BVH on every scene we have, whose binary Line Spaces are 69-98 % filled (bunny 70 %: 0.76-1.03x, dragon
+    // 74 %: 0.55-1.02x, city 91 %: 0.74-0.96x). A shaft visit costs about a node visit, so skipping can only win
+    // where most shafts are empty. Without an explicit --ls-modes, bvh+ls-exact therefore falls back to pure BVH
+    // traversal when more than half of the shafts are filled (all measured scenes); verify never falls back.
+    const double binaryFill = spaces.stats.binaryShafts ? double(spaces.stats.binaryFilled) / double(spaces.stats.binaryShafts) : 1.0;
+    if (method.exact && o.lineSpaceTracing.modes.empty() && !forceLineSpaces && binaryFill > 0.5) {
+        modes = ls::LineSpaceModes{};
+        modes.primary = modes.shadow = modes.ao = modes.diffuse = modes.bounceShadow = ls::LineSpaceMode::Off;
+        if (!o.quiet) {
+            std::fprintf(stderr, "%s: %.1f %% of the binary shafts are filled: exact skipping would be slower here, "
+                                 "tracing with pure BVH (force it with --ls-modes)\n",
+                         method.name.c_str(), 100.0 * binaryFill);
+        }
+    }
+    auto gpu = std::make_shared<ls::LineSpaceGpu>(spaces, session.bvh, session.scene);
+    auto tracer = std::make_unique<ls::LineSpaceTracer>(method.name, gpu, modes, o.lineSpaceTracing.candidateAngleDegrees);
+    tracer->buildStats = spaces.stats;
+    tracer->cacheOutcome = ls::toString(outcome);
+    tracer->paramsText = params.toString();
+    if (!o.quiet) {
+        std::fprintf(stderr, "%s: Line Spaces %s (%s): %s; modes %s\n", method.name.c_str(), ls::toString(outcome),
+                     params.toString().c_str(), spaces.stats.summary().c_str(), modes.toString().c_str());
+    }
+    return tracer;
+}
+
+std::unique_ptr<Tracer> makeNTreeTracer(const MethodInfo& method, const SceneSession& session, const CommonOptions& o,
+                                        bool /*alwaysCull*/) {
+    ls::CacheOutcome outcome = ls::CacheOutcome::Built;
+    const ls::NTree tree =
+        ls::loadOrBuildNTree(session.bvh, o.ntree, o.lineSpaceTracing.cacheDirectory, *session.progress, &outcome);
+    auto gpu = std::make_shared<ls::NTreeGpu>(tree);
+    auto tracer = std::make_unique<ls::NTreeTracer>(method.name, gpu, o.ntreeShadow);
+    tracer->buildStats = tree.stats;
+    tracer->cacheOutcome = ls::toString(outcome);
+    tracer->paramsText = o.ntree.toString();
+    if (!o.quiet) {
+        std::fprintf(stderr, "%s: %s %s: %s; GPU %.2f MB; shadow level %u, start node %s, near %.2f\n",
+                     method.name.c_str(), o.ntree.toString().c_str(), ls::toString(outcome), tree.stats.summary().c_str(),
+                     double(gpu->gpuBytes()) / 1e6, o.ntreeShadow.shadowLevel, o.ntreeShadow.startExact ? "exact" : "skip",
+                     double(o.ntreeShadow.nearEdges));
+    }
+    return tracer;
+}
+
+std::function<void(Progress&)> lineSpaceCacheBuild(const MethodInfo& method, const SceneSession& session,
+                                                   const CommonOptions& o) {
+    const Bvh& bvh = session.bvh;
+    const std::filesystem::path dir = o.lineSpaceTracing.cacheDirectory;
+    const ls::LineSpaceParams params = lineSpaceBuildParams(method, o);
+    return [&bvh, params, dir](Progress& progress) {
+        // A cached file is loaded (and validated) once, by makeTracer, not here as well.
+        if (std::filesystem::exists(ls::lineSpaceCachePath(dir, ls::lineSpaceInputHash(bvh), params))) return;
+        ls::loadOrBuildLineSpaces(bvh, params, dir, progress);
+    };
+}
+
+std::function<void(Progress&)> nTreeCacheBuild(const MethodInfo& /*method*/, const SceneSession& session,
+                                               const CommonOptions& o) {
+    const Bvh& bvh = session.bvh;
+    const std::filesystem::path dir = o.lineSpaceTracing.cacheDirectory;
+    const ls::NTreeParams params = o.ntree;
+    return [&bvh, params, dir](Progress& progress) {
+        if (std::filesystem::exists(ls::nTreeCachePath(dir, ls::nTreeInputHash(bvh), params))) return;
+        ls::loadOrBuildNTree(bvh, params, dir, progress);
+    };
+}
+
+} // namespace chcrt::app
