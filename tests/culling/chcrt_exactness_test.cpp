@@ -44,6 +44,32 @@ std::function<double(uint32_t, double)> fixedAdaptiveTiming(const int& frame) {
     return [&frame](uint32_t arm, double) { return arm == 0 ? 5.0 : arm == 1 ? (frame < 2 ? 6.0 : 1.0) : 7.0; };
 }
 
+// The tracer options of a case. Adaptive cases run on fixed times (of `frame`, read at each trace) with probes due
+// within the 12 traces per ray kind, so every arm and the switch back are reached whatever the machine.
+ChcrtOptions optionsOf(const ExactnessCase& c, const int& frame) {
+    ChcrtOptions options;
+    options.partition.maxSubtreeHeight = c.maxSubtreeHeight;
+    options.pairs.minTileSize = c.minTileSize;
+    options.tighterBounds = c.tighterBounds;
+    options.multiQueryPairs = c.multiQueryPairs;
+    options.adaptive = c.adaptive;
+    options.leafCache = c.leafCache;
+    options.rayExtentCulling = c.rayExtent;
+    options.mergedBatch = c.mergedBatch;
+    options.queries = c.queries;
+    options.bounds.cellSize = c.boundsCell;
+    options.bounds.pieces = c.boundsPieces;
+    options.boundsPreviousFront = c.boundsPreviousFront;
+    options.adaptiveHeights = c.adaptiveHeights;
+    options.cellListLimit = c.cellListLimit;
+    if (c.adaptive) {
+        options.adaptiveTiming = fixedAdaptiveTiming(frame);
+        options.adaptiveProbeInterval = 1;
+        options.adaptiveProbeBudget = 1.0;
+    }
+    return options;
+}
+
 // What a trace was: "F" for a pure pass of the adaptive fallback, else the termination height it culled with.
 std::string traceKind(const ChcrtStats& last) {
     return last.fallbackTraces ? "F" : std::to_string(last.heightSum);
@@ -61,28 +87,8 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
     settings.width = 96;
     settings.height = 72;
     Renderer& renderer = makeProceduralRenderer(c.scene, settings);
-    ChcrtOptions options;
-    options.partition.maxSubtreeHeight = c.maxSubtreeHeight;
-    options.pairs.minTileSize = c.minTileSize;
-    options.tighterBounds = c.tighterBounds;
-    options.multiQueryPairs = c.multiQueryPairs;
-    options.adaptive = c.adaptive;
-    options.leafCache = c.leafCache;
-    options.rayExtentCulling = c.rayExtent;
-    options.mergedBatch = c.mergedBatch;
-    options.queries = c.queries;
-    options.bounds.cellSize = c.boundsCell;
-    options.bounds.pieces = c.boundsPieces;
-    options.boundsPreviousFront = c.boundsPreviousFront;
-    options.adaptiveHeights = c.adaptiveHeights;
-    options.cellListLimit = c.cellListLimit;
     int frame = 0;
-    if (c.adaptive) {
-        // Fixed times, and probes due within the 12 traces per ray kind: every arm and the switch back are reached.
-        options.adaptiveTiming = fixedAdaptiveTiming(frame);
-        options.adaptiveProbeInterval = 1;
-        options.adaptiveProbeBudget = 1.0;
-    }
+    const ChcrtOptions options = optionsOf(c, frame);
     ChcrtTracer chcrt(bvh_, options);
     const CameraPath path = proceduralNearPath(spec_);
 
@@ -208,26 +214,8 @@ TEST_P(ChcrtExactnessTest, ShadedFrameEqualsPureBvhFrame) {
     settings.height = 48;
     settings.samplesPerPixel = 2;
     Renderer& renderer = makeProceduralRenderer(c.scene, settings);
-    ChcrtOptions options;
-    options.partition.maxSubtreeHeight = c.maxSubtreeHeight;
-    options.pairs.minTileSize = c.minTileSize;
-    options.tighterBounds = c.tighterBounds;
-    options.multiQueryPairs = c.multiQueryPairs;
-    options.adaptive = c.adaptive;
-    options.leafCache = c.leafCache;
-    options.queries = c.queries;
-    options.bounds.cellSize = c.boundsCell;
-    options.bounds.pieces = c.boundsPieces;
-    options.boundsPreviousFront = c.boundsPreviousFront;
-    options.adaptiveHeights = c.adaptiveHeights;
-    options.cellListLimit = c.cellListLimit;
     int frame = 0;
-    if (c.adaptive) {
-        // Fixed times, and probes due within the 12 traces per ray kind: every arm and the switch back are reached.
-        options.adaptiveTiming = fixedAdaptiveTiming(frame);
-        options.adaptiveProbeInterval = 1;
-        options.adaptiveProbeBudget = 1.0;
-    }
+    const ChcrtOptions options = optionsOf(c, frame);
     ChcrtTracer chcrt(bvh_, options);
     const CameraPath path = proceduralNearPath(spec_);
     for (frame = 0; frame < 2; ++frame) {
