@@ -397,6 +397,10 @@ std::vector<Parameter> describeChcrt() {
             .minusOneUnsets()
             .slider("bounds pieces", 1, 8)
             .integer<int>(FIELD(chcrt.bounds.pieces), 1),
+        Describe(Area::Chcrt, "--chcrt-cell-list-limit", "chcrtCellListLimit",
+                 "CHC+RT bounds-only: cells with more subtrees traverse the whole BVH (0 = never)")
+            .minusOneUnsets()
+            .integer<uint32_t>(FIELD(chcrt.cellListLimit), 0),
     };
 }
 

@@ -163,6 +163,18 @@ TEST(MethodRegistry, MethodDefaultsApplyToParametersNotGiven) {
     EXPECT_EQ(resolveMethodOptions(findMethod("chcrt"), parse({}), 0).chcrt.visibleThreshold, 0u);
     EXPECT_TRUE(resolveMethodOptions(findMethod("chcrt"), parse({}), 0).chcrt.adaptive);
     EXPECT_FALSE(resolveMethodOptions(findMethod("chcrt-noadapt"), parse({}), 0).chcrt.adaptive);
+    // chcrt in core: the recommended configuration; a given height leaves no other height to try.
+    const CommonOptions recommended = resolveMethodOptions(findMethod("chcrt"), parse({}), 0);
+    EXPECT_EQ(recommended.chcrt.queries, ChcrtQueries::BoundsOnly);
+    EXPECT_EQ(recommended.chcrt.partition.maxSubtreeHeight, 12u);
+    EXPECT_EQ(recommended.chcrt.adaptiveHeights, (std::vector<uint32_t>{10, 14}));
+    EXPECT_EQ(recommended.chcrt.cellListLimit, 64u);
+    const CommonOptions forced = resolveMethodOptions(findMethod("chcrt"), parse({"--chcrt-height", "8"}), 0);
+    EXPECT_EQ(forced.chcrt.partition.maxSubtreeHeight, 8u);
+    EXPECT_TRUE(forced.chcrt.adaptiveHeights.empty());
+    EXPECT_EQ(resolveMethodOptions(findMethod("chcrt"), parse({"--chcrt-cell-list-limit", "0"}), 0).chcrt.cellListLimit,
+              0u);
+    EXPECT_EQ(resolveMethodOptions(findMethod("chcrt-aggressive"), parse({}), 0).chcrt.queries, ChcrtQueries::Gl);
     // The worked example's path (docs/architecture.md): a --chcrt-* flag reaches the ChcrtOptions field.
     EXPECT_EQ(resolveMethodOptions(findMethod("chcrt"), parse({"--chcrt-min-tile", "16"}), 0).chcrt.pairs.minTileSize, 16);
     // ntree+ls: shadow level d - 1 of the given N-tree, unless given.
