@@ -277,10 +277,8 @@ void addRows(Bench& b, RayType type, const std::string& m, const MethodResult& r
     const bool stepsCounted = b.options.steps && r.stepRays > 0;
     const double stepsPerRay = stepsCounted ? double(r.steps) / double(r.stepRays) : 0.0;
     if (b.options.steps) table.rows.back().push_back(stepsCounted ? formatFixed(stepsPerRay, 1) : "-");
-    const uint64_t culledTraces = r.chcrt.traces - r.chcrt.fallbackTraces;
-    table.rows.back().push_back(
-        r.chcrt.traces ? formatFixed(100.0 * double(culledTraces) / double(r.chcrt.traces), 0) + "%" : "-");
-    table.rows.back().push_back(culledTraces ? formatFixed(double(r.chcrt.heightSum) / double(culledTraces), 1) : "-");
+    table.rows.back().push_back(r.chcrt.traces ? formatFixed(100.0 * r.chcrt.culledShare(), 0) + "%" : "-");
+    table.rows.back().push_back(r.chcrt.culledTraces() ? formatFixed(r.chcrt.meanHeight(), 1) : "-");
     nlohmann::json row = {{"scene", session.scene.name},
                           {"path", session.path.name},
                           {"ray_type", toString(type)},

@@ -143,9 +143,8 @@ nlohmann::json chcrtStatsJson(const ChcrtStats& s, double frames) {
     const double f = frames > 0 ? frames : 1.0;
     nlohmann::json sums = {{"traces", s.traces},
                            {"fallback_traces", s.fallbackTraces},
-                           {"culled_share", s.traces ? double(s.traces - s.fallbackTraces) / double(s.traces) : 0.0},
-                           {"mean_height", s.traces > s.fallbackTraces
-                                               ? double(s.heightSum) / double(s.traces - s.fallbackTraces) : 0.0},
+                           {"culled_share", s.culledShare()},
+                           {"mean_height", s.meanHeight()},
                            {"queries", s.queries},
                            {"queries_single", s.queriesSingle},
                            {"queries_multi", s.queriesMulti},

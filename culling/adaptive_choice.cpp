@@ -15,7 +15,7 @@ double RecentTimes::estimate() const {
 
 AdaptiveChoice::AdaptiveChoice(uint32_t arms, uint32_t probeInterval, double probeBudget)
     : arms_(std::max<uint32_t>(arms, 2)), base_(std::max<uint32_t>(probeInterval, 1)),
-      budget_(probeBudget > 0.0 ? probeBudget : 0.03) {}
+      budget_(probeBudget > 0.0 ? probeBudget : kAllowedProbeCost) {}
 
 uint32_t AdaptiveChoice::lowest() const {
     uint32_t best = kPureArm;

@@ -39,12 +39,13 @@ class AdaptiveChoice {
 public:
     static constexpr uint32_t kPureArm = 0;
     static constexpr uint32_t kMaxProbeInterval = 1024;
+    static constexpr double kAllowedProbeCost = 0.03; // the share of trace time probing may cost at most
     // Another arm takes over only when its estimate is this much below the running arm's: near-equal arms would
     // otherwise swap on noise, and every swap runs the loser until its median moves.
     static constexpr double kSwitchMargin = 0.05;
 
     // `arms` >= 2: the pure pass and at least one culling configuration.
-    explicit AdaptiveChoice(uint32_t arms = 2, uint32_t probeInterval = 8, double probeBudget = 0.03);
+    explicit AdaptiveChoice(uint32_t arms = 2, uint32_t probeInterval = 8, double probeBudget = kAllowedProbeCost);
 
     // The arm the next trace should use.
     uint32_t next() const;

@@ -81,7 +81,7 @@ struct ChcrtOptions {
     uint32_t adaptiveProbeInterval = 8;
     // Half the 3 % that probing may cost: estimates come from different ray sets of the kind, and measured losses
     // ran at about twice the budget (city far shadow, 16 spp: 5 % with a 3 % budget; culling/README.md).
-    double adaptiveProbeBudget = 0.015;
+    double adaptiveProbeBudget = AdaptiveChoice::kAllowedProbeCost / 2;
     // More culling arms of the adaptive choice (in core only): the same options at these termination heights,
     // each with its own culling hierarchy, built on first use. Empty: the configured height only.
     std::vector<uint32_t> adaptiveHeights;
@@ -139,6 +139,10 @@ struct ChcrtStats {
     double phase3Ms = 0;             // fetch results, traverse, intersect newly visible, pull-up
     double fallbackMs = 0;           // adaptive fallback traces
     double totalMs() const { return phase1Ms + phase2Ms + phase3Ms + fallbackMs; }
+    uint64_t culledTraces() const { return traces - fallbackTraces; }
+    // Share of the traces that culled (0 without traces) and their mean termination height (0 without any).
+    double culledShare() const { return traces ? double(culledTraces()) / double(traces) : 0.0; }
+    double meanHeight() const { return culledTraces() ? double(heightSum) / double(culledTraces()) : 0.0; }
     ChcrtStats& operator+=(const ChcrtStats& o);
 };
 
