@@ -13,7 +13,7 @@ namespace chcrt::app {
 
 int runInfo(const InfoOptions& options) {
     const CommonOptions& o = options.common;
-    const auto context = createHeadlessContext(o.gl, o.glDebug);
+    const auto context = createHeadlessContext(o.gl, o.glDebug, o.glDevice);
     const GlInfo info = queryGlInfo();
     std::printf("OpenGL\n  context      %s\n  vendor       %s\n  renderer     %s\n  version      %s\n  GLSL         %s\n",
                 context->description().c_str(), info.vendor.c_str(), info.renderer.c_str(), info.version.c_str(),

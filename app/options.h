@@ -49,6 +49,7 @@ struct CommonOptions {
     float fovY = 60.0f;
     std::string frames;             // --frames; default depends on the command
     GlBackend gl = GlBackend::Egl;
+    int glDevice = -1;              // --gl-device: EGL device index, -1 the first that works
     bool glDebug = false;
     std::string statsJson;
     bool quiet = false;

@@ -287,6 +287,11 @@ std::vector<Parameter> describeSession() {
         Describe(Area::Session, "--gl", "", "OpenGL context: egl (headless) or osmesa")
             .commands(kHeadlessCommands)
             .choice<GlBackend>(FIELD(gl), {{"egl", GlBackend::Egl}, {"osmesa", GlBackend::OsMesa}}),
+        Describe(Area::Session, "--gl-device", "",
+                 "EGL device to render on: its index in the EGL device list (no fall-back to another device or "
+                 "platform); -1: the first device that creates a context, else Mesa's surfaceless platform")
+            .commands(kHeadlessCommands)
+            .integer<int>(FIELD(glDevice), -1, 1024),
         Describe(Area::Session, "--gl-debug", "", "Print KHR_debug messages from the driver")
             .flagWithoutValue()
             .onOff(FIELD(glDebug)),

@@ -140,7 +140,7 @@ std::vector<int> selectFrames(const CommonOptions& o, const CameraPath& path, co
 GpuSession openGpuSession(const CommonOptions& o, const SceneSession& s, const RenderSettings& settings) {
     const auto start = Clock::now();
     GpuSession g;
-    g.context = createHeadlessContext(o.gl, o.glDebug);
+    g.context = createHeadlessContext(o.gl, o.glDebug, o.glDevice);
     RenderSettings effective = settings;
     if (!s.sceneInCore) {
         // Not in core (docs/outofcore.md): primary visibility from out-of-core primary rays; the diffuse effect

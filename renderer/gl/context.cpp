@@ -114,9 +114,10 @@ GlBackend parseGlBackend(const std::string& name) {
 
 const char* toString(GlBackend backend) { return backend == GlBackend::Egl ? "egl" : "osmesa"; }
 
-std::unique_ptr<GlContext> createHeadlessContext(GlBackend backend, bool debugOutput) {
+std::unique_ptr<GlContext> createHeadlessContext(GlBackend backend, bool debugOutput, int eglDevice) {
+    if (backend != GlBackend::Egl && eglDevice >= 0) throw InputError("--gl-device needs --gl egl (OSMesa has no devices)");
     std::unique_ptr<detail::HeadlessContext> context =
-        backend == GlBackend::Egl ? detail::createEglContext(debugOutput) : detail::createOsMesaContext(debugOutput);
+        backend == GlBackend::Egl ? detail::createEglContext(debugOutput, eglDevice) : detail::createOsMesaContext(debugOutput);
     {
         DebugState& state = debugState();
         std::lock_guard<std::mutex> lock(state.mutex);

@@ -20,8 +20,10 @@ public:
 };
 
 // Creates a headless 4.5 core context, makes it current, loads GL functions, checks required features and,
-// when `debugOutput` is true, installs the KHR_debug callback. Throws GlError with a clear message.
-std::unique_ptr<GlContext> createHeadlessContext(GlBackend backend, bool debugOutput = false);
+// when `debugOutput` is true, installs the KHR_debug callback. `eglDevice` >= 0 (EGL only) uses that device of
+// the EGL device list and nothing else (a farm task bound to one GPU, docs/farm.md); -1 tries the devices in
+// order, then Mesa's surfaceless platform. Throws GlError with a clear message.
+std::unique_ptr<GlContext> createHeadlessContext(GlBackend backend, bool debugOutput = false, int eglDevice = -1);
 
 struct GlInfo {
     std::string vendor, renderer, version, glslVersion;

@@ -143,7 +143,7 @@ std::unique_ptr<HeadlessContext> tryDisplay(EGLDisplay display, bool debugContex
 
 } // namespace
 
-std::unique_ptr<HeadlessContext> createEglContext(bool debugContext) {
+std::unique_ptr<HeadlessContext> createEglContext(bool debugContext, int device) {
     const char* forced = std::getenv("CHCRT_EGL_PLATFORM");
     const std::string only = forced != nullptr ? forced : "";
     if (!only.empty() && only != "device" && only != "surfaceless") {
@@ -177,6 +177,18 @@ std::unique_ptr<HeadlessContext> createEglContext(bool debugContext) {
             if (deviceCount == 0) {
                 why += "device platform: no devices";
             }
+            if (device >= 0) { // that device or nothing: a task bound to one GPU must not run on another
+                if (device >= deviceCount) {
+                    throw GlError("EGL: --gl-device " + std::to_string(device) + " does not exist (" +
+                                  std::to_string(deviceCount) + " EGL device(s))");
+                }
+                EGLDisplay display = getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[size_t(device)], nullptr);
+                const std::string label = "device platform, device " + std::to_string(device) + " of " +
+                                          std::to_string(deviceCount);
+                if (auto context = tryDisplay(display, debugContext, label, why)) return context;
+                throw GlError("EGL: --gl-device " + std::to_string(device) + " cannot create an OpenGL 4.5 core context (" +
+                              why + ")");
+            }
             for (EGLint i = 0; i < deviceCount; ++i) {
                 EGLDisplay display = getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
                 std::string label = "device platform, device " + std::to_string(i) + " of " +
@@ -189,6 +201,7 @@ std::unique_ptr<HeadlessContext> createEglContext(bool debugContext) {
             why += "device platform: not supported";
         }
     }
+    if (device >= 0) throw GlError("EGL: --gl-device needs the EGL device platform (" + why + ")");
 
     // Step 2: Mesa's surfaceless platform.
     if (only != "device") {

@@ -17,7 +17,7 @@ public:
 };
 
 // Each throws GlError with a one-line actionable message when no 4.5 core context can be made current.
-std::unique_ptr<HeadlessContext> createEglContext(bool debugContext);
+std::unique_ptr<HeadlessContext> createEglContext(bool debugContext, int device);
 std::unique_ptr<HeadlessContext> createOsMesaContext(bool debugContext);
 
 // Incremented by every loadGlFunctions() call, i.e. once per context a caller starts using. Objects cached per
