@@ -1,16 +1,24 @@
 // `chcrt render` and `chcrt demo`: shaded frames of a walkthrough to image files, with a timing summary.
 #include "app/commands.h"
+#include "app/build_info.h"
 #include "app/outofcore_report.h"
 #include "app/methods.h"
+#include "app/render_records.h"
 #include "app/report.h"
 #include "app/session.h"
 #include "renderer/core/error.h"
 #include "renderer/core/frame_range.h"
 #include "renderer/core/image_io.h"
+#include "renderer/core/timing.h"
 #include "renderer/gl/context.h"
 
+#include <chrono>
+#include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <map>
+#include <unistd.h>
 
 namespace chcrt::app {
 namespace {
@@ -84,30 +92,97 @@ void addFrameStats(FrameStats& sum, const FrameStats& stats) {
 }
 
 struct RenderedFrames {
-    std::vector<std::string> written;
-    FrameStats sum;
+    std::vector<std::string> written; // every selected frame's image, resumed ones included
+    size_t rendered = 0;              // frames rendered by this run (the others were proven done by records)
+    FrameStats sum;                   // of the frames rendered by this run
     nlohmann::json json = nlohmann::json::array();
 };
 
+// The run-level fields of --stats-json, also the header line of --records.
+nlohmann::json runJson(const RenderOptions& options, const SceneSession& session, const RenderSettings& settings,
+                       const std::string& glRenderer) {
+    char host[256] = {};
+    ::gethostname(host, sizeof host - 1);
+    return {{"command", options.demo ? "demo" : "render"},
+            {"scene", toJson(session.scene)},
+            {"bvh", toJson(session.bvh.stats)},
+            {"path", session.path.name},
+            {"width", settings.width},
+            {"height", settings.height},
+            {"spp", settings.samplesPerPixel},
+            {"effects", toString(settings.effects)},
+            {"primary", toString(settings.primaryVisibility)},
+            {"seed", settings.seed},
+            {"gl_renderer", glRenderer},
+            {"host", host},
+            {"commit", buildCommit()},
+            {"flags_digest", flagsDigest(options.words)},
+            {"arguments", options.words}};
+}
+
+// --resume: the frames whose records prove them done (render_records.h), with their recorded statistics.
+std::map<int, nlohmann::json> framesProvenDone(const RenderOptions& options, const std::vector<int>& frames) {
+    std::map<int, nlohmann::json> done;
+    if (!options.resume) return done;
+    const RecordsFile records = readRecordsFile(options.records);
+    const std::string digest = flagsDigest(options.words);
+    for (const FrameRecord& r : records.frames) {
+        if (recordProvesFrame(r, formatFramePath(options.output, r.frame, int(frames.size())), digest, buildCommit())) {
+            done[r.frame] = r.stats;
+        }
+    }
+    return done;
+}
+
+// Test hook for the farm's fault tests (docs/farm.md): CHCRT_FAULT_KILL_AFTER_FRAME=k kills the process with
+// SIGKILL right after frame k's image and record are written, as a scheduler's kill would.
+void killIfFaultInjected(int frame) {
+    const char* at = std::getenv("CHCRT_FAULT_KILL_AFTER_FRAME");
+    if (at != nullptr && *at != '\0' && std::atoi(at) == frame) std::raise(SIGKILL);
+}
+
 RenderedFrames renderFrames(const RenderOptions& options, const SceneSession& session, Renderer& renderer,
-                            const RenderTracer& t, const std::vector<int>& frames) {
+                            const RenderTracer& t, const std::vector<int>& frames, const std::string& glRenderer,
+                            std::chrono::steady_clock::time_point started) {
     RenderedFrames out;
-    renderer.warmUp(session.path.cameraAtFrame(frames.front()));
+    const std::map<int, nlohmann::json> done = framesProvenDone(options, frames);
+    std::unique_ptr<RecordsWriter> records;
+    if (!options.records.empty()) records = std::make_unique<RecordsWriter>(options.records);
+    if (options.resume && !options.common.quiet) {
+        std::printf("resume: %zu of %zu frame(s) already rendered (records in %s)\n", done.size(), frames.size(),
+                    options.records.c_str());
+    }
+    std::vector<int> todo;
+    for (int frame : frames) {
+        if (!done.count(frame)) todo.push_back(frame);
+    }
+    if (!todo.empty()) renderer.warmUp(session.path.cameraAtFrame(todo.front()));
+    if (records) {
+        // Start-up: scene, BVH, GL set-up and the warm-up frame (shader compilation), what a farm task pays once.
+        nlohmann::json header = runJson(options, session, renderer.settings(), glRenderer);
+        header["startup_s"] = millisecondsSince(started) / 1000.0;
+        records->append({{"header", header}});
+    }
     // Progress per pass, so that a single slow frame (many samples, a big scene) shows progress too.
     uint64_t passesDone = 0;
-    session.progress->begin("Rendering", uint64_t(frames.size()) * renderer.passesPerFrame());
+    session.progress->begin("Rendering", uint64_t(todo.size()) * renderer.passesPerFrame());
     renderer.setPassCallback([&] { session.progress->update(++passesDone); });
     const RenderSettings& settings = renderer.settings();
+    const std::string digest = flagsDigest(options.words);
     for (int frame : frames) {
+        const std::string file = formatFramePath(options.output, frame, int(frames.size()));
+        out.written.push_back(file);
+        if (const auto d = done.find(frame); d != done.end()) {
+            out.json.push_back(d->second);
+            continue;
+        }
         if (t.chcrt) {
             t.chcrt->resetStats();
             t.chcrt->clearDebugImage();
         }
         const outofcore::OutOfCoreStats oocBefore = t.outOfCore ? t.outOfCore->snapshot() : outofcore::OutOfCoreStats{};
         const FrameStats stats = renderer.renderFrame(session.path.cameraAtFrame(frame));
-        const std::string file = formatFramePath(options.output, frame, int(frames.size()));
         writeFrameImage(file, t, renderer);
-        out.written.push_back(file);
         nlohmann::json j = toJson(stats, uint64_t(settings.width) * settings.height);
         j["frame"] = frame;
         j["output"] = file;
@@ -117,18 +192,29 @@ RenderedFrames renderFrames(const RenderOptions& options, const SceneSession& se
             j["outofcore"] = outOfCoreStatsJson(outofcore::OutOfCoreStats::difference(t.outOfCore->snapshot(), oocBefore),
                                                 1.0, *t.outOfCore);
         }
+        if (records) {
+            records->append({{"frame", frame},
+                             {"output", file},
+                             {"image_checksum", fileChecksum(file)},
+                             {"flags_digest", digest},
+                             {"commit", buildCommit()},
+                             {"stats", j}});
+        }
+        killIfFaultInjected(frame);
         out.json.push_back(j);
         addFrameStats(out.sum, stats);
+        ++out.rendered;
     }
     renderer.setPassCallback(nullptr);
     session.progress->end();
+    if (records) records->append({{"end", {{"frames", frames.size()}, {"rendered", out.rendered}}}});
     return out;
 }
 
 void printSummary(const RenderOptions& options, const SceneSession& session, const GpuSession& gpu,
                   const RenderedFrames& r, const std::string& glRenderer) {
     const Renderer& renderer = *gpu.renderer;
-    const size_t frames = r.written.size();
+    const size_t frames = std::max<size_t>(r.rendered, 1); // per-frame figures of the frames rendered by this run
     const double n = double(frames);
     const FrameStats& sum = r.sum;
     std::printf("%s: %s, %s triangles (%s unique), BVH %.2f s (SAH %.1f, %u nodes)\n", options.demo ? "demo" : "render",
@@ -136,10 +222,14 @@ void printSummary(const RenderOptions& options, const SceneSession& session, con
                 formatCount(session.scene.stats.uniqueTriangles).c_str(), session.bvh.stats.buildSeconds,
                 session.bvh.stats.sahCost, session.bvh.stats.nodeCount);
     std::printf("  scene %.2f s, GL setup %.2f s on %s\n", session.sceneSeconds, gpu.setupSeconds, glRenderer.c_str());
-    std::printf("  %zu frame(s) %dx%d, %d spp, effects %s, primary visibility %s, path %s\n", frames,
+    std::printf("  %zu frame(s) %dx%d, %d spp, effects %s, primary visibility %s, path %s\n", r.rendered,
                 renderer.settings().width, renderer.settings().height, renderer.settings().samplesPerPixel,
                 toString(renderer.settings().effects).c_str(), toString(renderer.settings().primaryVisibility),
                 session.path.name.c_str()); // as rendered (out of core may change them)
+    if (r.rendered < r.written.size()) {
+        std::printf("  %zu frame(s) resumed: their records prove them done (not rendered again)\n",
+                    r.written.size() - r.rendered);
+    }
     std::printf("  per frame: %.1f ms total = G-buffer %.1f + ray generation %.1f + tracing %.1f + shading %.1f\n",
                 sum.totalMs / n, sum.gbufferMs / n, sum.raygenMs / n, sum.traceMs() / n, sum.shadeMs / n);
     for (RayType type : {RayType::Primary, RayType::Shadow, RayType::Ao, RayType::Diffuse}) { // primary: --primary traced
@@ -150,7 +240,8 @@ void printSummary(const RenderOptions& options, const SceneSession& session, con
     }
     std::printf("  %.2f Mrays/s (all generated rays, method %s)\n",
                 sum.traceMs() > 0 ? double(sum.raysGenerated) / (sum.traceMs() * 1000.0) : 0.0, options.method.c_str());
-    std::printf("  wrote %s%s\n", r.written.front().c_str(), frames > 1 ? (" ... " + r.written.back()).c_str() : "");
+    std::printf("  %s %s%s\n", r.rendered == r.written.size() ? "wrote" : "frames in", r.written.front().c_str(),
+                r.written.size() > 1 ? (" ... " + r.written.back()).c_str() : "");
     if (sum.cappedRays > 0) {
         std::fprintf(stderr, "warning: %llu rays reached the shader loop cap; their results are incomplete\n",
                      (unsigned long long)sum.cappedRays);
@@ -159,33 +250,26 @@ void printSummary(const RenderOptions& options, const SceneSession& session, con
 
 void writeStatsJson(const RenderOptions& options, const SceneSession& session, const RenderSettings& settings,
                     const RenderedFrames& r, const std::string& glRenderer) {
-    writeJsonFile(options.common.statsJson, {{"command", options.demo ? "demo" : "render"},
-                                             {"scene", toJson(session.scene)},
-                                             {"bvh", toJson(session.bvh.stats)},
-                                             {"path", session.path.name},
-                                             {"width", settings.width},
-                                             {"height", settings.height},
-                                             {"spp", settings.samplesPerPixel},
-                                             {"effects", toString(settings.effects)},
-                                             {"primary", toString(settings.primaryVisibility)},
-                                             {"seed", settings.seed},
-                                             {"gl_renderer", glRenderer},
-                                             {"frames", r.json}});
+    nlohmann::json j = runJson(options, session, settings, glRenderer);
+    j["frames"] = r.json;
+    writeJsonFile(options.common.statsJson, j);
 }
 
 } // namespace
 
 int runRender(const RenderOptions& options) {
+    const auto started = std::chrono::steady_clock::now();
     const CommonOptions& o = options.common;
     const RenderSettings settings = toRenderSettings(o, 4);
     if (options.output.empty()) throw InputError("no output file: give -o out.png (#### is replaced by the frame number)");
     const ChcrtDebugImage debugImage = debugImageOf(options);
     SceneSession session = openSceneSession(o);
     const std::vector<int> frames = selectFrames(o, session.path, "0");
+    if (options.resume && options.records.empty()) throw InputError("--resume needs --records FILE (the records it resumes from)");
     GpuSession gpu = openGpuSession(o, session, settings);
     const RenderTracer tracer = makeRenderTracer(options, debugImage, session, *gpu.renderer);
-    const RenderedFrames rendered = renderFrames(options, session, *gpu.renderer, tracer, frames);
     const GlInfo info = queryGlInfo();
+    const RenderedFrames rendered = renderFrames(options, session, *gpu.renderer, tracer, frames, info.renderer, started);
     printSummary(options, session, gpu, rendered, info.renderer);
     if (!o.statsJson.empty()) writeStatsJson(options, session, settings, rendered, info.renderer);
     return kExitOk;

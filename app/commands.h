@@ -2,6 +2,7 @@
 // The subcommands of build/bin/chcrt. Each returns the process exit code (docs/cli.md):
 //   0 success, 1 internal error, 2 bad input or usage, 3 OpenGL/shader failure, 4 check failed (verify found
 //   differing pixels or rays that hit the shader loop cap).
+#include "app/farm.h"
 #include "app/options.h"
 
 #include <functional>
@@ -19,7 +20,12 @@ struct RenderOptions {
     bool demo = false;
     std::string method = "bvh";  // GPU tracing method (app/methods.h)
     std::string debugImage;      // CHC+RT debug image instead of the shaded frame: overdraw|subtrees|batches|cost
+    std::string records;         // --records: per-frame records, JSON Lines (app/render_records.h)
+    bool resume = false;         // --resume: skip the frames --records proves done
+    std::vector<std::string> words; // the command line after "render" (flags digest of the records)
 };
+// Registers render's own flags (-o, --method, --debug-image, --records, --resume) on a command (render, farm submit).
+void addRenderOwnOptions(CLI::App& command, RenderOptions& render);
 int runRender(const RenderOptions& options);
 
 struct BenchOptions {
@@ -32,6 +38,8 @@ struct BenchOptions {
     std::string jsonFile, csvFile, markdownFile;
 };
 int runBench(const BenchOptions& options);
+// Registers bench's own flags (--method, --ray-type, --runs, --warmup, --steps, --json, --csv, --markdown).
+void addBenchOwnOptions(CLI::App& command, BenchOptions& bench);
 
 struct VerifyOptions {
     CommonOptions common;
@@ -86,6 +94,26 @@ struct ViewOptions {
 void addViewOptions(CLI::App& command, ViewOptions& options);
 // `arguments`: the words after `view`, handed to chcrt-view unchanged.
 int runView(const ViewOptions& options, const std::vector<std::string>& arguments);
+
+// `chcrt farm submit|bench|status|collect` (app/command_farm.cpp, docs/farm.md).
+struct FarmOptions {
+    RenderOptions render;         // farm submit: the render flags every task runs with
+    BenchOptions bench;           // farm bench: --scene and --camera-path take comma-separated lists
+    farm::SlurmOptions slurm;
+    int chunk = 10;               // frames per array task
+    bool print = false, wait = false, force = false;
+    std::string target;           // status, collect: the submission's collected output or its .farm directory
+    std::string output;           // collect -o
+    bool partial = false;         // collect --partial
+    std::vector<std::string> words; // the command line after "submit" / "bench"
+    CLI::App* submitCommand = nullptr;
+    CLI::App* benchCommand = nullptr;
+    CLI::App* statusCommand = nullptr;
+    CLI::App* collectCommand = nullptr;
+};
+void addFarm(CLI::App& cli, FarmOptions& farm);
+bool farmSelected(const FarmOptions& farm);
+int runFarm(FarmOptions& farm);
 
 // Splits "a,b,c".
 std::vector<std::string> splitList(const std::string& text);

@@ -25,21 +25,35 @@ CLI::App* addDemo(CLI::App& cli, RenderOptions& demo) {
     return c;
 }
 
+} // namespace
+
+void addRenderOwnOptions(CLI::App& c, RenderOptions& render) {
+    c.add_option("-o,--output", render.output, "Output image; #### becomes the frame number")->required();
+    c.add_option("--method", render.method, "Tracing method: " + methodNames(false) + " (chcrt methods)")
+        ->capture_default_str();
+    c.add_option("--debug-image", render.debugImage,
+                 "CHC+RT debug image instead of the shaded frame: overdraw, subtrees, batches or cost (chcrt methods "
+                 "only)");
+    c.add_option("--records", render.records,
+                 "Append a JSON line per finished frame (frame, image checksum, flags digest, commit, statistics; "
+                 "docs/farm.md)");
+    c.add_flag("--resume", render.resume, "Skip the frames whose --records prove them done (same flags and build, "
+                                          "image unchanged)");
+}
+
+namespace {
+
 CLI::App* addRender(CLI::App& cli, RenderOptions& render) {
     CLI::App* c = cli.add_subcommand("render", "Render frames of a walkthrough to images");
     addCommonOptions(*c, render.common, kHeadlessShaded);
-    c->add_option("-o,--output", render.output, "Output image; #### becomes the frame number")->required();
-    c->add_option("--method", render.method, "Tracing method: " + methodNames(false) + " (chcrt methods)")
-        ->capture_default_str();
-    c->add_option("--debug-image", render.debugImage,
-                  "CHC+RT debug image instead of the shaded frame: overdraw, subtrees, batches or cost (chcrt methods "
-                  "only)");
+    addRenderOwnOptions(*c, render);
     return c;
 }
 
-CLI::App* addBench(CLI::App& cli, BenchOptions& bench) {
-    CLI::App* c = cli.add_subcommand("bench", "Compare tracing methods on the same rays (table, JSON, CSV)");
-    addCommonOptions(*c, bench.common, kHeadlessShaded); // --effects: frames of the image-error comparison
+} // namespace
+
+void addBenchOwnOptions(CLI::App& command, BenchOptions& bench) {
+    CLI::App* c = &command;
     c->add_option("--method", bench.methods, "Methods, comma-separated: " + methodNames() + " (chcrt methods)")
         ->capture_default_str();
     c->add_option("--ray-type", bench.rayTypes, "Ray types, comma-separated: primary, shadow, ao, diffuse")
@@ -53,6 +67,14 @@ CLI::App* addBench(CLI::App& cli, BenchOptions& bench) {
     c->add_option("--json", bench.jsonFile, "Write the table as JSON ({\"rows\": [...]})");
     c->add_option("--csv", bench.csvFile, "Write the table as CSV");
     c->add_option("--markdown", bench.markdownFile, "Write the table as markdown");
+}
+
+namespace {
+
+CLI::App* addBench(CLI::App& cli, BenchOptions& bench) {
+    CLI::App* c = cli.add_subcommand("bench", "Compare tracing methods on the same rays (table, JSON, CSV)");
+    addCommonOptions(*c, bench.common, kHeadlessShaded); // --effects: frames of the image-error comparison
+    addBenchOwnOptions(*c, bench);
     return c;
 }
 
@@ -121,6 +143,7 @@ int run(int argc, char** argv) {
     MethodsOptions methods;
     PrepareCommandOptions prepare;
     ViewOptions view;
+    FarmOptions farm;
     CLI::App* demoCommand = addDemo(cli, demo);
     CLI::App* renderCommand = addRender(cli, render);
     CLI::App* benchCommand = addBench(cli, bench);
@@ -129,16 +152,24 @@ int run(int argc, char** argv) {
     CLI::App* methodsCommand = addMethods(cli, methods);
     CLI::App* prepareCommand = addPrepare(cli, prepare);
     CLI::App* viewCommand = addView(cli, view);
+    addFarm(cli, farm);
     if (const std::optional<int> exit = parseCommandLine(cli, argc, argv)) return *exit;
 
     if (*demoCommand) return runRender(demo);
-    if (*renderCommand) return runRender(render);
+    if (*renderCommand) {
+        render.words = argumentsAfter("render", argc, argv);
+        return runRender(render);
+    }
     if (*benchCommand) return runBench(bench);
     if (*verifyCommand) return runVerify(verify);
     if (*infoCommand) return runInfo(info);
     if (*methodsCommand) return runMethods(methods);
     if (*viewCommand) return runView(view, argumentsAfter("view", argc, argv));
     if (*prepareCommand) return runPrepare(prepare);
+    if (farmSelected(farm)) {
+        farm.words = argumentsAfter(*farm.submitCommand ? "submit" : "bench", argc, argv);
+        return runFarm(farm);
+    }
     return kExitBadInput;
 }
 

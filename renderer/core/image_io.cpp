@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <unistd.h>
 
 namespace chcrt {
 
@@ -127,9 +128,10 @@ void writeImage(const fs::path& file, const ImageRgba32f& image, bool alreadyDis
     if (!directory.empty() && !fs::is_directory(directory, ec)) {
         throw InputError(file.string() + ": directory \"" + directory.string() + "\" does not exist");
     }
-    // Same directory as the target so that the rename cannot cross file systems (and so is atomic).
+    // Same directory as the target so that the rename cannot cross file systems (and so is atomic); the process id
+    // keeps two processes writing the same image (two farm tasks) from sharing a temporary file.
     fs::path temp = file;
-    temp.replace_filename(file.stem().string() + ".tmp" + file.extension().string());
+    temp.replace_filename(file.stem().string() + ".tmp" + std::to_string(::getpid()) + file.extension().string());
     try {
         writeWithOiio(temp, image, *kind, alreadyDisplayEncoded);
         fs::rename(temp, file);

@@ -1,0 +1,216 @@
+#include "app/farm.h"
+
+#include "app/render_records.h"
+#include "renderer/core/frame_range.h"
+
+#include <algorithm>
+#include <map>
+#include <sstream>
+
+namespace chcrt::app::farm {
+namespace fs = std::filesystem;
+
+const char* toString(Kind kind) { return kind == Kind::Render ? "render" : "bench"; }
+
+fs::path farmDirectoryOf(const fs::path& collectedOutput) {
+    fs::path dir = collectedOutput;
+    dir.replace_extension(".farm");
+    return dir;
+}
+
+std::vector<std::vector<int>> chunkFrames(const std::vector<int>& frames, int chunk) {
+    std::vector<std::vector<int>> chunks;
+    for (size_t i = 0; i < frames.size(); i += size_t(chunk)) {
+        chunks.emplace_back(frames.begin() + long(i), frames.begin() + long(std::min(frames.size(), i + size_t(chunk))));
+    }
+    return chunks;
+}
+
+std::string frameSelection(const std::vector<int>& frames) {
+    std::string text;
+    for (size_t i = 0; i < frames.size();) {
+        size_t j = i;
+        while (j + 1 < frames.size() && frames[j + 1] == frames[j] + 1) ++j;
+        if (!text.empty()) text += ",";
+        text += std::to_string(frames[i]);
+        if (j > i) text += "-" + std::to_string(frames[j]);
+        i = j + 1;
+    }
+    return text;
+}
+
+std::vector<std::string> wordsWithout(const std::vector<std::string>& words,
+                                      const std::vector<std::string>& flagsWithValue,
+                                      const std::vector<std::string>& switches) {
+    auto named = [](const std::vector<std::string>& list, const std::string& w) {
+        return std::find(list.begin(), list.end(), w) != list.end();
+    };
+    std::vector<std::string> kept;
+    for (size_t i = 0; i < words.size(); ++i) {
+        const std::string& w = words[i];
+        const std::string name = w.substr(0, w.find('='));
+        if (named(switches, w)) continue;
+        if (named(flagsWithValue, name)) {
+            if (name == w) ++i; // "--chunk 10": the value is the next word
+            continue;
+        }
+        kept.push_back(w);
+    }
+    return kept;
+}
+
+std::string shellQuote(const std::string& word) {
+    std::string quoted = "'";
+    for (char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return quoted + "'";
+}
+
+namespace {
+
+// A word for the script, with %j and %t (job id, array index) expanded by bash at run time.
+std::string scriptWord(const std::string& word) {
+    if (word.find("%j") == std::string::npos && word.find("%t") == std::string::npos) return shellQuote(word);
+    std::string quoted = "\"";
+    for (size_t i = 0; i < word.size(); ++i) {
+        if (word.compare(i, 2, "%j") == 0) {
+            quoted += "${job}";
+            ++i;
+        } else if (word.compare(i, 2, "%t") == 0) {
+            quoted += "${task}";
+            ++i;
+        } else {
+            if (word[i] == '"' || word[i] == '$' || word[i] == '`' || word[i] == '\\') quoted += '\\';
+            quoted += word[i];
+        }
+    }
+    return quoted + "\"";
+}
+
+void addDirective(std::ostringstream& s, const std::string& name, const std::string& value) {
+    if (!value.empty()) s << "#SBATCH --" << name << "=" << value << "\n";
+}
+
+} // namespace
+
+std::string sbatchScript(const Plan& plan) {
+    std::ostringstream s;
+    const SlurmOptions& o = plan.slurm;
+    s << "#!/bin/bash\n"
+      << "# chcrt farm: " << toString(plan.kind) << ", " << plan.tasks.size()
+      << " array task(s); written by `chcrt farm` (docs/farm.md)\n";
+    addDirective(s, "job-name", o.jobName.empty() ? std::string("chcrt-") + toString(plan.kind) : o.jobName);
+    addDirective(s, "array", "0-" + std::to_string(plan.tasks.size() - 1));
+    addDirective(s, "output", (plan.directory / "logs" / "%A_%a.out").string());
+    addDirective(s, "chdir", plan.workingDirectory.string());
+    addDirective(s, "partition", o.partition);
+    addDirective(s, "time", o.time);
+    addDirective(s, "mem", o.mem);
+    addDirective(s, "account", o.account);
+    addDirective(s, "gres", o.gres);
+    if (o.cpusPerTask > 0) addDirective(s, "cpus-per-task", std::to_string(o.cpusPerTask));
+    if (o.gpusPerTask > 0) addDirective(s, "gpus-per-task", std::to_string(o.gpusPerTask));
+    for (const std::string& extra : o.extra) s << "#SBATCH " << extra << "\n";
+    s << "set -u\n"
+      << "job=${SLURM_ARRAY_JOB_ID:-local}\n"
+      << "task=${SLURM_ARRAY_TASK_ID:?run this script with sbatch}\n"
+      << "parts=" << shellQuote((plan.directory / "parts").string()) << "\n"
+      << "# llvmpipe renders with as many threads as the task has CPUs (a GPU ignores this).\n"
+      << "cpus=${SLURM_CPUS_PER_TASK:-${SLURM_CPUS_ON_NODE:-}}\n"
+      << "if [[ -n $cpus && -z ${LP_NUM_THREADS:-} ]]; then export LP_NUM_THREADS=$cpus; fi\n";
+    s << "case $task in\n";
+    for (size_t t = 0; t < plan.tasks.size(); ++t) {
+        const Task& task = plan.tasks[t];
+        s << "  " << t << ")\n    label=" << shellQuote(task.label) << "\n    words=(";
+        for (size_t w = 0; w < task.words.size(); ++w) s << (w ? " " : "") << scriptWord(task.words[w]);
+        s << ")\n    ;;\n";
+    }
+    s << "  *) echo \"chcrt farm: no array task $task\" >&2; exit 2 ;;\nesac\n";
+    s << "gl_device=()\n";
+    if (o.usesGpus()) {
+        // The GPU Slurm bound to this task (physical index; CUDA_VISIBLE_DEVICES when Slurm does not say) is the
+        // EGL device it renders on: no fall-back to another GPU or to a software rasteriser.
+        s << "gpu=${SLURM_JOB_GPUS:-${SLURM_STEP_GPUS:-${CUDA_VISIBLE_DEVICES:-}}}\n"
+          << "if [[ -n $gpu ]]; then gl_device=(--gl-device \"${gpu%%,*}\"); fi\n";
+    }
+    s << "exit_file=\"${parts}/" << (plan.kind == Kind::Render ? "${job}_${task}.jsonl" : "row_${task}.exit.jsonl")
+      << "\"\n"
+      << "start=$(date +%s.%N)\n"
+      << shellQuote(plan.binary.string());
+    for (const std::string& w : plan.command) s << " " << shellQuote(w);
+    s << " \"${words[@]}\" \"${gl_device[@]}\" -q\n"
+      << "rc=$?\n"
+      << "wall=$(awk -v a=\"$start\" -v b=\"$(date +%s.%N)\" 'BEGIN { printf \"%.3f\", b - a }')\n"
+      << "printf '{\"task_exit\": %d, \"label\": \"%s\", \"host\": \"%s\", \"job\": \"%s\", \"task\": %d, "
+         "\"wall_s\": %s}\\n' \"$rc\" \"$label\" \"$(hostname)\" \"$job\" \"$task\" \"$wall\" >> \"$exit_file\"\n"
+      << "exit $rc\n";
+    return s.str();
+}
+
+namespace {
+
+// The parts' records files, oldest first (a newer record of a frame replaces an older one).
+std::vector<fs::path> recordsFiles(const fs::path& partsDirectory) {
+    std::vector<fs::path> files;
+    std::error_code error;
+    if (!fs::is_directory(partsDirectory, error)) return files;
+    for (const fs::directory_entry& e : fs::directory_iterator(partsDirectory)) {
+        if (e.path().extension() == ".jsonl" && e.path().filename().string().rfind("row_", 0) != 0) {
+            files.push_back(e.path());
+        }
+    }
+    std::sort(files.begin(), files.end(), [](const fs::path& a, const fs::path& b) {
+        std::error_code ea, eb;
+        const auto ta = fs::last_write_time(a, ea), tb = fs::last_write_time(b, eb);
+        return ta != tb ? ta < tb : a < b;
+    });
+    return files;
+}
+
+} // namespace
+
+std::map<int, ProvenFrame> provenFrames(const fs::path& partsDirectory, const std::vector<int>& frames,
+                                        const std::string& outputPattern, const std::string& digest,
+                                        const std::string& commit) {
+    std::map<int, ProvenFrame> proven;
+    const std::vector<int> sorted = [&] {
+        std::vector<int> f = frames;
+        std::sort(f.begin(), f.end());
+        return f;
+    }();
+    for (const fs::path& file : recordsFiles(partsDirectory)) {
+        for (const FrameRecord& r : readRecordsFile(file).frames) {
+            if (!std::binary_search(sorted.begin(), sorted.end(), r.frame)) continue;
+            // The name a render of all the submission's frames gives the frame (the farm requires '#').
+            const std::string expected = formatFramePath(outputPattern, r.frame, int(frames.size()));
+            if (recordProvesFrame(r, expected, digest, commit)) proven[r.frame] = {r.stats, file.filename().string()};
+        }
+    }
+    return proven;
+}
+
+std::vector<TaskOutcome> renderTaskOutcomes(const fs::path& partsDirectory) {
+    std::vector<TaskOutcome> outcomes;
+    for (const fs::path& file : recordsFiles(partsDirectory)) {
+        const RecordsFile records = readRecordsFile(file);
+        TaskOutcome t;
+        t.part = file.filename().string();
+        t.started = !records.headers.empty();
+        if (t.started) {
+            t.header = records.headers.back();
+            t.host = t.header.value("host", "");
+        }
+        if (records.taskExit) {
+            t.exited = true;
+            t.exitCode = records.taskExit->exitCode;
+            const nlohmann::json& f = records.taskExit->fields;
+            if (f.contains("host") && f["host"].is_string()) t.host = f["host"].get<std::string>();
+            if (f.contains("wall_s") && f["wall_s"].is_number()) t.wallSeconds = f["wall_s"].get<double>();
+            if (f.contains("label") && f["label"].is_string()) t.label = f["label"].get<std::string>();
+        }
+        for (const FrameRecord& r : records.frames) t.framesRendered.push_back(r.frame);
+        outcomes.push_back(std::move(t));
+    }
+    return outcomes;
+}
+
+} // namespace chcrt::app::farm
