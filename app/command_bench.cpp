@@ -38,6 +38,10 @@ struct MethodResult {
     outofcore::OutOfCoreStats outOfCore; // --out-of-core: Table 3 counters over the timed runs
     nlohmann::json outOfCoreFrames = nlohmann::json::array(); // per trace of the first timed run
     uint64_t steps = 0, stepRays = 0; // --steps: traversal steps over the active rays of the first timed run
+    // Per frame (index into Bench::frames): its tracing time per timed run (all samples), and CHC+RT counters
+    // summed over the timed runs, for the curves along the walkthrough (row field frame_times).
+    std::vector<std::vector<double>> frameRunMs;
+    std::vector<ChcrtStats> frameChcrt;
 };
 
 uint64_t countActive(const std::vector<Ray>& rays) {
@@ -75,6 +79,7 @@ struct Bench {
     std::unique_ptr<EmbreeTracer> embree;
     HitTolerance tolerance;
     std::map<std::string, ls::ImageError> imageErrors;
+    MachineSnapshot started = takeMachineSnapshot(); // load average before the benchmark, for the JSON
 
     Tracer* tracer(const std::string& m) const { return m == kPureBvhMethod ? nullptr : tracers.at(m).get(); }
     Renderer& renderer() { return *gpu.renderer; }
@@ -110,6 +115,7 @@ void makeTracers(Bench& b, bool wantEmbree) {
 struct Pass {
     RayType type;
     int frame = 0, sample = 0;
+    size_t frameIndex = 0; // into Bench::frames
     Camera camera;
     bool timed = false, compare = false; // compare hits (and count steps) once, in the first timed run
     std::vector<Ray> rays;
@@ -155,7 +161,11 @@ void tracePass(Bench& b, Pass& pass, const std::string& m, double& runMs, Method
     runMs += methodStats.traceMs();
     ChcrtTracer* chcrt = outOfCore ? &outOfCore->chcrt() : dynamic_cast<ChcrtTracer*>(b.tracer(m));
     if (chcrt) {
-        if (pass.timed) result.chcrt += chcrt->totalStats(); // CHC+RT counters (no warm-up)
+        if (pass.timed) {
+            result.chcrt += chcrt->totalStats(); // CHC+RT counters (no warm-up)
+            if (result.frameChcrt.size() <= pass.frameIndex) result.frameChcrt.resize(b.frames.size());
+            result.frameChcrt[pass.frameIndex] += chcrt->totalStats();
+        }
         chcrt->resetStats();
     }
     if (comparing) {
@@ -178,6 +188,17 @@ void traceEmbree(Bench& b, const Pass& pass, double& runMs, MethodResult& result
     result.comparison.add(compareHits(b.session.scene, pass.rays, pass.bvhHits, reference, isAnyHit(pass.type), b.tolerance));
 }
 
+// The time each method spent on one frame of a timed run (its runMs grew by that much over the frame).
+void addFrameTimes(const Bench& b, size_t frameIndex, const std::map<std::string, double>& before,
+                   std::map<std::string, double>& after, std::map<std::string, MethodResult>& results) {
+    for (auto& [m, ms] : after) {
+        MethodResult& r = results[m];
+        if (r.frameRunMs.size() < b.frames.size()) r.frameRunMs.resize(b.frames.size());
+        const auto was = before.find(m);
+        r.frameRunMs[frameIndex].push_back(ms - (was == before.end() ? 0.0 : was->second));
+    }
+}
+
 // Every run, frame and sample of one ray type: the rays are generated once and each method traces those.
 std::map<std::string, MethodResult> benchRayType(Bench& b, RayType type, uint64_t& progressDone) {
     Renderer& renderer = b.renderer();
@@ -185,9 +206,11 @@ std::map<std::string, MethodResult> benchRayType(Bench& b, RayType type, uint64_
     std::map<std::string, MethodResult> results;
     for (int run = 0; run < b.options.warmupRuns + b.options.runs; ++run) {
         std::map<std::string, double> runMs;
-        for (int frame : b.frames) {
-            Pass pass{type, frame, 0, b.session.path.cameraAtFrame(frame), run >= b.options.warmupRuns,
+        for (size_t frameIndex = 0; frameIndex < b.frames.size(); ++frameIndex) {
+            const int frame = b.frames[frameIndex];
+            Pass pass{type, frame, 0, frameIndex, b.session.path.cameraAtFrame(frame), run >= b.options.warmupRuns,
                       run == b.options.warmupRuns};
+            const std::map<std::string, double> msBefore = runMs;
             FrameStats scratch;
             if (type != RayType::Primary) {
                 // Not in core: the G-buffer comes from out-of-core primary rays (docs/outofcore.md).
@@ -208,6 +231,7 @@ std::map<std::string, MethodResult> benchRayType(Bench& b, RayType type, uint64_
                 for (const std::string& m : b.methods) results[m].activeRays += active;
                 if (b.embree) traceEmbree(b, pass, runMs["embree"], results["embree"]);
             }
+            if (pass.timed) addFrameTimes(b, frameIndex, msBefore, runMs, results);
             b.session.progress->update(++progressDone);
         }
         if (run < b.options.warmupRuns) continue;
@@ -255,6 +279,40 @@ void addImageError(nlohmann::json& row, const ls::ImageError& e, const RenderSet
         // The hit comparison runs in the first timed run: differing any-hit answers / active rays.
         row["shadow_samples_differing_fraction"] = double(diff) / (raysPerFrame * double(frames));
     }
+}
+
+// frame_times: each frame's tracing time per timed run and, for CHC+RT rows, its counters as means over the timed
+// runs (the `frames` field already holds the frame count, which readers of older JSON rely on).
+nlohmann::json frameTimesJson(const Bench& b, const MethodResult& r) {
+    nlohmann::json frames = nlohmann::json::array();
+    for (size_t i = 0; i < r.frameRunMs.size() && i < b.frames.size(); ++i) {
+        nlohmann::json f = {{"frame", b.frames[i]}, {"ms_runs", r.frameRunMs[i]}};
+        if (i < r.frameChcrt.size() && r.frameChcrt[i].traces > 0) {
+            const ChcrtStats& c = r.frameChcrt[i];
+            const double runs = double(b.options.runs);
+            f["chcrt"] = {{"traces", double(c.traces) / runs},
+                          {"fallback_traces", double(c.fallbackTraces) / runs},
+                          {"queries", double(c.queries) / runs},
+                          {"subtrees_scheduled", double(c.subtreesScheduled) / runs},
+                          {"phase1_ms", c.phase1Ms / runs},
+                          {"phase2_ms", c.phase2Ms / runs},
+                          {"phase3_ms", c.phase3Ms / runs},
+                          {"fallback_ms", c.fallbackMs / runs}};
+        }
+        frames.push_back(std::move(f));
+    }
+    return frames;
+}
+
+// The CHC+RT configuration a row ran (after the method's defaults), so that tables can tell thresholds and forced
+// heights apart without knowing the command line.
+nlohmann::json chcrtOptionsJson(const ChcrtOptions& o) {
+    return {{"threshold", o.visibleThreshold},
+            {"height", o.partition.maxSubtreeHeight},
+            {"adaptive", o.adaptive},
+            {"adaptive_heights", o.adaptiveHeights},
+            {"queries", o.queries == ChcrtQueries::Gl ? "gl" : "bounds-only"},
+            {"min_tile", o.pairs.minTileSize}};
 }
 
 // The table row and JSON row of one method and ray type.
@@ -308,11 +366,28 @@ void addRows(Bench& b, RayType type, const std::string& m, const MethodResult& r
         j["frames"] = r.outOfCoreFrames;
         row["outofcore"] = j;
     }
-    if (r.chcrt.traces > 0) row["chcrt"] = chcrtStatsJson(r.chcrt, double(b.options.runs) * frames);
+    row["frame_times"] = frameTimesJson(b, r);
+    if (r.chcrt.traces > 0) {
+        row["chcrt"] = chcrtStatsJson(r.chcrt, double(b.options.runs) * frames);
+        Tracer* t = b.tracer(m); // a GPU method: only those count CHC+RT traces
+        auto* ooc = dynamic_cast<outofcore::OutOfCoreTracer*>(t);
+        const ChcrtTracer* chcrt = ooc ? &ooc->chcrt() : dynamic_cast<const ChcrtTracer*>(t);
+        if (chcrt) row["chcrt"]["options"] = chcrtOptionsJson(chcrt->options());
+    }
     rowsJson.push_back(std::move(row));
 }
 
+// The settings every row of the file shares, as they ran (defaults included), for readers that compare files.
+nlohmann::json settingsJson(const Bench& b) {
+    const RenderSettings& s = b.settings;
+    return {{"width", s.width}, {"height", s.height}, {"spp", s.samplesPerPixel}, {"effects", toString(s.effects)},
+            {"seed", s.seed}, {"rotation", s.rotationDegrees}, {"ao_length", s.aoLengthFraction},
+            {"exposure", s.exposure}, {"primary", toString(s.primaryVisibility)}, {"runs", b.options.runs},
+            {"warmup", b.options.warmupRuns}, {"steps", b.options.steps}};
+}
+
 void writeOutputs(const Bench& b, const Table& table, const nlohmann::json& rowsJson) {
+    const MachineSnapshot finished = takeMachineSnapshot();
     const GlInfo info = queryGlInfo();
     const SceneSession& session = b.session;
     std::printf("bench: %s (%s triangles%s), %zu frame(s) of %s, median of %d run(s) after %d warm-up, %s\n",
@@ -324,6 +399,11 @@ void writeOutputs(const Bench& b, const Table& table, const nlohmann::json& rows
         writeJsonFile(b.options.jsonFile, {{"scene", toJson(session.scene)},
                                            {"bvh", toJson(session.bvh.stats)},
                                            {"gl_renderer", info.renderer},
+                                           {"gl_vendor", info.vendor},
+                                           {"gl_version", info.version},
+                                           {"machine", machineJson(b.started, finished)},
+                                           {"command_line", processCommandLine()},
+                                           {"settings", settingsJson(b)},
                                            {"rows", rowsJson}});
     }
     if (!b.options.csvFile.empty()) writeTextFileAtomically(b.options.csvFile, table.toCsv());

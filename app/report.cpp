@@ -1,12 +1,16 @@
 #include "app/report.h"
 
+#include "app/build_info.h"
 #include "renderer/core/error.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
+#include <ctime>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
+#include <thread>
 
 namespace chcrt::app {
 
@@ -137,6 +141,53 @@ std::string formatCount(uint64_t value) {
     if (value >= 1'000'000) return formatFixed(double(value) / 1e6, 2) + "M";
     if (value >= 10'000) return formatFixed(double(value) / 1e3, 1) + "k";
     return std::to_string(value);
+}
+
+MachineSnapshot takeMachineSnapshot() {
+    MachineSnapshot s;
+    const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+    std::tm utc{};
+    gmtime_r(&now, &utc);
+    char buffer[32];
+    std::strftime(buffer, sizeof(buffer), "%Y-%m-%dT%H:%M:%SZ", &utc);
+    s.utc = buffer;
+    std::ifstream load("/proc/loadavg");
+    double value = 0.0;
+    for (int i = 0; i < 3 && load >> value; ++i) s.loadAverage.push_back(value);
+    return s;
+}
+
+namespace {
+
+std::string cpuModel() {
+    std::ifstream cpuinfo("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(cpuinfo, line)) {
+        if (line.rfind("model name", 0) != 0) continue;
+        const size_t colon = line.find(':');
+        if (colon != std::string::npos) return line.substr(line.find_first_not_of(" \t", colon + 1));
+    }
+    return "unknown";
+}
+
+} // namespace
+
+nlohmann::json machineJson(const MachineSnapshot& before, const MachineSnapshot& after) {
+    return {{"cpu", cpuModel()},
+            {"cores", std::thread::hardware_concurrency()},
+            {"commit", buildCommit()},
+            {"started_utc", before.utc},
+            {"finished_utc", after.utc},
+            {"load_before", before.loadAverage},
+            {"load_after", after.loadAverage}};
+}
+
+std::vector<std::string> processCommandLine() {
+    std::ifstream in("/proc/self/cmdline", std::ios::binary);
+    std::vector<std::string> words;
+    std::string word;
+    while (std::getline(in, word, '\0')) words.push_back(word);
+    return words;
 }
 
 nlohmann::json chcrtStatsJson(const ChcrtStats& s, double frames) {

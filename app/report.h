@@ -33,6 +33,18 @@ struct Table {
 std::string formatFixed(double value, int decimals);
 std::string formatCount(uint64_t value); // 1234567 -> "1.23M"
 
+// What a measurement ran on, taken before and after it (bench JSON "machine", stated by `chcrt report`): whether
+// the machine was loaded matters as much as the CPU, since the GL rasteriser may share it.
+struct MachineSnapshot {
+    std::string utc;                 // ISO 8601, seconds
+    std::vector<double> loadAverage; // 1, 5, 15 minutes (/proc/loadavg; empty where unreadable)
+};
+MachineSnapshot takeMachineSnapshot();
+// {cpu, cores, commit, started_utc, finished_utc, load_before, load_after}.
+nlohmann::json machineJson(const MachineSnapshot& before, const MachineSnapshot& after);
+// The process's own command line, word by word (/proc/self/cmdline), so outputs name the exact command.
+std::vector<std::string> processCommandLine();
+
 // CHC+RT counters (culling/chcrt_tracer.h) summed over `frames` frames: sums, per-frame means and Mrays/s over
 // the tracer's own wall time ("chcrt" object of bench rows and render frames).
 nlohmann::json chcrtStatsJson(const ChcrtStats& stats, double frames);
