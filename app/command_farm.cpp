@@ -223,7 +223,6 @@ void checkRenderFlags(const FarmOptions& f) {
 int submitRender(const FarmOptions& f) {
     checkRenderFlags(f);
     const std::vector<int> frames = explicitFrames(f.render.common.frames);
-    requireSbatch(f);
     const fs::path collected = fs::absolute(f.render.common.statsJson);
     const fs::path dir = farm::farmDirectoryOf(collected);
     // What every task runs: render with the submitted words minus the farm's, the frames and the statistics.
@@ -248,6 +247,7 @@ int submitRender(const FarmOptions& f) {
             return kExitOk;
         }
     }
+    requireSbatch(f); // only now: a finished sequence needs no Slurm to say so
     farm::Plan plan = basePlan(Kind::Render, dir, f);
     plan.command = {"render"};
     plan.command.insert(plan.command.end(), taskWords.begin(), taskWords.end());
@@ -257,7 +257,8 @@ int submitRender(const FarmOptions& f) {
         const std::string selection = farm::frameSelection(chunk);
         plan.tasks.push_back({{"--frames", selection, "--records", "%j_%t.jsonl", "--stats-json", "%j_%t.json"},
                               "frames " + selection,
-                              chunk});
+                              chunk,
+                              "%j_%t.jsonl"});
     }
     // Records and statistics are written in parts/ (relative words resolve there: see the script's cd below).
     for (farm::Task& t : plan.tasks) {
@@ -316,7 +317,6 @@ int submitBench(const FarmOptions& f) {
         warnIfSceneMissing(r.scene);
     }
     toRenderSettings(b.common, 1);
-    requireSbatch(f);
     const fs::path collected = fs::absolute(b.jsonFile);
     const fs::path dir = farm::farmDirectoryOf(collected);
     const std::vector<std::string> taskWords = farm::wordsWithout(
@@ -337,7 +337,10 @@ int submitBench(const FarmOptions& f) {
     refuseWhileQueued(old, dir);
     const bool sameRun = old.is_object() && old.value("kind", "") == "bench" && old["words"] == taskWords &&
                          old.value("commit", "") == commit && old["rows"].size() == rows.size();
-    if (!sameRun && fs::exists(dir / "parts")) fs::remove_all(dir / "parts"); // rows of other flags or another build
+    if (!sameRun) {
+        requireSbatch(f); // before the old rows go
+        if (fs::exists(dir / "parts")) fs::remove_all(dir / "parts"); // rows of other flags or another build
+    }
 
     farm::Plan plan = basePlan(Kind::Bench, dir, f);
     plan.command = {"bench"};
@@ -352,6 +355,7 @@ int submitBench(const FarmOptions& f) {
         t.words = {"--scene", rows[i].scene, "--method", rows[i].method, "--ray-type", rows[i].rayType, "--json", part.string()};
         if (!rows[i].path.empty()) t.words.insert(t.words.end(), {"--camera-path", rows[i].path});
         t.label = rows[i].label();
+        t.exitFile = "row_" + std::to_string(i) + ".exit.jsonl"; // the row's, whatever its array index
         plan.tasks.push_back(t);
         indices.push_back(i);
     }
@@ -360,7 +364,8 @@ int submitBench(const FarmOptions& f) {
                     (dir / "parts").c_str(), collected.c_str());
         return kExitOk;
     }
-    // Array index = position in plan.tasks; the exit line names the row file, so rename it per task.
+    requireSbatch(f);
+    // Array index = position in plan.tasks, which is not the row index once rows are done: labels name the row.
     for (size_t t = 0; t < plan.tasks.size(); ++t) plan.tasks[t].label = "row " + std::to_string(indices[t]) + ": " + plan.tasks[t].label;
     nlohmann::json manifest = {{"kind", "bench"},
                                {"collected", collected.string()},

@@ -33,7 +33,10 @@ std::string frameSelection(const std::vector<int>& frames) {
         while (j + 1 < frames.size() && frames[j + 1] == frames[j] + 1) ++j;
         if (!text.empty()) text += ",";
         text += std::to_string(frames[i]);
-        if (j > i) text += "-" + std::to_string(frames[j]);
+        if (j > i) {
+            text += '-';
+            text += std::to_string(frames[j]);
+        }
         i = j + 1;
     }
     return text;
@@ -122,7 +125,7 @@ std::string sbatchScript(const Plan& plan) {
         const Task& task = plan.tasks[t];
         s << "  " << t << ")\n    label=" << shellQuote(task.label) << "\n    words=(";
         for (size_t w = 0; w < task.words.size(); ++w) s << (w ? " " : "") << scriptWord(task.words[w]);
-        s << ")\n    ;;\n";
+        s << ")\n    exit_file=\"${parts}\"/" << scriptWord(task.exitFile) << "\n    ;;\n";
     }
     s << "  *) echo \"chcrt farm: no array task $task\" >&2; exit 2 ;;\nesac\n";
     s << "gl_device=()\n";
@@ -132,9 +135,7 @@ std::string sbatchScript(const Plan& plan) {
         s << "gpu=${SLURM_JOB_GPUS:-${SLURM_STEP_GPUS:-${CUDA_VISIBLE_DEVICES:-}}}\n"
           << "if [[ -n $gpu ]]; then gl_device=(--gl-device \"${gpu%%,*}\"); fi\n";
     }
-    s << "exit_file=\"${parts}/" << (plan.kind == Kind::Render ? "${job}_${task}.jsonl" : "row_${task}.exit.jsonl")
-      << "\"\n"
-      << "start=$(date +%s.%N)\n"
+    s << "start=$(date +%s.%N)\n"
       << shellQuote(plan.binary.string());
     for (const std::string& w : plan.command) s << " " << shellQuote(w);
     s << " \"${words[@]}\" \"${gl_device[@]}\" -q\n"

@@ -34,6 +34,7 @@ struct Task {
     std::vector<std::string> words;
     std::string label;       // "frames 0-9", "city near shadow chcrt"
     std::vector<int> frames; // render: the chunk's frames
+    std::string exitFile;    // in parts/: where the script appends the task's exit line ("%j_%t.jsonl", "row_3.exit.jsonl")
 };
 
 struct Plan {
@@ -63,7 +64,7 @@ std::vector<std::string> wordsWithout(const std::vector<std::string>& words,
 std::string shellQuote(const std::string& word);
 
 // The sbatch script of a plan: #SBATCH lines, the tasks' words per array index, the GPU binding, the run and
-// the exit line each task appends to its records (render: parts/<job>_<task>.jsonl; bench: row_<i>.exit.jsonl).
+// the exit line each task appends to its Task::exitFile (render: its records; bench: row_<i>.exit.jsonl).
 std::string sbatchScript(const Plan& plan);
 
 // The frames of a render submission that records in `partsDirectory` prove done for this digest and commit,

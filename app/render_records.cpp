@@ -102,8 +102,11 @@ bool recordProvesFrame(const FrameRecord& record, const std::string& expectedOut
 }
 
 RecordsWriter::RecordsWriter(const std::filesystem::path& file) : file_(file) {
-    out_ = std::fopen(file.c_str(), "a");
+    out_ = std::fopen(file.c_str(), "a+");
     if (!out_) throw InputError(file.string() + ": cannot open the records file for appending (does the directory exist?)");
+    // A run killed mid-line leaves a torn last line without its newline: end it, so that the first line appended
+    // now is not glued to it (and skipped with it when read).
+    if (std::fseek(out_, -1, SEEK_END) == 0 && std::fgetc(out_) != '\n') endTornLine_ = true;
 }
 
 RecordsWriter::~RecordsWriter() {
@@ -113,7 +116,10 @@ RecordsWriter::~RecordsWriter() {
 void RecordsWriter::append(const nlohmann::json& line) {
     // A line that does not reach the disk would make a finished frame look missing (rendered again), never the
     // reverse: the image is renamed into place before its record is written.
-    const std::string text = line.dump() + "\n";
+    std::string text = endTornLine_ ? std::string(1, '\n') : std::string();
+    text += line.dump();
+    text += '\n';
+    endTornLine_ = false;
     if (std::fwrite(text.data(), 1, text.size(), out_) != text.size() || std::fflush(out_) != 0 ||
         ::fsync(::fileno(out_)) != 0) {
         throw InputError(file_.string() + ": writing a record failed");

@@ -66,6 +66,7 @@ public:
 private:
     std::filesystem::path file_;
     std::FILE* out_ = nullptr;
+    bool endTornLine_ = false; // the file ended in a torn line
 };
 
 } // namespace chcrt::app

@@ -1,6 +1,7 @@
 // The CLI as users and scripts see it: exit codes, one-line errors, no partial output files, and the JSON
 // fields other tools rely on. Runs build/bin/chcrt (path injected by CMake) in a temporary directory.
 #include "renderer/core/image_io.h"
+#include "tests/app/cli_fixture.h"
 
 #include <nlohmann/json.hpp>
 
@@ -12,54 +13,11 @@
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
 #include <vector>
 
 namespace {
 
-namespace fs = std::filesystem;
-
-struct Result {
-    int exitCode = -1;
-    std::string output; // stdout and stderr
-};
-
-class CliTest : public ::testing::Test {
-protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() /
-               ("chcrt_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
-                std::to_string(::getpid()));
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
-    Result run(const std::string& arguments) const {
-        const std::string command = "cd '" + dir_.string() + "' && '" CHCRT_BINARY "' " + arguments + " 2>&1";
-        Result result;
-        FILE* pipe = ::popen(command.c_str(), "r");
-        if (!pipe) return result;
-        std::array<char, 4096> buffer;
-        while (size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) result.output.append(buffer.data(), n);
-        const int status = ::pclose(pipe);
-        result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        return result;
-    }
-
-    void write(const std::string& name, const std::string& text) const { std::ofstream(dir_ / name) << text; }
-    bool exists(const std::string& name) const { return fs::exists(dir_ / name); }
-    // No stray temp files either (atomic writes clean up after themselves).
-    size_t fileCount() const { return size_t(std::distance(fs::directory_iterator(dir_), fs::directory_iterator())); }
-    nlohmann::json readJson(const std::string& name) const {
-        std::ifstream in(dir_ / name);
-        return nlohmann::json::parse(in);
-    }
-
-    fs::path dir_;
-};
-
-constexpr const char* kSmall = "--width 48 --height 32 --spp 1 -q";
+using namespace chcrt::clitest;
 
 TEST_F(CliTest, HelpAndVersionSucceed) {
     const Result top = run("--help");
