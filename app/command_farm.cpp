@@ -291,8 +291,9 @@ struct BenchRow {
 
 std::vector<BenchRow> benchRows(const BenchOptions& b) {
     const std::vector<std::string> scenes = splitList(b.common.scene);
-    std::vector<std::string> paths = splitList(b.common.cameraPath);
-    if (paths.empty()) paths = {""}; // the scene's default walkthrough
+    // No --camera-path: each scene's default walkthrough.
+    const std::vector<std::string> paths = b.common.cameraPath.empty() ? std::vector<std::string>{""}
+                                                                        : splitList(b.common.cameraPath);
     std::vector<BenchRow> rows;
     for (const std::string& scene : scenes) {
         for (const std::string& path : paths) {
@@ -553,9 +554,16 @@ int benchCollect(const Submission& s, const FarmOptions& f) {
             ++missing;
             continue;
         }
-        if (out.empty()) out = {{"scene", part["scene"]}, {"bvh", part["bvh"]}, {"gl_renderer", part["gl_renderer"]}};
+        if (out.empty()) {
+            // The run-level fields of bench --json (scene, bvh, GL, machine, settings, ...) from the first row's task;
+            // every row carries its own scene and path.
+            out = part;
+            out.erase("rows");
+            out.erase("command_line"); // one per task, below
+        }
         for (const nlohmann::json& row : part["rows"]) rows.push_back(row);
-        nlohmann::json task = {{"row", st.rows[i]}, {"scene", part["scene"]}, {"gl_renderer", part["gl_renderer"]}};
+        nlohmann::json task = {{"row", st.rows[i]}, {"scene", part["scene"]}, {"gl_renderer", part["gl_renderer"]},
+                               {"command_line", part.value("command_line", nlohmann::json::array())}};
         if (st.exits[i]) {
             task["host"] = st.exits[i]->fields.value("host", "");
             task["wall_s"] = st.exits[i]->fields.value("wall_s", 0.0);

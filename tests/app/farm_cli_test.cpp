@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -131,6 +132,48 @@ TEST_F(CliTest, FarmScriptTasksRenderTheSameFramesAsOneLocalRender) {
     const Result again = run("farm submit --frames 0-11 --chunk 4 " + flags, "PATH=/nonexistent");
     EXPECT_EQ(again.exitCode, 0) << again.output;
     EXPECT_NE(again.output.find("all 12 frame(s) are done"), std::string::npos) << again.output;
+}
+
+// bench rows (scene x ray type x method) as array tasks; a row whose task never ran is the only one resubmitted,
+// and its exit line lands in its own row's file although it is array index 0 of the second job.
+TEST_F(CliTest, FarmBenchRowsResubmitOnlyTheMissingRowAndCollectInOrder) {
+    const std::string bench = "farm bench --scene city:10k,plane-and-box --ray-type shadow --method bvh,chcrt "
+                              "--frames 0 --runs 1 --warmup 0 --json out/bench.json --width 32 --height 24 -q --print";
+    ASSERT_EQ(run(bench, "PATH=/nonexistent").exitCode, 0);
+    auto runTask = [&](const std::string& script, int task) {
+        const std::string command = "cd '" + dir_.string() + "' && SLURM_ARRAY_TASK_ID=" + std::to_string(task) +
+                                    " SLURM_ARRAY_JOB_ID=9 bash " + script + " > /dev/null 2>&1";
+        return std::system(command.c_str());
+    };
+    for (int task : {0, 1, 3}) ASSERT_EQ(runTask("out/bench.farm/job-0.sbatch", task), 0) << "task " << task;
+    const Result partial = run("farm status out/bench.json", "PATH=/nonexistent");
+    EXPECT_EQ(partial.exitCode, 4) << partial.output;
+    EXPECT_NE(partial.output.find("missing  1"), std::string::npos) << partial.output;
+
+    const Result again = run(bench, "PATH=/nonexistent");
+    ASSERT_EQ(again.exitCode, 0) << again.output;
+    EXPECT_NE(again.output.find("#SBATCH --array=0-0\n"), std::string::npos) << again.output;
+    EXPECT_NE(again.output.find("'row_2.exit.jsonl'"), std::string::npos) << again.output;
+    ASSERT_EQ(runTask("out/bench.farm/job-1.sbatch", 0), 0);
+    EXPECT_TRUE(exists("out/bench.farm/parts/row_2.exit.jsonl"));
+    EXPECT_EQ(run("farm status out/bench.json", "PATH=/nonexistent").exitCode, 0);
+    const Result collect = run("farm collect out/bench.json");
+    ASSERT_EQ(collect.exitCode, 0) << collect.output;
+    const nlohmann::json j = readJson("out/bench.json");
+    // Each row task traces its method and pure BVH (the reference of its ratio): the method's rows, in row order.
+    std::vector<std::string> rows;
+    for (const nlohmann::json& row : j["rows"]) {
+        EXPECT_EQ(row["ray_type"], "shadow");
+        EXPECT_EQ(row["diff_pixels"], 0) << row["method"];
+        rows.push_back(row["scene"].get<std::string>() + " " + row["method"].get<std::string>());
+    }
+    EXPECT_FALSE(rows.empty());
+    EXPECT_TRUE(std::is_sorted(rows.begin(), rows.end(), [](const std::string& a, const std::string& b) {
+        return a.rfind("city", 0) == 0 && b.rfind("city", 0) != 0; // city's rows first: row order, not finish order
+    }));
+    ASSERT_EQ(j["tasks"].size(), 4u);
+    EXPECT_TRUE(j.contains("settings") && j.contains("gl_renderer") && j.contains("machine"));
+    for (const nlohmann::json& t : j["tasks"]) EXPECT_FALSE(t["command_line"].empty());
 }
 
 TEST_F(CliTest, FarmSubmitRefusesBadInputBeforeWritingAnything) {
