@@ -281,8 +281,14 @@ def method_order(methods):
 
 # ---------------------------------------------------------------------------------------------------------- figures
 
+NO_COMPARE = "the report has no compare study (every method over the scenes, paths and ray types)"
+
+
 def figure_frame_times(rep):
     title = "Frame time along the walkthrough (Figure 7)"
+    if not any(rep.data.rows("compare")):
+        rep.omit(title, NO_COMPARE)
+        return
     rows = [r for r in rep.data.rows("compare") if r.get("frame_times")]
     if not rows:
         rep.omit(title, "no compare row has per-frame times (bench JSON without frame_times)")
@@ -323,6 +329,9 @@ def figure_frame_times(rep):
 
 def figure_speedup(rep):
     title = "Speedup over pure BVH"
+    if not any(rep.data.rows("compare")):
+        rep.omit(title, NO_COMPARE)
+        return
     rows = [r for r in rep.data.rows("compare") if r["method"] != REFERENCE and r.get("speedup_vs_bvh") is not None]
     if not rows:
         rep.omit(title, "no compare rows besides pure BVH")
@@ -368,6 +377,9 @@ PHASES = [("phase1_ms", "phase 1 (queries / bounds)"), ("phase2_ms", "phase 2 (p
 
 def figure_phases(rep):
     title = "Time per phase (Figure 8)"
+    if not any(rep.data.rows("compare")):
+        rep.omit(title, NO_COMPARE)
+        return
     rows = [r for r in rep.data.rows("compare") if r["method"] in CHCRT_METHODS and isinstance(r.get("chcrt"), dict)
             and isinstance(r["chcrt"].get("per_frame"), dict)]
     if not rows:
@@ -402,6 +414,9 @@ def figure_phases(rep):
 
 
 def figure_counters_per_frame(rep, counter, name, title, ylabel, caption):
+    if not any(rep.data.rows("compare")):
+        rep.omit(title, NO_COMPARE)
+        return
     rows = [r for r in rep.data.rows("compare") if r["method"] in CHCRT_METHODS and r.get("frame_times")
             and any(isinstance(f.get("chcrt"), dict) and counter in f["chcrt"] for f in r["frame_times"])]
     if not rows:
@@ -439,6 +454,9 @@ def figure_counters_per_frame(rep, counter, name, title, ylabel, caption):
 
 def figure_culling_efficiency(rep):
     title = "Culling efficiency (time speedup / steps ratio)"
+    if not any(rep.data.rows("compare")):
+        rep.omit(title, NO_COMPARE)
+        return
     rows = []
     for r in rep.data.rows("compare"):
         ref = rep.data.reference(r)
@@ -778,6 +796,15 @@ def table_work(rep):
                "spread", "diff px"], out)
 
 
+def ls_mb(ls):
+    """Line Space MB of a row; an N-tree's are its Line Spaces and its node pool."""
+    if ls.get("mb") is not None:
+        return ls["mb"]
+    if ls.get("linespace_mb") is not None:
+        return ls["linespace_mb"] + (ls.get("node_pool_mb") or 0.0)
+    return None
+
+
 def table_linespace(rep):
     rows = sorted([r for r in rep.data.rows(("ls-rc", "ls-ao", "ls-ss", "ls-sscand", "ls-ntree"))
                    if r["method"] != REFERENCE], key=lambda r: (row_key(r), r["_study"], r["method"], ls_depth(r) or 0))
@@ -789,7 +816,7 @@ def table_linespace(rep):
         out.append([short_scene(r["scene"]), r["_study"], r["ray_type"], str(r.get("spp", "-")), r["method"],
                     ls.get("params", "-"), fmt(ref["ms_median"]) if ref else "-"] + speed_cells(r, ref)
                    + error_cells(r) + [f"{100 * shadow:.2f}%" if shadow is not None else "-",
-                                       fmt(ls.get("mb"), 1) if ls.get("mb") is not None else "-",
+                                       fmt(ls_mb(ls), 1) if ls_mb(ls) is not None else "-",
                                        fmt(ls.get("build_s"), 2) if ls.get("build_s") is not None else "-"])
     rep.table("linespace", "Line Space: speed against image error (RC / SS Table 1 shape)",
               "Line Space methods per parameter set: pure BVH's and the method's ms per frame, speedup with its "
