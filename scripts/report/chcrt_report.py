@@ -874,11 +874,16 @@ def warnings(data):
         out.append(f"The renderer is a software rasteriser ({', '.join(soft)}): absolute times are CPU times of the "
                    "GL driver and say little about a GPU; the ratios between methods traced in the same run are what "
                    "these numbers show.")
-    cores = (data.manifest.get("machine") or {}).get("cores") or 0
-    loads = [v for b in data.benches for v in ((b["json"].get("machine") or {}).get("load_before") or [])[:1]]
-    if cores and loads and max(loads) > cores:
-        out.append(f"The machine was loaded while measuring (1-minute load average up to {max(loads):.2f} on "
-                   f"{cores} cores): times may be inflated by other work.")
+    # The load before the first bench: later benches' load averages include the report's own earlier benches.
+    machine = data.manifest.get("machine") or {}
+    cores, before = machine.get("cores") or 0, (machine.get("load_before") or [None])[0]
+    if data.manifest.get("from_json"):
+        first = min((b["json"].get("machine") or {} for b in data.benches),
+                    key=lambda m: m.get("started_utc") or "~", default={})
+        cores, before = first.get("cores") or 0, (first.get("load_before") or [None])[0]
+    if cores and before is not None and before >= 0.5 * cores:
+        out.append(f"The machine was busy before the first bench (1-minute load average {before:.2f} on {cores} "
+                   "cores): other work may have inflated the times.")
     return out
 
 
