@@ -115,6 +115,12 @@ void addFarm(CLI::App& cli, FarmOptions& farm);
 bool farmSelected(const FarmOptions& farm);
 int runFarm(FarmOptions& farm);
 
+// `chcrt report`: a comparison's benches and renders, or bench JSON, as an HTML page, markdown tables and figures
+// (app/command_report.cpp, app/report_plan.h, docs/report.md).
+struct ReportOptions;
+CLI::App* addReport(CLI::App& cli, ReportOptions& report);
+int runReport(const ReportOptions& options);
+
 // Splits "a,b,c".
 std::vector<std::string> splitList(const std::string& text);
 

@@ -3,6 +3,7 @@
 // a one-line message and an exit code (app/commands.h, docs/cli.md).
 #include "app/commands.h"
 #include "app/methods.h"
+#include "app/report_plan.h"
 
 #include <CLI/CLI.hpp>
 
@@ -144,6 +145,7 @@ int run(int argc, char** argv) {
     PrepareCommandOptions prepare;
     ViewOptions view;
     FarmOptions farm;
+    ReportOptions report;
     CLI::App* demoCommand = addDemo(cli, demo);
     CLI::App* renderCommand = addRender(cli, render);
     CLI::App* benchCommand = addBench(cli, bench);
@@ -153,6 +155,7 @@ int run(int argc, char** argv) {
     CLI::App* prepareCommand = addPrepare(cli, prepare);
     CLI::App* viewCommand = addView(cli, view);
     addFarm(cli, farm);
+    CLI::App* reportCommand = addReport(cli, report);
     if (const std::optional<int> exit = parseCommandLine(cli, argc, argv)) return *exit;
 
     if (*demoCommand) return runRender(demo);
@@ -166,6 +169,7 @@ int run(int argc, char** argv) {
     if (*methodsCommand) return runMethods(methods);
     if (*viewCommand) return runView(view, argumentsAfter("view", argc, argv));
     if (*prepareCommand) return runPrepare(prepare);
+    if (*reportCommand) return runReport(report);
     if (farmSelected(farm)) {
         farm.words = argumentsAfter(*farm.submitCommand ? "submit" : "bench", argc, argv);
         return runFarm(farm);

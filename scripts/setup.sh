@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Sets up a Debian 12 machine for chcrt and builds it:
-#   1. installs the Debian packages the build needs, only those that are missing (apt-get; as root, or through
-#      sudo when available — otherwise it prints the apt-get command to run and stops);
+#   1. installs the Debian packages the build and `chcrt report` need (python3-matplotlib for its figures,
+#      chromium for its page's test), only those that are missing (apt-get; as root, or through sudo when
+#      available — otherwise it prints the apt-get command to run and stops);
 #   2. configures (CMake + Ninja, Release) into build/ and builds everything.
 # Options (environment): CHCRT_BUILD_DIR (default build), CHCRT_WERROR=ON (warnings are errors; CI sets it),
 # CHCRT_SANITIZE=ON (AddressSanitizer + UndefinedBehaviorSanitizer), CHCRT_CMAKE_ARGS (extra CMake arguments),
@@ -15,6 +16,7 @@ packages=(
   libglm-dev libtinygltf-dev libimgui-dev libopenimageio-dev openimageio-tools
   libembree-dev libtbb-dev libgtest-dev nlohmann-json3-dev libcli11-dev
   xvfb xauth
+  python3-matplotlib chromium
 )
 
 missing=()
