@@ -421,6 +421,7 @@ int runBench(const BenchOptions& options) {
     for (const std::string& m : methods) wantEmbree |= !findMethod(m).gpu;
     if (options.runs < 1) throw InputError("--runs must be at least 1");
     if (options.warmupRuns < 0) throw InputError("--warmup must not be negative");
+    checkOutputFiles({options.jsonFile, options.csvFile, options.markdownFile});
     Bench b{options, toRenderSettings(o, 1), openSceneSession(o)};
     b.methods = methods;
     b.frames = selectFrames(o, b.session.path, "spread:5");

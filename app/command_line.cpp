@@ -7,8 +7,10 @@
 #include "app/viewer/view_modes.h"
 #include "renderer/core/error.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
+#include <vector>
 
 namespace chcrt::app {
 
@@ -17,7 +19,12 @@ std::vector<std::string> splitList(const std::string& text) {
     std::stringstream stream(text);
     std::string item;
     while (std::getline(stream, item, ',')) {
-        if (!item.empty()) items.push_back(item);
+        if (item.empty()) continue;
+        // A name twice is a slip (bench would measure a method twice), never a request.
+        if (std::find(items.begin(), items.end(), item) != items.end()) {
+            throw InputError("'" + item + "' is listed twice in '" + text + "'");
+        }
+        items.push_back(item);
     }
     if (items.empty()) throw InputError("empty list '" + text + "'");
     return items;
@@ -38,6 +45,54 @@ int runReportingErrors(const std::function<int()>& body) {
     }
 }
 
+namespace {
+
+size_t editDistance(const std::string& a, const std::string& b) {
+    std::vector<size_t> row(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+        size_t diagonal = row[0];
+        row[0] = i;
+        for (size_t j = 1; j <= b.size(); ++j) {
+            const size_t above = row[j];
+            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+            diagonal = above;
+        }
+    }
+    return row[b.size()];
+}
+
+// "unknown command 'rendr' (did you mean 'render'? ...)" when the words before the first flag name no command of
+// the (sub)command they follow; empty when they do. CLI11 itself only says that a subcommand is required.
+std::string unknownCommandMessage(CLI::App& cli, int argc, char** argv) {
+    CLI::App* app = &cli;
+    std::string path = "chcrt";
+    for (int i = 1; i < argc; ++i) {
+        const std::string word = argv[i];
+        if (word.empty() || word[0] == '-') return {};
+        const std::vector<CLI::App*> commands = app->get_subcommands([](CLI::App*) { return true; });
+        if (commands.empty()) return {};
+        CLI::App* next = nullptr;
+        std::string names, nearest;
+        size_t best = 3; // suggest only names within two edits
+        for (CLI::App* c : commands) {
+            if (c->get_name() == word) next = c;
+            names += (names.empty() ? "" : ", ") + c->get_name();
+            const size_t d = editDistance(word, c->get_name());
+            if (d < best) best = d, nearest = c->get_name();
+        }
+        if (!next) {
+            return "unknown command '" + word + "' of " + path + (nearest.empty() ? "" : " (did you mean '" + nearest + "'?)") +
+                   "; commands: " + names;
+        }
+        app = next;
+        path += " " + word;
+    }
+    return {};
+}
+
+} // namespace
+
 std::optional<int> parseCommandLine(CLI::App& cli, int argc, char** argv) {
     try {
         cli.parse(argc, argv);
@@ -48,7 +103,8 @@ std::optional<int> parseCommandLine(CLI::App& cli, int argc, char** argv) {
     } catch (const CLI::CallForVersion& e) {
         return cli.exit(e);
     } catch (const CLI::ParseError& e) {
-        std::fprintf(stderr, "chcrt: error: %s (see chcrt --help)\n", e.what());
+        const std::string unknown = unknownCommandMessage(cli, argc, argv);
+        std::fprintf(stderr, "chcrt: error: %s (see chcrt --help)\n", unknown.empty() ? e.what() : unknown.c_str());
         return kExitBadInput;
     }
     return std::nullopt;

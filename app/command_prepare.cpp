@@ -2,6 +2,7 @@
 // out-of-core rendering (renderer/outofcore/, docs/outofcore.md).
 #include "app/commands.h"
 #include "renderer/core/error.h"
+#include "renderer/core/output_path.h"
 #include "renderer/outofcore/prepare.h"
 
 #include <cstdio>
@@ -12,6 +13,7 @@ int runPrepare(const PrepareCommandOptions& o) {
     if (o.output.empty()) throw InputError("prepare: -o <file.chs> is required");
     if (std::filesystem::path(o.output).extension() != ".chs") throw InputError("prepare: the output must end in .chs");
     if (o.memoryMb < 1) throw InputError("--memory-mb must be positive");
+    checkOutputPath(o.output);
     outofcore::PrepareOptions options;
     options.memoryBytes = o.memoryMb << 20;
     options.subtreeTriangles = o.subtreeTriangles;

@@ -263,9 +263,11 @@ int runRender(const RenderOptions& options) {
     const RenderSettings settings = toRenderSettings(o, 4);
     if (options.output.empty()) throw InputError("no output file: give -o out.png (#### is replaced by the frame number)");
     const ChcrtDebugImage debugImage = debugImageOf(options);
+    if (options.resume && options.records.empty()) throw InputError("--resume needs --records FILE (the records it resumes from)");
+    checkImageOutputPath(formatFramePath(options.output, 0, 1)); // every frame's file is in that directory
+    checkOutputFiles({o.statsJson, options.records});
     SceneSession session = openSceneSession(o);
     const std::vector<int> frames = selectFrames(o, session.path, "0");
-    if (options.resume && options.records.empty()) throw InputError("--resume needs --records FILE (the records it resumes from)");
     GpuSession gpu = openGpuSession(o, session, settings);
     const RenderTracer tracer = makeRenderTracer(options, debugImage, session, *gpu.renderer);
     const GlInfo info = queryGlInfo();

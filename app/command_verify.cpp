@@ -108,6 +108,7 @@ int runVerify(const VerifyOptions& options) {
     std::vector<RayType> rayTypes;
     for (const std::string& name : splitList(options.rayTypes)) rayTypes.push_back(parseRayType(name));
     const RenderSettings settings = toRenderSettings(o, 1);
+    checkOutputFiles({o.statsJson});
     SceneSession session = openSceneSession(o);
     if (!session.sceneInCore) {
         throw InputError("verify compares with in-core tracing: " + o.scene + " was not loaded in core (--load-in-core on)");

@@ -121,7 +121,7 @@ struct ReportOptions;
 CLI::App* addReport(CLI::App& cli, ReportOptions& report);
 int runReport(const ReportOptions& options);
 
-// Splits "a,b,c".
+// Splits "a,b,c"; an empty list or a name given twice is an InputError.
 std::vector<std::string> splitList(const std::string& text);
 
 // Runs `body` and turns the library's errors into a one-line message on stderr and an exit code: InputError 2,

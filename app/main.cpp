@@ -16,6 +16,13 @@ namespace {
 // Commands that render shaded images and open a headless GL context.
 constexpr uint8_t kHeadlessShaded = kShadedCommands | kHeadlessCommands;
 
+// A count's check with a message that says what is wrong (CLI11's NonNegativeNumber prints DBL_MAX in full).
+CLI::Validator notNegative() {
+    return CLI::Validator(
+        [](const std::string& text) { return text.rfind('-', 0) == 0 ? std::string("must not be negative") : std::string(); },
+        "NONNEGATIVE");
+}
+
 CLI::App* addDemo(CLI::App& cli, RenderOptions& demo) {
     demo.demo = true;
     demo.output = "demo.png";
@@ -88,8 +95,12 @@ CLI::App* addVerify(CLI::App& cli, VerifyOptions& verify) {
         ->capture_default_str();
     c->add_option("--ray-type", verify.rayTypes, "Ray types, comma-separated: primary, shadow, ao, diffuse")
         ->capture_default_str();
-    c->add_option("--max-diff", verify.maxDiffering, "Differing pixels tolerated")->capture_default_str();
-    c->add_option("--show-diff", verify.showDifferences, "Print up to N differing pixels with their ray and both hits");
+    // Counts: a negative one is a slip (-1 would wrap to "any number tolerated" and switch the check off).
+    c->add_option("--max-diff", verify.maxDiffering, "Differing pixels tolerated")
+        ->check(notNegative())
+        ->capture_default_str();
+    c->add_option("--show-diff", verify.showDifferences, "Print up to N differing pixels with their ray and both hits")
+        ->check(notNegative());
     return c;
 }
 

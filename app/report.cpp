@@ -11,11 +11,13 @@
 #include <iomanip>
 #include <sstream>
 #include <thread>
+#include <unistd.h>
 
 namespace chcrt::app {
 
 void writeTextFileAtomically(const std::filesystem::path& file, const std::string& text) {
-    const std::filesystem::path temp = file.string() + ".tmp";
+    // The process id keeps two processes writing the same file from sharing a temporary one.
+    const std::filesystem::path temp = file.string() + ".tmp" + std::to_string(::getpid());
     {
         std::ofstream out(temp, std::ios::binary | std::ios::trunc);
         if (!out) throw InputError(file.string() + ": cannot write (does the directory exist?)");

@@ -2,6 +2,7 @@
 
 #include "renderer/core/error.h"
 #include "renderer/core/frame_range.h"
+#include "renderer/core/output_path.h"
 #include "renderer/outofcore/chs_file.h"
 #include "renderer/scene/scene_loader.h"
 
@@ -79,9 +80,32 @@ bool loadPreparedInCore(const CommonOptions& o) {
     return outofcore::estimatedInCoreBytes(triangles) < ram / 4;
 }
 
+// A --scene that is neither a generator nor an existing file: say both, with the generators, rather than "no such
+// file" for what was meant as a generator ("town:10k"); a directory is named as one.
+void refuseWhatIsNoSceneFile(const std::string& scene) {
+    std::error_code error;
+    const std::filesystem::path file(scene);
+    if (std::filesystem::is_directory(file, error)) {
+        throw InputError(scene + ": is a directory, not a scene file (.gltf, .glb, .ply, .obj or .chs)");
+    }
+    if (!std::filesystem::exists(file, error)) {
+        throw InputError(scene + ": neither a scene file (no such file) nor a generator (" + proceduralGeneratorNames() +
+                         ", e.g. city:2m:seed=3)");
+    }
+}
+
+// Out-of-core budgets and choices only act with --out-of-core: say so rather than ignore them silently.
+void warnAboutOutOfCoreFlagsWithoutOutOfCore(const CommonOptions& o) {
+    if (o.outOfCoreScene.enabled) return;
+    for (const char* flag : {"--gpu-cache-mb", "--host-cache-mb", "--uploads-per-trace", "--cache-policy", "--load-in-core"}) {
+        if (o.isGiven(flag)) std::fprintf(stderr, "warning: %s has no effect without --out-of-core\n", flag);
+    }
+}
+
 } // namespace
 
 SceneSession openSceneSession(const CommonOptions& o, std::unique_ptr<Progress> progress) {
+    warnAboutOutOfCoreFlagsWithoutOutOfCore(o);
     SceneSession s;
     s.options = o;
     s.progress = progress ? std::move(progress) : makeTerminalProgress(!o.quiet);
@@ -104,6 +128,7 @@ SceneSession openSceneSession(const CommonOptions& o, std::unique_ptr<Progress> 
         s.procedural = spec;
         s.light = proceduralAreaLight(spec);
     } else {
+        refuseWhatIsNoSceneFile(o.scene);
         s.scene = loadSceneFile(o.scene, *s.progress);
         s.light = defaultAreaLight(s.scene);
     }
@@ -115,6 +140,9 @@ SceneSession openSceneSession(const CommonOptions& o, std::unique_ptr<Progress> 
 }
 
 std::vector<int> selectFrames(const CommonOptions& o, const CameraPath& path, const std::string& defaultFrames) {
+    if (o.frames.empty() && o.isGiven("--frames")) {
+        throw InputError("--frames is empty: give frames like 7, 1-100, 3,5-9 or all (see chcrt --help)");
+    }
     const std::string text = o.frames.empty() ? defaultFrames : o.frames;
     const int count = path.frameCount();
     std::vector<int> frames;
@@ -135,6 +163,12 @@ std::vector<int> selectFrames(const CommonOptions& o, const CameraPath& path, co
         }
     }
     return frames;
+}
+
+void checkOutputFiles(const std::vector<std::string>& files) {
+    for (const std::string& file : files) {
+        if (!file.empty()) checkOutputPath(file);
+    }
 }
 
 GpuSession openGpuSession(const CommonOptions& o, const SceneSession& s, const RenderSettings& settings) {

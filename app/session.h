@@ -38,6 +38,8 @@ SceneSession openSceneSession(const CommonOptions& options, std::unique_ptr<Prog
 // Frames to render: --frames if given, else `defaultFrames` of the path ("all" = every frame, "all:N" = every
 // N-th frame, "spread:N" = N frames evenly spread over the path). Frames past the path's end are an InputError.
 std::vector<int> selectFrames(const CommonOptions& options, const CameraPath& path, const std::string& defaultFrames);
+// Refuses (InputError) output files that could not be written, before any work: empty names are skipped.
+void checkOutputFiles(const std::vector<std::string>& files);
 
 struct GpuSession {
     std::unique_ptr<GlContext> context;

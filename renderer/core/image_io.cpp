@@ -1,6 +1,7 @@
 #include "renderer/core/image_io.h"
 
 #include "renderer/core/error.h"
+#include "renderer/core/output_path.h"
 
 #include <OpenImageIO/imageio.h>
 
@@ -111,29 +112,40 @@ void writeWithOiio(const fs::path& file, const ImageRgba32f& image, FileKind kin
 
 } // namespace
 
-void writeImage(const fs::path& file, const ImageRgba32f& image, bool alreadyDisplayEncoded) {
+namespace {
+
+FileKind imageKindOf(const fs::path& file) {
     const std::optional<FileKind> kind = kindFromExtension(file);
     if (!kind) {
         throw InputError(file.string() + ": unsupported image extension \"" + file.extension().string() +
                          "\" (use .png, .jpg, .exr, .hdr or .tif)");
     }
+    return *kind;
+}
+
+} // namespace
+
+void checkImageOutputPath(const fs::path& file) {
+    imageKindOf(file);
+    checkOutputPath(file);
+}
+
+void writeImage(const fs::path& file, const ImageRgba32f& image, bool alreadyDisplayEncoded) {
+    const FileKind kind = imageKindOf(file);
     if (image.width <= 0 || image.height <= 0 ||
         image.pixels.size() != size_t(image.width) * size_t(image.height) * 4) {
         throw InputError(file.string() + ": invalid image (" + std::to_string(image.width) + "x" +
                          std::to_string(image.height) + " with " + std::to_string(image.pixels.size()) +
                          " floats)");
     }
-    const fs::path directory = file.parent_path();
+    checkOutputPath(file);
     std::error_code ec;
-    if (!directory.empty() && !fs::is_directory(directory, ec)) {
-        throw InputError(file.string() + ": directory \"" + directory.string() + "\" does not exist");
-    }
     // Same directory as the target so that the rename cannot cross file systems (and so is atomic); the process id
     // keeps two processes writing the same image (two farm tasks) from sharing a temporary file.
     fs::path temp = file;
     temp.replace_filename(file.stem().string() + ".tmp" + std::to_string(::getpid()) + file.extension().string());
     try {
-        writeWithOiio(temp, image, *kind, alreadyDisplayEncoded);
+        writeWithOiio(temp, image, kind, alreadyDisplayEncoded);
         fs::rename(temp, file);
     } catch (const std::runtime_error& e) {
         fs::remove(temp, ec);

@@ -22,6 +22,9 @@ struct ImageRgba32f {
 // chosen by extension. `alreadyDisplayEncoded` skips the sRGB encode (for tone-mapped or debug images whose
 // values are display values). Throws InputError for an unsupported extension or an unwritable path.
 void writeImage(const std::filesystem::path& file, const ImageRgba32f& image, bool alreadyDisplayEncoded = false);
+// Throws InputError when writeImage could not write `file` (unknown extension, missing or unwritable directory),
+// so that commands refuse before rendering.
+void checkImageOutputPath(const std::filesystem::path& file);
 
 // Reads any format OpenImageIO reads into linear float RGBA (8-bit sources are sRGB-decoded).
 ImageRgba32f readImage(const std::filesystem::path& file);

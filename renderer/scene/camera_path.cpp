@@ -80,6 +80,13 @@ public:
                 fail("keyframe " + std::to_string(i) + ": ", why.str());
             }
         }
+        const double frames = std::floor(path.duration() * path.fps) + 1.0;
+        if (!(frames <= double(kMaxCameraPathFrames))) {
+            std::ostringstream why;
+            why << path.duration() << " s at " << path.fps << " fps is " << frames << " frames, more than the "
+                << kMaxCameraPathFrames << " a walkthrough may have (lower \"fps\")";
+            fail("", why.str());
+        }
         return path;
     }
 

@@ -28,6 +28,10 @@ struct CameraKeyframe {
     glm::vec3 up{0.0f, 1.0f, 0.0f};
 };
 
+// The most frames a walkthrough may have (about 92 hours at 30 fps): reading refuses longer ones, whose frame
+// lists (`--frames all`) could not be allocated.
+inline constexpr int kMaxCameraPathFrames = 10'000'000;
+
 struct CameraPath {
     std::string name; // file stem or generator name
     double fps = 30.0;

@@ -51,6 +51,8 @@ struct ProceduralSpec {
 // (e.g. "city:abc").
 bool parseProceduralSpec(const std::string& text, ProceduralSpec& spec);
 std::string toString(const ProceduralSpec& spec); // canonical form, e.g. "city:1000000:seed=1"
+// "city, interior, plant, plane-and-box, closed-box, one-triangle": the generators, for messages.
+std::string proceduralGeneratorNames();
 
 // Generates the scene. Materials have distinct base colours (facades, roofs, streets, ...). Normals are flat
 // per face (vertices are not shared across faces with different normals). Units: metres, +Y up.

@@ -108,6 +108,12 @@ bool parseProceduralSpec(const std::string& text, ProceduralSpec& spec) {
     return true;
 }
 
+std::string proceduralGeneratorNames() {
+    std::string names;
+    for (const KindName& entry : kKindNames) names += (names.empty() ? "" : ", ") + std::string(entry.name);
+    return names;
+}
+
 std::string toString(const ProceduralSpec& spec) {
     std::string name;
     for (const KindName& entry : kKindNames)

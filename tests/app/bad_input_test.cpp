@@ -1,0 +1,89 @@
+// Bad input found by trying the CLI as a new user would (issue list of docs/cli.md's exit codes): each is a
+// one-line error with exit 2 before any work is done, or a named warning, and leaves no output behind.
+#include "tests/app/cli_fixture.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace {
+
+using namespace chcrt::clitest;
+
+constexpr const char* kCity = "--scene city:10k --width 32 --height 24 -q ";
+
+// exit 2, the message contains `expected`, and the command did no work (no summary, no files).
+void expectRefused(const Result& r, const std::string& expected) {
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find(expected), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("render:"), std::string::npos) << "rendered before refusing:\n" << r.output;
+    EXPECT_EQ(r.output.find("bench:"), std::string::npos) << "benchmarked before refusing:\n" << r.output;
+}
+
+TEST_F(CliTest, NegativeCountsCannotSwitchVerifyOff) {
+    for (const char* flag : {"--max-diff -1", "--show-diff -1"}) {
+        const Result r = run(std::string("verify ") + kCity + flag);
+        expectRefused(r, "must not be negative");
+        EXPECT_EQ(r.output.find("0000000"), std::string::npos) << "no 300-digit range:\n" << r.output;
+    }
+}
+
+TEST_F(CliTest, EmptyFramesAndDuplicateListItemsAreErrors) {
+    expectRefused(run(std::string("render ") + kCity + "--frames '' -o a.png"), "--frames is empty");
+    expectRefused(run(std::string("bench ") + kCity + "--method bvh,chcrt,bvh --ray-type shadow"),
+                  "'bvh' is listed twice");
+    expectRefused(run(std::string("bench ") + kCity + "--method bvh --ray-type ao,ao"), "'ao' is listed twice");
+    EXPECT_EQ(fileCount(), 0u);
+}
+
+TEST_F(CliTest, OutOfCoreFlagsWithoutOutOfCoreAreNamedAsIneffective) {
+    const Result r = run(std::string("render ") + kCity + "--gpu-cache-mb 100 --cache-policy lru -o a.png");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("warning: --gpu-cache-mb has no effect without --out-of-core"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("warning: --cache-policy has no effect without --out-of-core"), std::string::npos) << r.output;
+    const Result quiet = run(std::string("render ") + kCity + "-o b.png");
+    EXPECT_EQ(quiet.output.find("warning"), std::string::npos) << quiet.output;
+}
+
+TEST_F(CliTest, ScenesThatAreNeitherFilesNorGeneratorsSaySo) {
+    const Result town = run("render --scene town:10k -o a.png -q");
+    expectRefused(town, "town:10k: neither a scene file (no such file) nor a generator (city, interior");
+    fs::create_directories(dir_ / "scenes");
+    expectRefused(run("render --scene scenes -o a.png -q"), "scenes: is a directory, not a scene file");
+    EXPECT_FALSE(exists("a.png"));
+}
+
+TEST_F(CliTest, MistypedCommandsSuggestTheNearest) {
+    expectRefused(run("rendr"), "unknown command 'rendr' of chcrt (did you mean 'render'?)");
+    expectRefused(run("farm sumbit --frames 0"), "unknown command 'sumbit' of chcrt farm (did you mean 'submit'?)");
+    const Result far = run("explode");
+    EXPECT_EQ(far.exitCode, 2);
+    EXPECT_EQ(far.output.find("did you mean"), std::string::npos) << "no suggestion more than two edits away:\n" << far.output;
+    EXPECT_NE(far.output.find("commands: demo, render"), std::string::npos) << far.output;
+}
+
+TEST_F(CliTest, EveryOutputPathIsCheckedBeforeTheWork) {
+    write("file", "a file, not a directory");
+    expectRefused(run(std::string("render ") + kCity + "-o file/a.png"), "\"file\" is a file, not a directory");
+    expectRefused(run(std::string("render ") + kCity + "-o a.png --stats-json missing/s.json"),
+                  "missing/s.json: directory \"missing\" does not exist");
+    expectRefused(run(std::string("render ") + kCity + "-o a.png --records missing/r.jsonl"),
+                  "directory \"missing\" does not exist");
+    expectRefused(run(std::string("render ") + kCity + "-o a.xyz"), "unsupported image extension");
+    expectRefused(run(std::string("bench ") + kCity + "--method bvh --ray-type shadow --csv missing/t.csv"),
+                  "missing/t.csv");
+    expectRefused(run(std::string("verify ") + kCity + "--stats-json file/v.json"), "is a file, not a directory");
+    expectRefused(run("prepare --scene city:10k -q -o missing/c.chs"), "directory \"missing\" does not exist");
+    EXPECT_FALSE(exists("a.png"));
+    EXPECT_EQ(fileCount(), 1u); // only "file"
+}
+
+TEST_F(CliTest, AWalkthroughTooLongForItsFrameListIsRefused) {
+    write("long.json", R"({"version": 1, "fps": 1e9, "keyframes": [{"t": 0, "eye": [0, 1, 0], "target": [0, 1, -1]},
+                         {"t": 1e9, "eye": [0, 1, 5], "target": [0, 1, -1]}]})");
+    const Result r = run(std::string("render ") + kCity + "--camera-path long.json --frames all -o a.png");
+    expectRefused(r, "more than the 10000000 a walkthrough may have");
+    EXPECT_FALSE(exists("a.png"));
+}
+
+} // namespace
