@@ -195,7 +195,7 @@ void fitUpperBoxes(std::vector<ChsUpperNode>& upper, const std::vector<ChsSubtre
 } // namespace
 
 ChsWriter::ChsWriter(const std::filesystem::path& file, const ChsWriterOptions& options)
-    : file_(file), temp_(file.string() + ".tmp"), options_(options) {
+    : file_(file), temp_(file.string() + ".tmp"), removeTempOnSignal_(temp_), options_(options) {
     if (options.subtreeTriangles == 0 || options.subtreeHeight == 0) {
         throw InputError("prepare: --subtree-triangles and --subtree-height must be positive");
     }

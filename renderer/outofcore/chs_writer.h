@@ -3,7 +3,9 @@
 // subtrees (CHC+RT §5.2: topmost nodes within the height and triangle limits) which are written at once; the
 // chunk keeps only its upper nodes in memory. finish() joins the chunks under a top-level SAH tree over their
 // root boxes, writes the metadata and the header, and renames the temp file into place, so an interrupted
-// prepare never leaves a file that looks valid.
+// prepare never leaves a file that looks valid; the temp file goes with an error (destructor) and with SIGINT,
+// SIGTERM or SIGHUP (RemoveOnSignal), and a stale one from a killed run is overwritten by the next.
+#include "renderer/core/signal_cleanup.h"
 #include "renderer/outofcore/chs_format.h"
 #include "renderer/scene/scene.h"
 
@@ -59,6 +61,7 @@ private:
     uint32_t writeSubtree(const SubtreeBlob& blob, uint32_t height);
 
     std::filesystem::path file_, temp_;
+    RemoveOnSignal removeTempOnSignal_;
     ChsWriterOptions options_;
     std::FILE* out_ = nullptr;
     uint64_t offset_ = 0;

@@ -4,7 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <csignal>
+#include <cstdlib>
 #include <string>
+#include <sys/wait.h>
 
 namespace {
 
@@ -87,3 +90,16 @@ TEST_F(CliTest, AWalkthroughTooLongForItsFrameListIsRefused) {
 }
 
 } // namespace
+
+// An interrupted prepare leaves no F.chs.tmp: the signal skips the writer's destructor, RemoveOnSignal's handler removes it.
+TEST_F(CliTest, AnInterruptedPrepareLeavesNoTemporaryFile) {
+    const std::string command = "cd '" + dir_.string() + "' && ('" CHCRT_BINARY "' prepare --scene city:3m -o big.chs -q & "
+                                "pid=$!; for i in $(seq 600); do [ -e big.chs.tmp ] && break; sleep 0.05; done; "
+                                "[ -e big.chs.tmp ] || exit 90; kill -TERM $pid; wait $pid; exit $?)";
+    const int status = std::system(command.c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    ASSERT_NE(WEXITSTATUS(status), 90) << "prepare never created its temporary file";
+    EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM) << "ended by the signal, not by an exit of its own";
+    EXPECT_FALSE(exists("big.chs.tmp"));
+    EXPECT_FALSE(exists("big.chs"));
+}
