@@ -4,12 +4,33 @@
 #include "app/methods.h"
 #include "app/report.h"
 #include "app/session.h"
+#include "renderer/core/error.h"
 #include "renderer/gl/context.h"
 #include "renderer/outofcore/chs_file.h"
 
 #include <cstdio>
+#include <string>
+#include <vector>
 
 namespace chcrt::app {
+namespace {
+
+constexpr size_t kReportedFailures = 10; // subtree failures printed by --check (all are counted)
+
+// Every subtree read back and checksummed; one message per subtree that fails (it names the file and subtree).
+std::vector<std::string> checkSubtrees(const outofcore::ChsFile& file) {
+    std::vector<std::string> failures;
+    for (uint32_t i = 0; i < file.header().subtreeCount; ++i) {
+        try {
+            (void)file.readSubtree(i);
+        } catch (const InputError& e) {
+            failures.push_back(e.what());
+        }
+    }
+    return failures;
+}
+
+} // namespace
 
 int runInfo(const InfoOptions& options) {
     const CommonOptions& o = options.common;
@@ -38,6 +59,17 @@ int runInfo(const InfoOptions& options) {
                          {"subtrees", h.subtreeCount}, {"upper_nodes", h.upperNodeCount}, {"parts", h.chunkCount},
                          {"file_bytes", h.fileBytes}, {"max_subtree_triangles", h.maxSubtreeTriangles},
                          {"max_subtree_nodes", h.maxSubtreeNodes}};
+        if (options.check) {
+            const std::vector<std::string> bad = checkSubtrees(file);
+            std::printf("  check        %u subtrees read: %s\n", h.subtreeCount,
+                        bad.empty() ? "every checksum matches" : (std::to_string(bad.size()) + " failed").c_str());
+            for (size_t i = 0; i < bad.size() && i < kReportedFailures; ++i) std::fprintf(stderr, "%s\n", bad[i].c_str());
+            j["prepared"]["check_failures"] = bad.size();
+            if (!o.statsJson.empty()) writeJsonFile(o.statsJson, j);
+            if (!bad.empty()) return kExitCheckFailed;
+        }
+    } else if (options.check) {
+        throw InputError("--check reads prepared scenes (.chs); " + (options.noScene ? std::string("--no-scene gives none") : o.scene + " is not one"));
     }
     if (!options.noScene && !outofcore::isPreparedScenePath(o.scene)) { // a .chs may not fit in core
         const SceneSession s = openSceneSession(o);

@@ -53,6 +53,7 @@ int runVerify(const VerifyOptions& options);
 struct InfoOptions {
     CommonOptions common;
     bool noScene = false;
+    bool check = false; // --check: read every subtree of a prepared scene and verify its checksum (exit 4 if any fails)
 };
 int runInfo(const InfoOptions& options);
 

@@ -108,6 +108,8 @@ CLI::App* addInfo(CLI::App& cli, InfoOptions& info) {
     CLI::App* c = cli.add_subcommand("info", "Print the OpenGL renderer, its limits and scene statistics");
     addCommonOptions(*c, info.common, kHeadlessCommands);
     c->add_flag("--no-scene", info.noScene, "Only the OpenGL information");
+    c->add_flag("--check", info.check, "Prepared scenes: read every subtree and verify its checksum (exit 4 when one "
+                                       "fails; opening checks only the header and metadata)");
     return c;
 }
 

@@ -6,6 +6,7 @@
 
 #include <csignal>
 #include <cstdlib>
+#include <fstream>
 #include <string>
 #include <sys/wait.h>
 
@@ -102,4 +103,25 @@ TEST_F(CliTest, AnInterruptedPrepareLeavesNoTemporaryFile) {
     EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM) << "ended by the signal, not by an exit of its own";
     EXPECT_FALSE(exists("big.chs.tmp"));
     EXPECT_FALSE(exists("big.chs"));
+}
+
+// Opening a .chs checks its header and metadata only; `info --check` reads every subtree, so a flipped byte in
+// the middle of the file is found (exit 4, the subtree named) instead of "exit 0".
+TEST_F(CliTest, InfoCheckFindsAFlippedByteInAPreparedScene) {
+    ASSERT_EQ(run("prepare --scene city:50k --subtree-triangles 2000 -o s.chs -q").exitCode, 0);
+    EXPECT_EQ(run("info --scene s.chs --check").exitCode, 0);
+    {
+        std::fstream f(dir_ / "s.chs", std::ios::in | std::ios::out | std::ios::binary);
+        f.seekg(0, std::ios::end);
+        const std::streamoff middle = f.tellg() / 2;
+        f.seekg(middle);
+        const char byte = char(f.get() ^ 0xff);
+        f.seekp(middle);
+        f.put(byte);
+    }
+    const Result r = run("info --scene s.chs --check");
+    EXPECT_EQ(r.exitCode, 4) << r.output;
+    EXPECT_NE(r.output.find("checksum mismatch"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("1 failed"), std::string::npos) << r.output;
+    expectRefused(run("info --scene city:10k --check"), "--check reads prepared scenes");
 }
