@@ -51,6 +51,7 @@ struct CommonOptions {
     GlBackend gl = GlBackend::Egl;
     int glDevice = -1;              // --gl-device: EGL device index, -1 the first that works
     bool glDebug = false;
+    bool strict = false;            // --strict: a scene's load warnings (Scene::warnings) are errors
     std::string statsJson;
     bool quiet = false;
 

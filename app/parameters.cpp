@@ -292,6 +292,11 @@ std::vector<Parameter> describeSession() {
                  "platform); -1: the first device that creates a context, else Mesa's surfaceless platform")
             .commands(kHeadlessCommands)
             .integer<int>(FIELD(glDevice), -1, 1024),
+        Describe(Area::Session, "--strict", "",
+                 "Refuse scenes that load with warnings (a missing texture file, faces of fewer than 3 vertices, a "
+                 "file cut short) instead of printing the warnings")
+            .flagWithoutValue()
+            .onOff(FIELD(strict)),
         Describe(Area::Session, "--gl-debug", "", "Print KHR_debug messages from the driver")
             .flagWithoutValue()
             .onOff(FIELD(glDebug)),

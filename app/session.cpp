@@ -94,6 +94,15 @@ void refuseWhatIsNoSceneFile(const std::string& scene) {
     }
 }
 
+// A scene loaded with warnings renders, but not silently: each is printed; --strict refuses the scene.
+void reportLoadWarnings(const CommonOptions& o, const Scene& scene) {
+    if (scene.warnings.empty()) return;
+    if (o.strict) {
+        throw InputError(scene.warnings.front() + (scene.warnings.size() > 1 ? " (and " + std::to_string(scene.warnings.size() - 1) + " more warning(s))" : std::string()) + " [--strict]");
+    }
+    for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+}
+
 // Out-of-core budgets and choices only act with --out-of-core: say so rather than ignore them silently.
 void warnAboutOutOfCoreFlagsWithoutOutOfCore(const CommonOptions& o) {
     if (o.outOfCoreScene.enabled) return;
@@ -132,6 +141,7 @@ SceneSession openSceneSession(const CommonOptions& o, std::unique_ptr<Progress> 
         s.scene = loadSceneFile(o.scene, *s.progress);
         s.light = defaultAreaLight(s.scene);
     }
+    reportLoadWarnings(o, s.scene);
     validateScene(s.scene);
     s.sceneSeconds = secondsSince(start);
     s.path = resolveCameraPath(o, s);

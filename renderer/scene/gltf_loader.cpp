@@ -319,6 +319,10 @@ void convertMaterials(const tinygltf::Model& model, Scene& scene) {
                     if (convertImage(image, texture)) {
                         it->second = static_cast<int32_t>(scene.textures.size());
                         scene.textures.push_back(std::move(texture));
+                    } else {
+                        scene.warnings.push_back("base-colour texture '" + texture.name + "' (image " +
+                                                 std::to_string(imageIndex) + ") is missing or cannot be decoded; "
+                                                 "its materials use their base colour factor");
                     }
                 }
                 material.baseColorTexture = it->second; // -1 when the image could not be decoded
@@ -390,6 +394,7 @@ Scene loadGltf(const std::filesystem::path& file, Progress& progress) {
     } catch (const InputError& e) {
         throwFileError(file, e.what());
     }
+    for (std::string& w : scene.warnings) w = file.string() + ": " + w;
     detail::finishLoadedScene(scene, file);
     return scene;
 }

@@ -255,6 +255,14 @@ Scene loadObj(const std::filesystem::path& file, Progress& progress) {
     ObjParser parser(file, scene);
     parser.parse(text, progress);
     scene.stats.degenerateTrianglesDropped += parser.degenerateFaces();
+    if (parser.degenerateFaces() > 0) {
+        scene.warnings.push_back(file.string() + ": " + std::to_string(parser.degenerateFaces()) +
+                                 " face(s) with fewer than 3 vertices skipped");
+    }
+    // A text file cut short usually ends mid-line; OBJ has no element counts to tell otherwise.
+    if (!text.empty() && text.back() != '\n') {
+        scene.warnings.push_back(file.string() + ": the last line has no line end (is the file truncated?)");
+    }
     detail::finishLoadedScene(scene, file);
     return scene;
 }

@@ -79,6 +79,9 @@ struct Scene {
     std::vector<NamedCamera> cameras; // from glTF; empty otherwise
 
     SceneStats stats;
+    // What a loader could not use but loaded without (a missing texture file, faces of fewer than three
+    // vertices): one line each, printed by the commands as warnings and refused by --strict.
+    std::vector<std::string> warnings;
 
     // Scene units per metre and up axis are normalised by loaders to metres and +Y up.
     size_t triangleCount() const { return triangles.size(); }

@@ -125,3 +125,22 @@ TEST_F(CliTest, InfoCheckFindsAFlippedByteInAPreparedScene) {
     EXPECT_NE(r.output.find("1 failed"), std::string::npos) << r.output;
     expectRefused(run("info --scene city:10k --check"), "--check reads prepared scenes");
 }
+
+// Broken inputs are not rendered as if nothing were wrong: faces of fewer than 3 vertices and a file cut
+// mid-line are named as warnings, and --strict refuses them.
+TEST_F(CliTest, ObjFacesThatVanishAndTruncatedFilesAreWarnedAbout) {
+    write("t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4\nf 2 4 3");
+    const std::string info = "info --scene t.obj";
+    const Result r = run(info);
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("warning: t.obj: 1 face(s) with fewer than 3 vertices skipped"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("warning: t.obj: the last line has no line end (is the file truncated?)"), std::string::npos)
+        << r.output;
+    const Result strict = run(info + " --strict");
+    EXPECT_EQ(strict.exitCode, 2) << strict.output;
+    EXPECT_NE(strict.output.find("(and 1 more warning(s)) [--strict]"), std::string::npos) << strict.output;
+    write("clean.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    const Result clean = run("info --scene clean.obj --strict");
+    EXPECT_EQ(clean.exitCode, 0) << clean.output;
+    EXPECT_EQ(clean.output.find("warning"), std::string::npos) << clean.output;
+}

@@ -247,6 +247,27 @@ TEST(GltfLoader, ReadsBaseColorFactorAndTexture) {
     EXPECT_EQ(scene.textures[0].height, 2u);
     EXPECT_EQ(scene.textures[0].rgba8, pixels);
     EXPECT_EQ(scene.textures[0].name, "checker");
+    EXPECT_TRUE(scene.warnings.empty());
+}
+
+// A texture file that is not there loads (the material keeps its factor) but is named in the scene's warnings;
+// the decoded one of the test above gives none.
+TEST(GltfLoader, AMissingTextureFileIsAWarningNamingIt) {
+    TempDir dir;
+    GltfBuilder gltf;
+    gltf.json["images"] = json::array({{{"uri", "textures/gone.png"}}});
+    gltf.json["textures"] = json::array({{{"source", 0}}});
+    gltf.json["materials"] = json::array({{{"name", "textured"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}});
+    const int positions = gltf.addPositions(kQuadPositions);
+    const int uvs = gltf.addVec2({{0, 0}, {1, 0}, {1, 1}, {0, 1}});
+    gltf.setSceneRoots({gltf.addNode({{"mesh", gltf.addMesh({{"POSITION", positions}, {"TEXCOORD_0", uvs}},
+                                                           gltf.addIndices(kQuadIndices), 0)}})});
+    const Scene scene = loadSceneFile(gltf.writeGltf(dir.path(), "missing_texture"));
+    EXPECT_EQ(scene.triangleCount(), 2u);
+    EXPECT_EQ(scene.materials.at(0).baseColorTexture, -1);
+    ASSERT_EQ(scene.warnings.size(), 1u);
+    EXPECT_NE(scene.warnings[0].find("missing_texture.gltf: base-colour texture 'textures/gone.png'"), std::string::npos)
+        << scene.warnings[0];
 }
 
 TEST(GltfLoader, TurnsPerspectiveCameraNodesIntoCameras) {
