@@ -144,3 +144,11 @@ TEST_F(CliTest, ObjFacesThatVanishAndTruncatedFilesAreWarnedAbout) {
     EXPECT_EQ(clean.exitCode, 0) << clean.output;
     EXPECT_EQ(clean.output.find("warning"), std::string::npos) << clean.output;
 }
+
+// A file whose content announces another format than its name is named as such, not parsed as garbage.
+TEST_F(CliTest, AFileNamedAsAnotherFormatSaysWhatItIs) {
+    write("mesh.obj", "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nend_header\n");
+    expectRefused(run("info --scene mesh.obj"), "mesh.obj: is a ply file by its content, not OBJ: rename it .ply");
+    write("scene.ply", "glTF\x02");
+    expectRefused(run("info --scene scene.ply"), "is a glb file by its content, not PLY");
+}
