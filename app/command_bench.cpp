@@ -408,6 +408,11 @@ void writeOutputs(const Bench& b, const Table& table, const nlohmann::json& rows
     }
     if (!b.options.csvFile.empty()) writeTextFileAtomically(b.options.csvFile, table.toCsv());
     if (!b.options.markdownFile.empty()) writeTextFileAtomically(b.options.markdownFile, table.toMarkdown());
+    std::string written; // every file a command writes is named in its output
+    for (const std::string& file : {b.options.jsonFile, b.options.csvFile, b.options.markdownFile}) {
+        if (!file.empty()) written += (written.empty() ? "" : ", ") + file;
+    }
+    if (!written.empty()) std::printf("wrote %s\n", written.c_str());
 }
 
 } // namespace

@@ -273,7 +273,11 @@ int runRender(const RenderOptions& options) {
     const GlInfo info = queryGlInfo();
     const RenderedFrames rendered = renderFrames(options, session, *gpu.renderer, tracer, frames, info.renderer, started);
     printSummary(options, session, gpu, rendered, info.renderer);
-    if (!o.statsJson.empty()) writeStatsJson(options, session, settings, rendered, info.renderer);
+    if (!o.statsJson.empty()) {
+        writeStatsJson(options, session, settings, rendered, info.renderer);
+        std::printf("  statistics in %s\n", o.statsJson.c_str());
+    }
+    if (!options.records.empty()) std::printf("  records in %s\n", options.records.c_str());
     return kExitOk;
 }
 

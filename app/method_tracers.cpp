@@ -16,6 +16,19 @@
 namespace chcrt::app {
 namespace {
 
+// Where a Line Space or N-tree build went, for the line each tracer prints: a cache file is tens of MB that must
+// not land in a folder silently (under -q the line is printed only when a file was written).
+void reportCache(const char* what, const std::string& method, ls::CacheOutcome outcome,
+                 const std::filesystem::path& dir, const std::string& details, bool quiet) {
+    const bool stored = outcome != ls::CacheOutcome::Loaded && !dir.empty();
+    if (quiet && !stored) return;
+    const std::string where = dir.empty() ? ", not cached (--ls-cache \"\")"
+                              : stored    ? ", stored in " + dir.string() + "/"
+                                          : " " + dir.string() + "/";
+    std::fprintf(stderr, "%s: %s %s%s%s%s\n", method.c_str(), what, ls::toString(outcome), where.c_str(),
+                 details.empty() ? "" : ": ", details.c_str());
+}
+
 // Line Spaces of the session's BVH with `params`: from the cache directory, or built (and cached).
 ls::LineSpaces loadLineSpaces(const SceneSession& session, const CommonOptions& o, const ls::LineSpaceParams& params,
                               ls::CacheOutcome& outcome) {
@@ -40,6 +53,8 @@ void addSubtreeLineSpaces(const MethodInfo& method, const SceneSession& session,
     const ls::LineSpaceParams params = lineSpaceBuildParams(method, o);
     ls::CacheOutcome outcome = ls::CacheOutcome::Built;
     const ls::LineSpaces spaces = loadLineSpaces(session, o, params, outcome);
+    reportCache("Line Spaces in subtrees", method.name, outcome, o.lineSpaceTracing.cacheDirectory,
+                params.toString() + ", " + spaces.stats.summary(), o.quiet);
     auto gpu = std::make_shared<ls::LineSpaceGpu>(spaces, session.bvh, session.scene);
     const ls::LineSpaceMode anyHitMode = method.exact ? ls::LineSpaceMode::Exact : ls::LineSpaceMode::Shadow;
     const float angle = o.lineSpaceTracing.candidateAngleDegrees;
@@ -115,10 +130,8 @@ std::unique_ptr<Tracer> makeLineSpaceTracer(const MethodInfo& method, const Scen
     tracer->buildStats = spaces.stats;
     tracer->cacheOutcome = ls::toString(outcome);
     tracer->paramsText = params.toString();
-    if (!o.quiet) {
-        std::fprintf(stderr, "%s: Line Spaces %s (%s): %s; modes %s\n", method.name.c_str(), ls::toString(outcome),
-                     params.toString().c_str(), spaces.stats.summary().c_str(), modes.toString().c_str());
-    }
+    reportCache("Line Spaces", method.name, outcome, o.lineSpaceTracing.cacheDirectory,
+                params.toString() + ", " + spaces.stats.summary() + "; modes " + modes.toString(), o.quiet);
     return tracer;
 }
 
@@ -132,12 +145,12 @@ std::unique_ptr<Tracer> makeNTreeTracer(const MethodInfo& method, const SceneSes
     tracer->buildStats = tree.stats;
     tracer->cacheOutcome = ls::toString(outcome);
     tracer->paramsText = o.ntree.toString();
-    if (!o.quiet) {
-        std::fprintf(stderr, "%s: %s %s: %s; GPU %.2f MB; shadow level %u, start node %s, near %.2f\n",
-                     method.name.c_str(), o.ntree.toString().c_str(), ls::toString(outcome), tree.stats.summary().c_str(),
-                     double(gpu->gpuBytes()) / 1e6, o.ntreeShadow.shadowLevel, o.ntreeShadow.startExact ? "exact" : "skip",
-                     double(o.ntreeShadow.nearEdges));
-    }
+    char details[256];
+    std::snprintf(details, sizeof details, "; GPU %.2f MB; shadow level %u, start node %s, near %.2f",
+                  double(gpu->gpuBytes()) / 1e6, o.ntreeShadow.shadowLevel, o.ntreeShadow.startExact ? "exact" : "skip",
+                  double(o.ntreeShadow.nearEdges));
+    reportCache("N-tree", method.name, outcome, o.lineSpaceTracing.cacheDirectory,
+                o.ntree.toString() + ", " + tree.stats.summary() + details, o.quiet);
     return tracer;
 }
 

@@ -227,3 +227,26 @@ TEST_F(CliTest, InfoReportsGlAndScene) {
 }
 
 } // namespace
+
+namespace {
+
+using namespace chcrt::clitest;
+
+// Every file a command writes is named in its output, caches included (a Line Space cache is megabytes that must
+// not land in a folder silently, even under -q); a cache that was only read is not announced under -q.
+TEST_F(CliTest, CommandsNameTheFilesTheyWrite) {
+    const std::string bench = "bench --scene city:10k --width 32 --height 24 --ray-type ao --frames 0 -q ";
+    const Result tables = run(bench + "--method bvh --json b.json --markdown b.md");
+    ASSERT_EQ(tables.exitCode, 0) << tables.output;
+    EXPECT_NE(tables.output.find("wrote b.json, b.md"), std::string::npos) << tables.output;
+    const Result built = run(bench + "--method bvh+ls --ls-cache lscache");
+    ASSERT_EQ(built.exitCode, 0) << built.output;
+    EXPECT_NE(built.output.find("bvh+ls: Line Spaces built, stored in lscache/"), std::string::npos) << built.output;
+    const Result loaded = run(bench + "--method bvh+ls --ls-cache lscache");
+    ASSERT_EQ(loaded.exitCode, 0) << loaded.output;
+    EXPECT_EQ(loaded.output.find("Line Spaces"), std::string::npos) << loaded.output;
+    const Result render = run("render --scene city:10k --width 32 --height 24 -q -o f.png --stats-json s.json");
+    EXPECT_NE(render.output.find("statistics in s.json"), std::string::npos) << render.output;
+}
+
+} // namespace
