@@ -95,6 +95,8 @@ struct RenderedFrames {
     std::vector<std::string> written; // every selected frame's image, resumed ones included
     size_t rendered = 0;              // frames rendered by this run (the others were proven done by records)
     FrameStats sum;                   // of the frames rendered by this run
+    outofcore::OutOfCoreStats outOfCore; // --out-of-core: Table 3 counters summed over those frames
+    std::vector<int> incomplete;      // --out-of-core frames with subtree requests postponed (--uploads-per-trace)
     nlohmann::json json = nlohmann::json::array();
 };
 
@@ -189,8 +191,11 @@ RenderedFrames renderFrames(const RenderOptions& options, const SceneSession& se
         j["method"] = options.method;
         if (t.chcrt) j["chcrt"] = chcrtStatsJson(t.chcrt->totalStats(), 1.0);
         if (t.outOfCore) {
-            j["outofcore"] = outOfCoreStatsJson(outofcore::OutOfCoreStats::difference(t.outOfCore->snapshot(), oocBefore),
-                                                1.0, *t.outOfCore);
+            const outofcore::OutOfCoreStats frameStats =
+                outofcore::OutOfCoreStats::difference(t.outOfCore->snapshot(), oocBefore);
+            j["outofcore"] = outOfCoreStatsJson(frameStats, 1.0, *t.outOfCore);
+            out.outOfCore += frameStats;
+            if (frameStats.cachePostponed > 0) out.incomplete.push_back(frame);
         }
         if (records) {
             records->append({{"frame", frame},
@@ -211,16 +216,45 @@ RenderedFrames renderFrames(const RenderOptions& options, const SceneSession& se
     return out;
 }
 
+// --out-of-core: the cache's share of the frames, and frames left incomplete by the per-trace upload limit (their
+// rays' hits in subtrees that were not uploaded are missing: visibly missing shadows).
+void printOutOfCoreSummary(const RenderTracer& t, const RenderedFrames& r, double frames) {
+    if (!t.outOfCore) return;
+    const outofcore::OutOfCoreStats& s = r.outOfCore;
+    const outofcore::OutOfCoreOptions& o = t.outOfCore->options();
+    const double mb = 1.0 / double(1u << 20);
+    std::printf("  out of core: GPU cache %.0f MB (%s), %u of %zu subtrees resident; per frame %.1f MB uploaded, "
+                "%.0f misses, %.1f MB read from the file\n",
+                double(o.gpuCacheBytes) * mb, outofcore::toString(o.policy), s.residentSubtrees,
+                t.outOfCore->file().subtrees().size(),
+                double(s.uploadedBvhBytes + s.uploadedGeometryBytes) * mb / frames, double(s.cacheMisses) / frames,
+                double(s.hostBytesRead) * mb / frames);
+    if (!r.incomplete.empty()) {
+        std::string list;
+        for (size_t i = 0; i < r.incomplete.size(); ++i) list += (i ? "," : "") + std::to_string(r.incomplete[i]);
+        std::fprintf(stderr,
+                     "warning: %zu frame(s) incomplete (%s): %llu subtree request(s) postponed by --uploads-per-trace "
+                     "%u; their rays' hits are missing (--uploads-per-trace 0 finishes every frame)\n",
+                     r.incomplete.size(), list.c_str(), (unsigned long long)s.cachePostponed, o.maxUploadsPerTrace);
+    }
+}
+
 void printSummary(const RenderOptions& options, const SceneSession& session, const GpuSession& gpu,
-                  const RenderedFrames& r, const std::string& glRenderer) {
+                  const RenderTracer& tracer, const RenderedFrames& r, const std::string& glRenderer) {
     const Renderer& renderer = *gpu.renderer;
     const size_t frames = std::max<size_t>(r.rendered, 1); // per-frame figures of the frames rendered by this run
     const double n = double(frames);
     const FrameStats& sum = r.sum;
-    std::printf("%s: %s, %s triangles (%s unique), BVH %.2f s (SAH %.1f, %u nodes)\n", options.demo ? "demo" : "render",
-                session.scene.name.c_str(), formatCount(session.scene.triangleCount()).c_str(),
-                formatCount(session.scene.stats.uniqueTriangles).c_str(), session.bvh.stats.buildSeconds,
-                session.bvh.stats.sahCost, session.bvh.stats.nodeCount);
+    if (session.sceneInCore) {
+        std::printf("%s: %s, %s triangles (%s unique), BVH %.2f s (SAH %.1f, %u nodes)\n", options.demo ? "demo" : "render",
+                    session.scene.name.c_str(), formatCount(session.scene.triangleCount()).c_str(),
+                    formatCount(session.scene.stats.uniqueTriangles).c_str(), session.bvh.stats.buildSeconds,
+                    session.bvh.stats.sahCost, session.bvh.stats.nodeCount);
+    } else { // its geometry stays in the file: the in-core scene is a one-triangle stand-in (docs/outofcore.md)
+        std::printf("%s: %s, %s triangles in the prepared file, not loaded in core (traced out of core)\n",
+                    options.demo ? "demo" : "render", session.scene.name.c_str(),
+                    formatCount(session.fileTriangles).c_str());
+    }
     std::printf("  scene %.2f s, GL setup %.2f s on %s\n", session.sceneSeconds, gpu.setupSeconds, glRenderer.c_str());
     std::printf("  %zu frame(s) %dx%d, %d spp, effects %s, primary visibility %s, path %s\n", r.rendered,
                 renderer.settings().width, renderer.settings().height, renderer.settings().samplesPerPixel,
@@ -235,11 +269,12 @@ void printSummary(const RenderOptions& options, const SceneSession& session, con
     for (RayType type : {RayType::Primary, RayType::Shadow, RayType::Ao, RayType::Diffuse}) { // primary: --primary traced
         const TraceStats& t = sum.trace[size_t(type)];
         if (t.passes == 0) continue;
-        std::printf("    %-8s %3llu passes/frame, %.1f ms/frame\n", toString(type),
+        std::printf("    %-8s %3llu shader passes/frame, %.1f ms/frame\n", toString(type),
                     (unsigned long long)(t.passes / frames), t.milliseconds / n);
     }
     std::printf("  %.2f Mrays/s (all generated rays, method %s)\n",
                 sum.traceMs() > 0 ? double(sum.raysGenerated) / (sum.traceMs() * 1000.0) : 0.0, options.method.c_str());
+    printOutOfCoreSummary(tracer, r, n);
     std::printf("  %s %s%s\n", r.rendered == r.written.size() ? "wrote" : "frames in", r.written.front().c_str(),
                 r.written.size() > 1 ? (" ... " + r.written.back()).c_str() : "");
     if (sum.cappedRays > 0) {
@@ -272,7 +307,7 @@ int runRender(const RenderOptions& options) {
     const RenderTracer tracer = makeRenderTracer(options, debugImage, session, *gpu.renderer);
     const GlInfo info = queryGlInfo();
     const RenderedFrames rendered = renderFrames(options, session, *gpu.renderer, tracer, frames, info.renderer, started);
-    printSummary(options, session, gpu, rendered, info.renderer);
+    printSummary(options, session, gpu, tracer, rendered, info.renderer);
     if (!o.statsJson.empty()) {
         writeStatsJson(options, session, settings, rendered, info.renderer);
         std::printf("  statistics in %s\n", o.statsJson.c_str());

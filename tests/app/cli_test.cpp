@@ -250,3 +250,27 @@ TEST_F(CliTest, CommandsNameTheFilesTheyWrite) {
 }
 
 } // namespace
+
+namespace {
+
+using namespace chcrt::clitest;
+
+// An out-of-core render says what it traced: the file's triangle count (not the in-core stand-in's one triangle),
+// the cache, and frames that the per-trace upload limit left incomplete.
+TEST_F(CliTest, OutOfCoreRenderSummaryNamesTheCacheAndIncompleteFrames) {
+    ASSERT_EQ(run("prepare --scene city:200k --subtree-triangles 4000 -o c.chs -q").exitCode, 0);
+    const std::string render = "render --scene c.chs --out-of-core --load-in-core off --method chcrt --width 48 "
+                               "--height 32 --spp 1 --effects shadow -o o.png --gpu-cache-mb 64 ";
+    const Result complete = run(render);
+    ASSERT_EQ(complete.exitCode, 0) << complete.output;
+    EXPECT_NE(complete.output.find("triangles in the prepared file, not loaded in core"), std::string::npos)
+        << complete.output;
+    EXPECT_EQ(complete.output.find(" 1 triangles"), std::string::npos) << complete.output;
+    EXPECT_NE(complete.output.find("out of core: GPU cache 64 MB (lru)"), std::string::npos) << complete.output;
+    EXPECT_EQ(complete.output.find("incomplete"), std::string::npos) << complete.output;
+    const Result limited = run(render + "--uploads-per-trace 1");
+    ASSERT_EQ(limited.exitCode, 0) << limited.output;
+    EXPECT_NE(limited.output.find("warning: 1 frame(s) incomplete (0)"), std::string::npos) << limited.output;
+}
+
+} // namespace
