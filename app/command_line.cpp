@@ -133,4 +133,9 @@ void addViewOptions(CLI::App& c, ViewOptions& view) {
     c.add_flag("--hide-panel", view.hidePanel, "Start with the ImGui panel hidden (Tab toggles it)");
 }
 
+void checkViewOptions(const ViewOptions& view) {
+    (void)toRenderSettings(view.common, view.common.render.samplesPerPixel);
+    if (!(view.renderScale >= 0.05f && view.renderScale <= 2.0f)) throw InputError("--render-scale must be in [0.05, 2]");
+}
+
 } // namespace chcrt::app

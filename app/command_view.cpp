@@ -14,7 +14,8 @@
 
 namespace chcrt::app {
 
-int runView(const ViewOptions& /*options*/, const std::vector<std::string>& arguments) {
+int runView(const ViewOptions& options, const std::vector<std::string>& arguments) {
+    checkViewOptions(options);
     std::error_code error;
     const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
     if (error) throw InputError("cannot find the viewer: /proc/self/exe: " + error.message());

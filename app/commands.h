@@ -93,6 +93,9 @@ struct ViewOptions {
 };
 // The flags of `chcrt view` (the CLI and chcrt-view parse the same ones).
 void addViewOptions(CLI::App& command, ViewOptions& options);
+// Checks what the flags' parser cannot before a window opens (image size, samples, effects: toRenderSettings); throws
+// InputError, so `chcrt view --width 0` is a usage error (exit 2), not a failed window (exit 3).
+void checkViewOptions(const ViewOptions& options);
 // `arguments`: the words after `view`, handed to chcrt-view unchanged.
 int runView(const ViewOptions& options, const std::vector<std::string>& arguments);
 

@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
         ViewOptions view;
         addViewOptions(cli, view);
         if (const std::optional<int> exit = parseCommandLine(cli, argc, argv)) return *exit;
+        checkViewOptions(view);
         return runViewer(view);
     });
 }

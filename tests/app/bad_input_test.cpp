@@ -152,3 +152,9 @@ TEST_F(CliTest, AFileNamedAsAnotherFormatSaysWhatItIs) {
     write("scene.ply", "glTF\x02");
     expectRefused(run("info --scene scene.ply"), "is a glb file by its content, not PLY");
 }
+
+// The viewer's flags are checked before a window is opened: a bad size is a usage error, not a failed window.
+TEST_F(CliTest, ViewRefusesBadSizesBeforeOpeningAWindow) {
+    expectRefused(run("view --width 0", "DISPLAY="), "image size must be between 1 and 16384");
+    expectRefused(run("view --render-scale 9", "DISPLAY="), "--render-scale must be in [0.05, 2]");
+}
