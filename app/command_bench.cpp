@@ -395,6 +395,9 @@ void writeOutputs(const Bench& b, const Table& table, const nlohmann::json& rows
                 session.sceneInCore ? "" : ", not in core", b.frames.size(), session.path.name.c_str(), b.options.runs,
                 b.options.warmupRuns, info.renderer.c_str());
     std::fputs(table.toText().c_str(), stdout);
+    // The two error columns measure different things, and a row's PSNR repeats on each of its ray types' rows.
+    if (!b.imageErrors.empty()) std::printf("diff_px: pixels whose hits of that ray type differ from pure BVH's; frame PSNR: the whole shaded "
+                "frame (all --effects) against pure BVH's, the same on every ray type's row of a method\n");
     if (!b.options.jsonFile.empty()) {
         writeJsonFile(b.options.jsonFile, {{"scene", toJson(session.scene)},
                                            {"bvh", toJson(session.bvh.stats)},
@@ -435,7 +438,7 @@ int runBench(const BenchOptions& options) {
 
     Table table;
     table.header = {"scene", "path", "ray_type", "method", "size", "spp", "ms/frame", "Mrays/s", "speedup", "diff_px",
-                    "PSNR dB"};
+                    "frame PSNR dB"};
     if (options.steps) table.header.push_back("steps/ray");
     // What a CHC+RT row ran: the share of its traces that culled (the rest were the adaptive choice's pure passes)
     // and the mean termination height of the culling traces.

@@ -274,3 +274,19 @@ TEST_F(CliTest, OutOfCoreRenderSummaryNamesTheCacheAndIncompleteFrames) {
 }
 
 } // namespace
+
+namespace {
+
+using namespace chcrt::clitest;
+
+// The bench table labels what each error column measures: per-ray-type differing pixels beside a whole-frame PSNR.
+TEST_F(CliTest, BenchTableSaysWhatItsErrorColumnsMeasure) {
+    const Result r = run("bench --scene city:10k --width 32 --height 24 --frames 0 --method bvh+ls --ray-type ao -q");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("frame PSNR dB"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("frame PSNR: the whole shaded frame (all --effects)"), std::string::npos) << r.output;
+    const Result exact = run("bench --scene city:10k --width 32 --height 24 --frames 0 --method bvh --ray-type ao -q");
+    EXPECT_EQ(exact.output.find("frame PSNR:"), std::string::npos) << "no footnote without image errors\n" << exact.output;
+}
+
+} // namespace
