@@ -54,6 +54,8 @@ CameraPath resolveCameraPath(const CommonOptions& o, const SceneSession& s) {
         if (!o.cameraPath.empty()) {
             throw InputError("--camera-path " + o.cameraPath + " exists only for generated scenes; give a JSON file");
         }
+        // A file that stores a camera was framed by its author: its first camera is the default view.
+        if (!s.scene.cameras.empty()) return resolveGltfCamera(s.scene, "gltf:0");
         return singleCameraPath(defaultCamera(s.scene, o.fovY), "default-camera");
     }
     return loadCameraPath(o.cameraPath);

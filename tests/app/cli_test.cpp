@@ -290,3 +290,25 @@ TEST_F(CliTest, BenchTableSaysWhatItsErrorColumnsMeasure) {
 }
 
 } // namespace
+
+namespace {
+
+using namespace chcrt::clitest;
+
+// A scene file that stores a camera is seen through it by default (its author framed it); one without falls back
+// to the camera framing the bounds.
+TEST_F(CliTest, AStoredGltfCameraIsTheDefaultView) {
+    write("tri.gltf", R"({"asset": {"version": "2.0"}, "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}],
+        "bufferViews": [{"buffer": 0, "byteLength": 36}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.7, "znear": 0.1}}],
+        "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0.3, 0.3, 3]}], "scenes": [{"nodes": [0, 1]}], "scene": 0})");
+    const Result withCamera = run("info --scene tri.gltf");
+    ASSERT_EQ(withCamera.exitCode, 0) << withCamera.output;
+    EXPECT_NE(withCamera.output.find("Camera path gltf-camera-0"), std::string::npos) << withCamera.output;
+    write("plain.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    EXPECT_NE(run("info --scene plain.obj").output.find("Camera path default-camera"), std::string::npos);
+}
+
+} // namespace
