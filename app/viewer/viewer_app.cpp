@@ -97,6 +97,9 @@ private:
     void startRecording();
     void stopRecording(const std::string& file);
     void notice(const std::string& text);
+    // A failure the session survives (a scene that does not load, an unwritable screenshot): in the panel, and on
+    // stderr, where errors go, not on stdout with the notices.
+    void reportError(const std::string& text);
     void writeSummary() const;
 
     ViewOptions options_;
@@ -285,7 +288,7 @@ void Viewer::finishLoading() {
         loaded = loader_.take();
     } catch (const std::runtime_error& e) { // InputError, or GlError from the GPU upload
         if (!scene_) throw; // nothing to show: a bad --scene is a usage error
-        notice(std::string("cannot load the scene: ") + e.what());
+        reportError(std::string("cannot load the scene: ") + e.what());
         return;
     }
     const double loadSeconds = loader_.elapsedSeconds();
@@ -295,12 +298,11 @@ void Viewer::finishLoading() {
     sampleLoadProgress(); // the worker has finished: complete, 100 %
     const auto uploadStart = Clock::now();
     installScene(std::move(loaded), std::move(uploaded.scene));
-    char text[160];
-    std::snprintf(text, sizeof(text), "loaded %s: %llu triangles, %.2f s loading + BVH%s (worker thread), %.2f s "
-                  "renderer set-up (main thread)", loader_.scene().c_str(),
-                  static_cast<unsigned long long>(status_.triangles), loadSeconds,
+    char timings[160]; // the numbers only: the scene's name, of any length, is appended whole
+    std::snprintf(timings, sizeof(timings), ": %llu triangles, %.2f s loading + BVH%s (worker thread), %.2f s "
+                  "renderer set-up (main thread)", static_cast<unsigned long long>(status_.triangles), loadSeconds,
                   uploadedByWorker ? " + GPU upload" : "", millisecondsSince(uploadStart) / 1000.0);
-    notice(text);
+    notice("loaded " + loader_.scene() + timings);
 }
 
 // The scene is on the GPU already (uploaded by the worker, unless there is no shared context); the renderer's and
@@ -368,7 +370,7 @@ void Viewer::handleKey(int key) {
         handleKeyOrThrow(key);
     } catch (const InputError& e) {
         if (scripted()) throw; // a script's error ends it (exit 2)
-        notice(e.what());      // an unwritable screenshot or path must not end an interactive session
+        reportError(e.what()); // an unwritable screenshot or path must not end an interactive session
     }
 }
 
@@ -734,6 +736,11 @@ void Viewer::stopRecording(const std::string& file) {
 void Viewer::notice(const std::string& text) {
     status_.message = text;
     if (scripted()) std::printf("view: %s\n", text.c_str());
+}
+
+void Viewer::reportError(const std::string& text) {
+    status_.message = text;
+    std::fprintf(stderr, "view: error: %s\n", text.c_str());
 }
 
 } // namespace

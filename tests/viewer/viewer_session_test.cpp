@@ -767,5 +767,17 @@ TEST_F(ViewerTest, WithoutACacheLineSpaceBuildsRunOnTheWorkerAndLeaveNothingBehi
     EXPECT_FALSE(fs::exists(dir_ / "out")) << "nothing in the default cache directory";
 }
 
+// A scene that fails to load during a session is an error with its cause (the reader's one-line message), on
+// stderr as "view: error:", and the session goes on with the scene it had.
+TEST_F(ViewerTest, ASceneThatFailsToLoadReportsItsErrorAndTheSessionGoesOn) {
+    std::ofstream(dir_ / "bad.obj") << "v 0 0 0\nv 1 zero 0\n";
+    const Result r = view(R"([{"frames": 1}, {"loadScene": "bad.obj", "frames": 2, "expect": {"scene": "city:20k"}}])");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("view: error: cannot load the scene: bad.obj: line 2: bad number 'zero'"), std::string::npos)
+        << r.output;
+}
+
+
 } // namespace
 } // namespace chcrt
+
