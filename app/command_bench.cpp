@@ -327,7 +327,12 @@ void addRows(Bench& b, RayType type, const std::string& m, const MethodResult& r
     const double speedup = ms > 0 ? bvhMs / ms : 0.0;
     const uint64_t diff = m == kPureBvhMethod ? 0 : r.comparison.differing; // bvh is the reference itself
     const auto imageError = b.imageErrors.find(m);
-    table.rows.push_back({session.scene.name, session.path.name, toString(type), m,
+    // Rows traced through the GPU subtree cache are marked: beside in-core rows of the same method name they are
+    // another measurement (docs/outofcore.md).
+    const auto gpuTracer = b.tracers.find(m); // embree and pure BVH have none
+    const bool outOfCore = gpuTracer != b.tracers.end() &&
+                           dynamic_cast<const outofcore::OutOfCoreTracer*>(gpuTracer->second.get()) != nullptr;
+    table.rows.push_back({session.scene.name, session.path.name, toString(type), outOfCore ? m + " (out of core)" : m,
                           std::to_string(settings.width) + "x" + std::to_string(settings.height),
                           std::to_string(settings.samplesPerPixel), formatFixed(ms, 1), formatFixed(mrays, 2),
                           formatFixed(speedup, 2), session.sceneInCore ? std::to_string(diff) : "-",
@@ -338,6 +343,7 @@ void addRows(Bench& b, RayType type, const std::string& m, const MethodResult& r
     table.rows.back().push_back(r.chcrt.traces ? formatFixed(100.0 * r.chcrt.culledShare(), 0) + "%" : "-");
     table.rows.back().push_back(r.chcrt.culledTraces() ? formatFixed(r.chcrt.meanHeight(), 1) : "-");
     nlohmann::json row = {{"scene", session.scene.name},
+                          {"out_of_core", outOfCore},
                           {"path", session.path.name},
                           {"ray_type", toString(type)},
                           {"method", m},

@@ -271,6 +271,14 @@ TEST_F(CliTest, OutOfCoreRenderSummaryNamesTheCacheAndIncompleteFrames) {
     const Result limited = run(render + "--uploads-per-trace 1");
     ASSERT_EQ(limited.exitCode, 0) << limited.output;
     EXPECT_NE(limited.output.find("warning: 1 frame(s) incomplete (0)"), std::string::npos) << limited.output;
+    // bench marks its out-of-core rows (the in-core bvh reference beside them is not).
+    const Result bench = run("bench --scene c.chs --out-of-core --method bvh,chcrt --ray-type shadow --width 32 "
+                             "--height 24 --frames 0 -q --json b.json");
+    ASSERT_EQ(bench.exitCode, 0) << bench.output;
+    EXPECT_NE(bench.output.find("chcrt (out of core)"), std::string::npos) << bench.output;
+    const nlohmann::json rows = readJson("b.json")["rows"];
+    ASSERT_EQ(rows.size(), 2u);
+    for (const nlohmann::json& row : rows) EXPECT_EQ(row["out_of_core"], row["method"] == "chcrt") << row.dump();
 }
 
 } // namespace
