@@ -167,7 +167,7 @@ RenderedFrames renderFrames(const RenderOptions& options, const SceneSession& se
     }
     // Progress per pass, so that a single slow frame (many samples, a big scene) shows progress too.
     uint64_t passesDone = 0;
-    session.progress->begin("Rendering", uint64_t(todo.size()) * renderer.passesPerFrame());
+    session.progress->beginItems("Rendering", todo.size(), renderer.passesPerFrame(), "frame");
     renderer.setPassCallback([&] { session.progress->update(++passesDone); });
     const RenderSettings& settings = renderer.settings();
     const std::string digest = flagsDigest(options.words);

@@ -43,18 +43,10 @@ public:
     explicit TerminalProgress(const TerminalProgressOptions& options) : options_(options) {}
     ~TerminalProgress() override { end(); }
 
-    void begin(const std::string& label, uint64_t total) override {
-        end();
-        // Long labels would wrap the line and break the '\r' redraw.
-        label_ = label.size() > 32 ? label.substr(0, 29) + "..." : label;
-        total_ = total;
-        done_.store(0, std::memory_order_relaxed);
-        start_ = now();
-        drawn_ = false;
-        lastLength_ = 0;
-        frame_ = 0;
-        stopping_ = false;
-        drawer_ = std::thread([this] { drawLoop(); });
+    void begin(const std::string& label, uint64_t total) override { start(label, total, 0, ""); }
+
+    void beginItems(const std::string& label, uint64_t items, uint64_t unitsPerItem, const std::string& itemName) override {
+        start(label, items * unitsPerItem, unitsPerItem, itemName);
     }
 
     void update(uint64_t done) override {
@@ -81,6 +73,22 @@ public:
     }
 
 private:
+    void start(const std::string& label, uint64_t total, uint64_t unitsPerItem, const std::string& itemName) {
+        end();
+        unitsPerItem_ = unitsPerItem;
+        itemName_ = itemName;
+        // Long labels would wrap the line and break the '\r' redraw.
+        label_ = label.size() > 32 ? label.substr(0, 29) + "..." : label;
+        total_ = total;
+        done_.store(0, std::memory_order_relaxed);
+        start_ = now();
+        drawn_ = false;
+        lastLength_ = 0;
+        frame_ = 0;
+        stopping_ = false;
+        drawer_ = std::thread([this] { drawLoop(); });
+    }
+
     void drawLoop() {
         const auto period = std::chrono::duration<double>(options_.redrawSeconds);
         std::unique_lock lock(mutex_);
@@ -107,9 +115,17 @@ private:
             line += '[';
             line.append(size_t(filled), '#').append(size_t(kBarWidth - filled), '.');
             line += ']';
-            std::snprintf(text, sizeof text, " %3d%% %llu/%llu %s", static_cast<int>(fraction * 100.0),
-                          static_cast<unsigned long long>(done), static_cast<unsigned long long>(total_),
-                          formatDuration(elapsed).c_str());
+            if (unitsPerItem_ > 0) { // the item being worked on, of all items: "frame 13/300"
+                const uint64_t items = total_ / unitsPerItem_;
+                const uint64_t current = done >= total_ ? items : std::min(items, done / unitsPerItem_ + 1);
+                std::snprintf(text, sizeof text, " %3d%% %s %llu/%llu %s", static_cast<int>(fraction * 100.0),
+                              itemName_.c_str(), static_cast<unsigned long long>(current),
+                              static_cast<unsigned long long>(items), formatDuration(elapsed).c_str());
+            } else {
+                std::snprintf(text, sizeof text, " %3d%% %llu/%llu %s", static_cast<int>(fraction * 100.0),
+                              static_cast<unsigned long long>(done), static_cast<unsigned long long>(total_),
+                              formatDuration(elapsed).c_str());
+            }
             line += text;
             if (!finished && done > 0 && done < total_) {
                 const double eta = elapsed * double(total_ - done) / double(done);
@@ -148,6 +164,8 @@ private:
     TerminalProgressOptions options_;
     std::string label_;
     uint64_t total_ = 0;
+    uint64_t unitsPerItem_ = 0; // beginItems: units per item (0: the bar counts units)
+    std::string itemName_;
     std::atomic<uint64_t> done_{0};
     Clock::time_point start_{};
     bool drawn_ = false;

@@ -14,6 +14,12 @@ public:
     virtual ~Progress() = default;
     // Starts a step with `total` units of work (0 = unknown). A step shorter than a second draws nothing.
     virtual void begin(const std::string& label, uint64_t total) = 0;
+    // Starts a step of `items` items (frames) of `unitsPerItem` units each (shader passes): update() counts units,
+    // so that a slow item still moves the bar, but a bar names items ("frame 13/300"), what the user asked for.
+    virtual void beginItems(const std::string& label, uint64_t items, uint64_t unitsPerItem, const std::string& itemName) {
+        (void)itemName;
+        begin(label, items * unitsPerItem);
+    }
     // Sets the number of completed units. Thread-safe; cheap enough to call per work item.
     virtual void update(uint64_t done) = 0;
     virtual void end() = 0;

@@ -167,6 +167,23 @@ TEST(Progress, DrawsBarWithPercentElapsedAndEtaAndFinishesLine) {
     EXPECT_EQ(lastLine.find_first_not_of(' ', expected.size()), lastLine.size() - 1) << lastLine;
 }
 
+// A step of items made of units (frames of shader passes) moves with every unit but names the item being worked
+// on, not the units: 30 of 4 x 16 passes done is frame 8 of 16.
+TEST(Progress, ItemStepsNameTheItemBeingWorkedOn) {
+    CapturedOutput output;
+    FixedClock clock;
+    auto progress = makeTerminalProgress(true, immediateOptions(output.fd(), clock));
+    progress->beginItems("Rendering", 16, 4, "frame");
+    clock.set(10.0);
+    progress->update(30);
+    ASSERT_TRUE(output.waitForOutput(" 46% frame 8/16 0:10")) << output.text();
+    EXPECT_EQ(output.text().find("30/64"), std::string::npos) << output.text();
+    progress->update(64);
+    progress->end();
+    const std::string after = output.text();
+    EXPECT_NE(after.substr(after.rfind('\r')).find("100% frame 16/16"), std::string::npos) << after;
+}
+
 TEST(Progress, UnknownTotalShowsCountAndElapsedTime) {
     CapturedOutput output;
     FixedClock clock;
