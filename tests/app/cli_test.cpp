@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -317,6 +318,33 @@ TEST_F(CliTest, AStoredGltfCameraIsTheDefaultView) {
     EXPECT_NE(withCamera.output.find("Camera path gltf-camera-0"), std::string::npos) << withCamera.output;
     write("plain.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     EXPECT_NE(run("info --scene plain.obj").output.find("Camera path default-camera"), std::string::npos);
+}
+
+} // namespace
+
+namespace {
+
+using namespace chcrt::clitest;
+
+// Two processes building the same Line Space cache at once (two farm tasks) leave one whole file: each writes a
+// temporary file of its own and renames it into place, so the next run loads it instead of rebuilding.
+TEST_F(CliTest, TwoProcessesBuildingTheSameCacheLeaveAValidFile) {
+    const std::string bench = "'" CHCRT_BINARY "' bench --scene city:20k --width 32 --height 24 --frames 0 --method "
+                              "bvh+ls --ray-type diffuse --ls-cache lscache -q";
+    const std::string both = "cd '" + dir_.string() + "' && (" + bench + " > a.log 2>&1 & a=$!; " + bench +
+                             " > b.log 2>&1 & b=$!; wait $a && wait $b)";
+    ASSERT_EQ(std::system(both.c_str()), 0) << readFile("a.log") << readFile("b.log");
+    size_t files = 0;
+    for (const auto& entry : fs::recursive_directory_iterator(dir_ / "lscache")) {
+        if (!entry.is_regular_file()) continue;
+        ++files;
+        EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << "a temporary file was left: " << entry.path();
+    }
+    EXPECT_EQ(files, 1u);
+    const Result third = run("bench --scene city:20k --width 32 --height 24 --frames 0 --method bvh+ls --ray-type "
+                             "diffuse --ls-cache lscache");
+    ASSERT_EQ(third.exitCode, 0) << third.output;
+    EXPECT_NE(third.output.find("Line Spaces loaded from cache"), std::string::npos) << third.output;
 }
 
 } // namespace
