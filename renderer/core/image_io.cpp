@@ -3,13 +3,18 @@
 #include "renderer/core/error.h"
 #include "renderer/core/output_path.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cctype>
 #include <cmath>
+#include <cstring>
+#include <fcntl.h>
 #include <limits>
 #include <optional>
+#include <vector>
 #include <unistd.h>
 
 namespace chcrt {
@@ -82,9 +87,32 @@ EncodedPixels encodePixels(const ImageRgba32f& image, FileKind kind, bool alread
     return out;
 }
 
-// Writes `image` to `file` (whose extension selects the format); throws std::runtime_error with the reason.
+// Writes `bytes` to `file` with every write checked and synced: a full disk (ENOSPC) or a file size limit (EFBIG)
+// must be an error, never a short file renamed into place.
+void writeBytesChecked(const fs::path& file, const std::vector<unsigned char>& bytes) {
+    const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd < 0) throw std::runtime_error(std::string("cannot create the file: ") + std::strerror(errno));
+    size_t written = 0;
+    while (written < bytes.size()) {
+        const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+            const int error = n < 0 ? errno : ENOSPC;
+            ::close(fd);
+            throw std::runtime_error(std::string("write failed: ") + std::strerror(error));
+        }
+        written += size_t(n);
+    }
+    if (::fsync(fd) != 0 || ::close(fd) != 0) throw std::runtime_error(std::string("write failed: ") + std::strerror(errno));
+}
+
+// Encodes `image` in memory in the format `file`'s extension selects, then writes it with writeBytesChecked: OIIO's
+// own file writers do not report a short write (a truncated PNG was written with success), its in-memory proxy
+// cannot fail that way. Throws std::runtime_error with the reason.
 void writeWithOiio(const fs::path& file, const ImageRgba32f& image, FileKind kind, bool alreadyDisplayEncoded) {
     const EncodedPixels pixels = encodePixels(image, kind, alreadyDisplayEncoded);
+    std::vector<unsigned char> encoded;
+    OIIO::Filesystem::IOVecOutput memory(encoded);
     auto output = OIIO::ImageOutput::create(file.string());
     if (!output) {
         throw std::runtime_error("cannot create an image writer: " + OIIO::geterror());
@@ -100,6 +128,9 @@ void writeWithOiio(const fs::path& file, const ImageRgba32f& image, FileKind kin
     }
     // Our alpha is straight (unassociated): without this OIIO would divide colour by alpha for PNG.
     spec.attribute("oiio:UnassociatedAlpha", 1);
+    if (!output->supports("ioproxy")) throw std::runtime_error("the image writer cannot encode in memory");
+    void* proxy = &memory;
+    spec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
     if (!output->open(file.string(), spec)) {
         throw std::runtime_error(output->geterror());
     }
@@ -108,6 +139,7 @@ void writeWithOiio(const fs::path& file, const ImageRgba32f& image, FileKind kin
     if (!output->close() || !written) {
         throw std::runtime_error(written ? output->geterror() : writeError);
     }
+    writeBytesChecked(file, encoded);
 }
 
 } // namespace

@@ -158,3 +158,23 @@ TEST_F(CliTest, ViewRefusesBadSizesBeforeOpeningAWindow) {
     expectRefused(run("view --width 0", "DISPLAY="), "image size must be between 1 and 16384");
     expectRefused(run("view --render-scale 9", "DISPLAY="), "--render-scale must be in [0.05, 2]");
 }
+
+// A full disk, simulated by a file size limit (ulimit -f, with SIGXFSZ ignored so that writes fail with EFBIG as
+// on ENOSPC): every writer fails with exit 2 and leaves neither a short file nor its temporary file. A PNG used
+// to be written short and renamed into place with success.
+TEST_F(CliTest, AFullDiskFailsCleanlyWithoutShortFiles) {
+    auto limited = [&](const std::string& arguments) {
+        const std::string command = "cd '" + dir_.string() + "' && bash -c \"trap '' XFSZ; ulimit -f 1; '" CHCRT_BINARY
+                                    "' " + arguments + "\" > out.log 2>&1";
+        const int status = std::system(command.c_str());
+        return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    };
+    EXPECT_EQ(limited("render --scene city:10k --width 256 --height 256 --spp 1 -q -o img.png"), 2) << readFile("out.log");
+    EXPECT_NE(readFile("out.log").find("img.png: write failed: File too large"), std::string::npos) << readFile("out.log");
+    EXPECT_EQ(limited("render --scene city:10k --width 256 --height 256 --spp 1 -q -o img.exr"), 2) << readFile("out.log");
+    EXPECT_EQ(limited("prepare --scene city:200k -q -o big.chs"), 2) << readFile("out.log");
+    EXPECT_EQ(limited("bench --scene city:10k --width 64 --height 64 --method bvh --ray-type ao --frames 0-4 -q "
+                      "--json b.json"), 2) << readFile("out.log");
+    fs::remove(dir_ / "out.log");
+    EXPECT_EQ(fileCount(), 0u) << "short or temporary files left";
+}
