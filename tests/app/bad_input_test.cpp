@@ -178,3 +178,24 @@ TEST_F(CliTest, AFullDiskFailsCleanlyWithoutShortFiles) {
     fs::remove(dir_ / "out.log");
     EXPECT_EQ(fileCount(), 0u) << "short or temporary files left";
 }
+
+// A subtree that fails its checksum when an out-of-core render first reads it: the render stops with the file and
+// subtree named, and the frame that needed it is not written.
+TEST_F(CliTest, ACorruptSubtreeFailsTheOutOfCoreFrameThatReadsIt) {
+    ASSERT_EQ(run("prepare --scene city:200k --subtree-triangles 4000 -o c.chs -q").exitCode, 0);
+    {
+        std::fstream f(dir_ / "c.chs", std::ios::in | std::ios::out | std::ios::binary);
+        f.seekg(0, std::ios::end);
+        const std::streamoff middle = f.tellg() / 2;
+        f.seekg(middle);
+        const char byte = char(f.get() ^ 0xff);
+        f.seekp(middle);
+        f.put(byte);
+    }
+    const Result r = run("render --scene c.chs --out-of-core --load-in-core off --method chcrt --width 64 --height 48 "
+                         "--frames 0-2 -o f_####.png -q");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("c.chs: corrupted prepared scene (subtree "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("checksum mismatch)"), std::string::npos) << r.output;
+    EXPECT_FALSE(exists("f_0000.png"));
+}
