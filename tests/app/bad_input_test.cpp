@@ -14,6 +14,17 @@ namespace {
 
 using namespace chcrt::clitest;
 
+// Inverts the byte in the middle of a file: for a prepared scene, inside a subtree's checksummed data.
+void flipByteInTheMiddle(const fs::path& file) {
+    std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekg(0, std::ios::end);
+    const std::streamoff middle = f.tellg() / 2;
+    f.seekg(middle);
+    const char byte = char(f.get() ^ 0xff);
+    f.seekp(middle);
+    f.put(byte);
+}
+
 constexpr const char* kCity = "--scene city:10k --width 32 --height 24 -q ";
 
 // exit 2, the message contains `expected`, and the command did no work (no summary, no files).
@@ -110,15 +121,7 @@ TEST_F(CliTest, AnInterruptedPrepareLeavesNoTemporaryFile) {
 TEST_F(CliTest, InfoCheckFindsAFlippedByteInAPreparedScene) {
     ASSERT_EQ(run("prepare --scene city:50k --subtree-triangles 2000 -o s.chs -q").exitCode, 0);
     EXPECT_EQ(run("info --scene s.chs --check").exitCode, 0);
-    {
-        std::fstream f(dir_ / "s.chs", std::ios::in | std::ios::out | std::ios::binary);
-        f.seekg(0, std::ios::end);
-        const std::streamoff middle = f.tellg() / 2;
-        f.seekg(middle);
-        const char byte = char(f.get() ^ 0xff);
-        f.seekp(middle);
-        f.put(byte);
-    }
+    flipByteInTheMiddle(dir_ / "s.chs");
     const Result r = run("info --scene s.chs --check");
     EXPECT_EQ(r.exitCode, 4) << r.output;
     EXPECT_NE(r.output.find("checksum mismatch"), std::string::npos) << r.output;
@@ -183,15 +186,7 @@ TEST_F(CliTest, AFullDiskFailsCleanlyWithoutShortFiles) {
 // subtree named, and the frame that needed it is not written.
 TEST_F(CliTest, ACorruptSubtreeFailsTheOutOfCoreFrameThatReadsIt) {
     ASSERT_EQ(run("prepare --scene city:200k --subtree-triangles 4000 -o c.chs -q").exitCode, 0);
-    {
-        std::fstream f(dir_ / "c.chs", std::ios::in | std::ios::out | std::ios::binary);
-        f.seekg(0, std::ios::end);
-        const std::streamoff middle = f.tellg() / 2;
-        f.seekg(middle);
-        const char byte = char(f.get() ^ 0xff);
-        f.seekp(middle);
-        f.put(byte);
-    }
+    flipByteInTheMiddle(dir_ / "c.chs");
     const Result r = run("render --scene c.chs --out-of-core --load-in-core off --method chcrt --width 64 --height 48 "
                          "--frames 0-2 -o f_####.png -q");
     EXPECT_EQ(r.exitCode, 2) << r.output;
