@@ -68,21 +68,22 @@ HitComparison verifyFrame(VerifyContext& v, RayType type, int frame, FrameStats&
         renderer.traceRayPass(camera, type, sample, stats);
         const std::vector<Ray> rays = renderer.readRays(0);
         const std::vector<Hit> hits = renderer.readHits(0);
+        std::vector<Hit> reference(rays.size());
+        std::vector<size_t> differing;
         if (v.embree) {
-            std::vector<Hit> reference(rays.size());
             v.embree->trace(rays, reference, false); // closest hit: same hit/miss as any-hit, and ids
-            std::vector<size_t> differing;
             result.add(compareHits(v.session.scene, rays, hits, reference, isAnyHit(type), v.tolerance, &differing));
-            for (size_t pixel : differing) {
-                if (v.shown >= v.options.showDifferences) break;
-                printDifference(v.session.scene, rays[pixel], hits[pixel], reference[pixel], pixel,
-                                renderer.settings().width, frame);
-                ++v.shown;
-            }
         } else {
             renderer.useTracer(nullptr);
             renderer.traceRayPass(camera, type, sample, stats);
-            result.add(compareHitsExactly(rays, hits, renderer.readHits(0), isAnyHit(type)));
+            reference = renderer.readHits(0);
+            result.add(compareHitsExactly(rays, hits, reference, isAnyHit(type), &differing));
+        }
+        for (size_t pixel : differing) {
+            if (v.shown >= v.options.showDifferences) break;
+            printDifference(v.session.scene, rays[pixel], hits[pixel], reference[pixel], pixel,
+                            renderer.settings().width, frame);
+            ++v.shown;
         }
         renderer.useTracer(nullptr);
     }

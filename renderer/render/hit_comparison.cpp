@@ -70,19 +70,17 @@ ExactIntersection intersectInDouble(const Scene& scene, const Ray& ray, uint32_t
 }
 
 HitComparison compareHitsExactly(std::span<const Ray> rays, std::span<const Hit> a, std::span<const Hit> b,
-                                 bool anyHit) {
+                                 bool anyHit, std::vector<size_t>* differing) {
     HitComparison result;
     result.rays = rays.size();
     for (size_t i = 0; i < rays.size(); ++i) {
         result.activeRays += rays[i].tmax > rays[i].tmin;
         result.hitsA += a[i].hit();
         result.hitsB += b[i].hit();
-        if (anyHit) {
-            result.differing += a[i].hit() != b[i].hit();
-        } else {
-            result.differing +=
-                a[i].triangleId != b[i].triangleId || std::memcmp(&a[i].t, &b[i].t, sizeof(float)) != 0;
-        }
+        const bool differs = anyHit ? a[i].hit() != b[i].hit()
+                                    : a[i].triangleId != b[i].triangleId || std::memcmp(&a[i].t, &b[i].t, sizeof(float)) != 0;
+        result.differing += differs;
+        if (differs && differing) differing->push_back(i);
     }
     return result;
 }

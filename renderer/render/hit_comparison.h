@@ -42,9 +42,10 @@ struct HitComparison {
 
 // Exact comparison for conservative methods (CHC+RT vs pure BVH): a pixel differs unless both carry the same
 // triangle id and the same bits of t. Any-hit rays (shadow, AO) only answer "occluded or not", and which occluder
-// is found first depends on traversal order, so for them only hit/miss must agree.
+// is found first depends on traversal order, so for them only hit/miss must agree. `differing` (optional) receives
+// the indices of the pixels that differ.
 HitComparison compareHitsExactly(std::span<const Ray> rays, std::span<const Hit> a, std::span<const Hit> b,
-                                 bool anyHit);
+                                 bool anyHit, std::vector<size_t>* differing = nullptr);
 
 // The ray/triangle intersection of triangle `id` in double precision (for reports): t and barycentrics
 // (u of v1, v of v2) of the ray's line; det == 0 for a parallel ray.
