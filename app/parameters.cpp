@@ -411,6 +411,10 @@ std::vector<Parameter> describeChcrt() {
                  "CHC+RT bounds-only: cells with more subtrees traverse the whole BVH (0 = never)")
             .minusOneUnsets()
             .integer<uint32_t>(FIELD(chcrt.cellListLimit), 0),
+        Describe(Area::Chcrt, "--chcrt-hints", "chcrtHints",
+                 "CHC+RT bounds-only: test each ray's triangle of the previous frame first (hit hints)")
+            .checkbox("hit hints")
+            .onOff(FIELD(chcrt.hitHints)),
     };
 }
 

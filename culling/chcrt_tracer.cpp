@@ -26,6 +26,8 @@ ShaderProgram makeProgram(const char* fragment, bool anyHit, std::vector<ShaderD
                          defines);
 }
 
+
+
 // §5.3: one visibility state for all primary rays, one for all shadow rays, one for the bounce shadow rays,
 // and one per sample index for AO and diffuse rays (their directions differ per pass).
 uint64_t rayStateKey(const TraceRequest& request) {
@@ -79,6 +81,7 @@ ChcrtOptions recommendedChcrtOptions() {
     options.partition.maxSubtreeHeight = 12;
     options.adaptiveHeights = {10, 14};
     options.cellListLimit = 64;
+    options.hitHints = true;
     return options;
 }
 
@@ -218,11 +221,13 @@ void ChcrtTracer::compilePrograms() {
     if (bounded && !cells_) {
         // Cells over the list limit traverse the whole BVH: a stack as deep as the pure tracer's.
         const bool wholeTree = bvh_ != nullptr && options_.cellListLimit > 0;
-        cells_ = std::make_unique<CellTraversal>([this, wholeTree](bool anyHit) {
+        const bool hints = hintsAvailable();
+        cells_ = std::make_unique<CellTraversal>([this, wholeTree, hints](bool anyHit) {
             std::vector<ShaderDefine> defines = subtreeDefines(anyHit);
             for (ShaderDefine& d : defines) {
                 if (wholeTree && d.name == "CHCRT_SUBTREE_STACK") d.value = std::to_string(CHCRT_MAX_BVH_DEPTH);
             }
+            defines.push_back({"CHCRT_CULLING_HINTS", hints && anyHit ? "1" : "0"});
             return defines;
         });
         if (wholeTree) cells_->setWholeTree(0u, options_.cellListLimit);
@@ -308,6 +313,33 @@ GLuint ChcrtTracer::framebufferFor(const HitTargets& hits) {
     // The generalized queries need a depth-only target over the hit set's depth buffer; the hit buffer itself is
     // read and written as an image, never through the framebuffer (no feedback loop).
     return maskFramebufferFor(hits.depth.id());
+}
+
+bool ChcrtTracer::hintsAvailable() const {
+    // Hints name nodes of the in-core BVH; out of core a cache slot's nodes change as subtrees come and go.
+    return options_.hitHints && bvh_ != nullptr && options_.queries == ChcrtQueries::BoundsOnly;
+}
+
+GLuint ChcrtTracer::hintTexture(const TraceRequest& request) const {
+    const auto it = hints_.find(rayStateKey(request));
+    return it == hints_.end() ? 0 : it->second.id();
+}
+
+GLuint ChcrtTracer::hintImageFor(const TraceRequest& request, int width, int height) {
+    if (!hintsAvailable() || !request.anyHit) return 0;
+    GlTexture& hint = hints_[rayStateKey(request)];
+    GLint w = 0, h = 0;
+    if (hint.id() != 0) {
+        glGetTextureLevelParameteriv(hint.id(), 0, GL_TEXTURE_WIDTH, &w);
+        glGetTextureLevelParameteriv(hint.id(), 0, GL_TEXTURE_HEIGHT, &h);
+    }
+    if (hint.id() == 0 || w != width || h != height) {
+        hint = createTexture2D(width, height, GL_R32UI);
+        const GLuint none = CHCRT_NO_HIT_ID;
+        glClearTexImage(hint.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    }
+    return hint.id();
 }
 
 GLuint ChcrtTracer::maskFramebufferFor(GLuint depthTexture) {

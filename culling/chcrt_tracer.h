@@ -58,6 +58,11 @@ struct ChcrtOptions {
     // instead (cell_traversal.h; 0 = never). Long lists come from rays of diverse directions (diffuse) whose
     // cell bounds meet much of the scene: each listed root costs a box test the pure traversal would mostly skip.
     uint32_t cellListLimit = 0;
+    // BoundsOnly in core: hit hints for any-hit rays (culling/README.md "Hit hints"). Every shadow and AO ray set
+    // keeps, per ray, the BVH leaf in which its previous trace found a hit; a ray visits that leaf before its cell's
+    // list and is done when it hits there. Algorithm 1's Phase 1 (the previous visible front first) at the finest
+    // granularity: one leaf per pixel.
+    bool hitHints = false;
     uint32_t visibleThreshold = 0;   // §7 aggressive culling: visible only when more rays pass (0 = exact)
     uint32_t seed = 1;               // of the randomized re-query phases
     bool tighterBounds = true;       // §5.1: query the node's two children's boxes instead of its own box
@@ -96,9 +101,9 @@ struct ChcrtOptions {
     std::function<void()> bindSubtreeResources;
 };
 
-// The fastest exact configuration measured on the city, interior and plant near paths (culling/README.md "Choosing
-// the configuration"): the ray bounds grid decides every pair, termination height 12, cells with more than 64
-// subtrees traverse the whole BVH, and the adaptive choice also tries heights 10 and 14 per ray kind besides the
+// The fastest exact configuration measured on the city, interior and plant near paths (culling/README.md): the ray
+// bounds grid decides every pair, termination height 12, cells with more than 64 subtrees traverse the whole BVH,
+// any-hit rays start from hit hints, and the adaptive choice also tries heights 10 and 14 per ray kind besides the
 // pure pass.
 ChcrtOptions recommendedChcrtOptions();
 
@@ -192,6 +197,9 @@ public:
         for (auto& arm : heightArms_) if (arm) arm->resetVisibility();
     }
     size_t rayStateCount() const { return states_.size(); }
+    // The hit hints of the request's ray set (R32UI texture, GL orientation; culling/README.md "Hit hints"), 0 when
+    // it has none yet. Tests write arbitrary nodes into it: hints never change hits.
+    GLuint hintTexture(const TraceRequest& request) const;
 
     // Debug images: selecting one compiles the instrumented shader variants on first use; traces then add to
     // an R32UI texture of the traced size (GL window orientation) until clearDebugImage() (the viewer and
@@ -263,6 +271,11 @@ private:
     void intersectCells(std::vector<Scheduled>& work, bool anyHit, const RayTextures& rays, HitTargets& hits,
                         bool firstRound, int width, int height);
     GLuint maskFramebufferFor(GLuint depthTexture);
+    // Whether traces of any-hit ray sets use hit hints: hitHints, BoundsOnly and the in-core BVH.
+    bool hintsAvailable() const;
+    // The hint image of the request's ray set (R32UI of the traced size, CHCRT_CULLING_IMAGE_HINT), made on first
+    // use with no hints; 0 when the ray set has none (hints off, or closest-hit rays).
+    GLuint hintImageFor(const TraceRequest& request, int width, int height);
     std::string debugDefineOfKind() const;
     void ensureDebugTexture(int width, int height);
     // The culling tracer of adaptive arm `arm` (>= 1): this one for arm 1, else one at adaptiveHeights[arm - 2].
@@ -289,6 +302,7 @@ private:
     int debugWidth_ = 0, debugHeight_ = 0;
     std::map<GLuint, GlFramebuffer> framebuffers_; // by depth texture id
     std::map<uint64_t, std::unique_ptr<VisibilityState>> states_;
+    std::map<uint64_t, GlTexture> hints_; // hit hints per ray set (rayStateKey), hitHints only
     std::map<uint64_t, AdaptiveChoice> adaptive_; // per ray kind
     std::unique_ptr<RayBoundsGrid> rayExtent_;    // with options_.rayExtentCulling or BoundsOnly, updated per trace
     std::unique_ptr<CellTraversal> cells_;        // BoundsOnly's intersection rounds

@@ -132,6 +132,10 @@ bool ChcrtTracer::traceBounded(const TraceRequest& request, const RayTextures& r
     const bool warm = options_.boundsPreviousFront ? state.frame() > 0 : tracesRun_ > 1;
     auto start = Clock::now();
     beginTrace(rays, hits, width, height);
+    // Hit hints (any-hit ray sets): the cell passes first visit each ray's hinted leaf and record the leaves of new
+    // hits there.
+    const GLuint hintImage = hintImageFor(request, width, height);
+    if (hintImage != 0) glBindImageTexture(CHCRT_CULLING_IMAGE_HINT, hintImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
     // Before any hit, a ray reaches its whole segment (clipped to the scene): bounded rays (shadow, AO) already
     // leave most of the scene out, and every cell's lists get their entry bounds.
     updateBounds(rays, 0, anyHit, width, height);

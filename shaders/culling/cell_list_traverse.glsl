@@ -4,9 +4,15 @@
 // of the distance at which the cell's rays can enter them: a root whose box the ray does not meet before its
 // current hit is skipped after one box test, and once the bound passes the current hit the rest of the list is
 // (a closest-hit ray that found a near hit is done). Same hits as traversing the subtrees one after another (the
-// hit rule does not depend on the order). Needs render/bvh_nodes.glsl.
+// hit rule does not depend on the order). Needs render/bvh_nodes.glsl; with CHCRT_CELL_TRACK_LEAF defined, also
+// visitLeafTracked(entry, leaf node, first, count, ...) (chcrt_cells.frag.glsl), which is told the node of every leaf
+// it tests.
 
 layout(binding = CHCRT_UNIT_CULLING_CELL_ROOTS) uniform usamplerBuffer cellRoots;
+
+#ifdef CHCRT_CELL_TRACK_LEAF
+uint currentNode = 0u; // the node the traversal is at (its leaf, when a leaf is visited)
+#endif
 
 // Moves to the next root of [next, end) whose box the ray meets; false when none is left. The first root's test
 // is free, every further one counts as a step (an inner node's visit tests two boxes; the pure tracer tests its
@@ -25,6 +31,9 @@ bool nextListRoot(inout uint next, uint first, uint end, vec3 origin, vec3 invDi
         }
         ++next;
         if (enterRoot(entry.x, origin, invDir, tmin, bestT, nodeFirst, nodeCount)) {
+#ifdef CHCRT_CELL_TRACK_LEAF
+            currentNode = entry.x;
+#endif
             return true;
         }
     }
@@ -41,8 +50,10 @@ void traverseCellList(uint first, uint end, vec3 origin, vec3 direction, float t
     uint nodeCount = 0u;
     uint next = first;
     bool traversing = nextListRoot(next, first, end, origin, invDir, tmin, best.t, nodeFirst, nodeCount, cost);
-#ifdef CHCRT_CULLING_DEBUG_SUBTREES
-#define TRAVERSE_VISIT_LEAF visitLeafTracked(next - 1u, nodeFirst, nodeCount, origin, direction, tmin, best, cost)
+#ifdef CHCRT_CELL_TRACK_LEAF
+#define TRAVERSE_ENTER(node) currentNode = (node);
+#define TRAVERSE_POP(word) currentNode = (word);
+#define TRAVERSE_VISIT_LEAF visitLeafTracked(next - 1u, currentNode, nodeFirst, nodeCount, origin, direction, tmin, best, cost)
 #endif
 #define TRAVERSE_NEXT_ROOT \
     traversing = nextListRoot(next, first, end, origin, invDir, tmin, best.t, nodeFirst, nodeCount, cost);

@@ -11,6 +11,11 @@
 // pixel; see ChcrtDebugImage in culling/chcrt_tracer.h). Only the instrumented shader variants use it.
 #define CHCRT_CULLING_IMAGE_DEBUG 1
 
+// Image unit of an any-hit ray set's hit hints (R32UI, one texel per ray: the BVH node index of the leaf in which the
+// ray found its hit in the previous trace of its ray set, CHCRT_NO_HIT_ID for none). The cell passes visit a ray's
+// hinted leaf before its cell's list and record the leaf of every hit they find (culling/README.md, "Hit hints").
+#define CHCRT_CULLING_IMAGE_HINT 2
+
 // Cost debug image (CHCRT_CULLING_DEBUG_COST): the traversal-steps word of render_layout.h (CHCRT_TRACE_STEPS_*),
 // summed over the subtree passes; the capped bit marks a pixel whose ray reached the loop cap in some pass. The
 // viewer's cost view (shaders/viewer/visualize.frag.glsl) decodes it.

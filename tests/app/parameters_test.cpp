@@ -169,6 +169,9 @@ TEST(MethodRegistry, MethodDefaultsApplyToParametersNotGiven) {
     EXPECT_EQ(recommended.chcrt.partition.maxSubtreeHeight, 12u);
     EXPECT_EQ(recommended.chcrt.adaptiveHeights, (std::vector<uint32_t>{10, 14}));
     EXPECT_EQ(recommended.chcrt.cellListLimit, 64u);
+    EXPECT_TRUE(recommended.chcrt.hitHints);
+    EXPECT_FALSE(resolveMethodOptions(findMethod("chcrt"), parse({"--chcrt-hints", "off"}), 0).chcrt.hitHints);
+    EXPECT_FALSE(resolveMethodOptions(findMethod("chcrt-aggressive"), parse({}), 0).chcrt.hitHints);
     const CommonOptions forced = resolveMethodOptions(findMethod("chcrt"), parse({"--chcrt-height", "8"}), 0);
     EXPECT_EQ(forced.chcrt.partition.maxSubtreeHeight, 8u);
     EXPECT_TRUE(forced.chcrt.adaptiveHeights.empty());

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <functional>
 #include <map>
+#include <random>
 #include <set>
 #include <string>
 #include <vector>
@@ -32,6 +33,7 @@ struct ExactnessCase {
     bool boundsPreviousFront = false; // BoundsOnly: Phase 1 over the previous visible front, two rounds
     std::vector<uint32_t> adaptiveHeights = {}; // more culling arms of the adaptive choice
     uint32_t cellListLimit = 0; // BoundsOnly: longer cell lists traverse the whole BVH
+    bool hitHints = false;      // BoundsOnly: any-hit rays visit the leaf of their previous hit first
 };
 
 class ChcrtExactnessTest : public RenderTest, public ::testing::WithParamInterface<ExactnessCase> {};
@@ -62,6 +64,7 @@ ChcrtOptions optionsOf(const ExactnessCase& c, const int& frame) {
     options.boundsPreviousFront = c.boundsPreviousFront;
     options.adaptiveHeights = c.adaptiveHeights;
     options.cellListLimit = c.cellListLimit;
+    options.hitHints = c.hitHints;
     if (c.adaptive) {
         options.adaptiveTiming = fixedAdaptiveTiming(frame);
         options.adaptiveProbeInterval = 1;
@@ -73,6 +76,14 @@ ChcrtOptions optionsOf(const ExactnessCase& c, const int& frame) {
 // What a trace was: "F" for a pure pass of the adaptive fallback, else the termination height it culled with.
 std::string traceKind(const ChcrtStats& last) {
     return last.fallbackTraces ? "F" : std::to_string(last.heightSum);
+}
+
+// The texels of a hint texture (R32UI).
+std::vector<uint32_t> readHints(GLuint texture, int width, int height) {
+    std::vector<uint32_t> values(size_t(width) * size_t(height), 0u);
+    if (texture == 0) return {};
+    glGetTextureImage(texture, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, GLsizei(values.size() * 4), values.data());
+    return values;
 }
 
 bool sameHit(const Hit& a, const Hit& b, bool anyHit) {
@@ -122,6 +133,26 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
         EXPECT_EQ(stats.cappedRays, 0u);
     }
     EXPECT_GT(hits, compared / 4);
+    // Hit hints: any-hit ray sets recorded the leaves of their hits (the exactness above covers the frames that
+    // started from them), closest-hit ray sets have none.
+    TraceRequest shadow;
+    shadow.rayType = RayType::Shadow;
+    shadow.anyHit = true;
+    TraceRequest primary;
+    if (c.hitHints && c.queries == ChcrtQueries::BoundsOnly) {
+        EXPECT_EQ(chcrt.hintTexture(primary), 0u);
+        const std::vector<uint32_t> leaves = readHints(chcrt.hintTexture(shadow), settings.width, settings.height);
+        size_t recorded = 0;
+        for (uint32_t leaf : leaves) {
+            if (leaf == CHCRT_NO_HIT_ID) continue;
+            ++recorded;
+            ASSERT_LT(leaf, bvh_.nodes.size());
+            EXPECT_TRUE(bvh_.isLeaf(leaf)) << "hint " << leaf << " is not a leaf";
+        }
+        EXPECT_GT(recorded, leaves.size() / 20);
+    } else {
+        EXPECT_EQ(chcrt.hintTexture(shadow), 0u);
+    }
     // The comparison is only meaningful if culling happened: pairs were found invisible, and temporal
     // coherence reused the visible front (Phase 1 work after the first frame).
     const ChcrtStats& total = chcrt.totalStats();
@@ -304,6 +335,53 @@ TEST_F(RenderTest, RayBoundsShrunkBelowTheRoundingPadLoseHitsThatTheComparisonDe
     EXPECT_GT(differing, 0u);
 }
 
+TEST_F(RenderTest, ArbitraryHitHintsKeepHitsExact) {
+    // A hint only says where to look first: whatever leaf or inner node it names, the hits stay pure BVH's. The hint
+    // images of shadow and AO rays are overwritten with random nodes (leaves and inner nodes alike) before each trace.
+    RenderSettings settings;
+    settings.width = 96;
+    settings.height = 72;
+    Renderer& renderer = makeProceduralRenderer("city:60k", settings);
+    ChcrtOptions options;
+    options.partition.maxSubtreeHeight = 8;
+    options.pairs.minTileSize = 16;
+    options.adaptive = false;
+    options.queries = ChcrtQueries::BoundsOnly;
+    options.hitHints = true;
+    ChcrtTracer chcrt(bvh_, options);
+    const CameraPath path = proceduralNearPath(spec_);
+    std::mt19937 random(7);
+    std::uniform_int_distribution<uint32_t> node(0, uint32_t(bvh_.nodes.size() - 1));
+    std::vector<uint32_t> hints(size_t(settings.width) * size_t(settings.height));
+    size_t differing = 0, traced = 0;
+    FrameStats stats;
+    for (int frame = 0; frame < 3; ++frame) {
+        const Camera camera = path.cameraAtFrame(frame * 2);
+        renderer.renderGBuffer(camera, stats);
+        for (RayType type : {RayType::Shadow, RayType::Ao}) {
+            TraceRequest request;
+            request.rayType = type;
+            request.anyHit = true;
+            renderer.generateRayPass(camera, type, 0, stats);
+            renderer.useTracer(nullptr);
+            renderer.traceRayPass(camera, type, 0, stats);
+            const std::vector<Hit> reference = renderer.readHits(0);
+            if (GLuint texture = chcrt.hintTexture(request)) {
+                for (uint32_t& h : hints) h = random() % 4 == 0 ? CHCRT_NO_HIT_ID : node(random);
+                glTextureSubImage2D(texture, 0, 0, 0, settings.width, settings.height, GL_RED_INTEGER, GL_UNSIGNED_INT,
+                                    hints.data());
+                ++traced;
+            }
+            renderer.useTracer(&chcrt);
+            renderer.traceRayPass(camera, type, 0, stats);
+            const std::vector<Hit> culled = renderer.readHits(0);
+            for (size_t i = 0; i < reference.size(); ++i) differing += !sameHit(reference[i], culled[i], true);
+        }
+    }
+    EXPECT_EQ(traced, 4u); // both ray sets, from their second trace on
+    EXPECT_EQ(differing, 0u);
+}
+
 TEST_F(RenderTest, WithoutTemporalCoherenceEveryTraceStartsFromTheRootPair) {
     RenderSettings settings;
     settings.width = 64;
@@ -340,7 +418,8 @@ std::string caseName(const ::testing::TestParamInfo<ExactnessCase>& info) {
            (info.param.queries == ChcrtQueries::Gl ? "" : "_bounds_cell" + std::to_string(info.param.boundsCell) +
                                                               "_pieces" + std::to_string(info.param.boundsPieces)) +
            (info.param.boundsPreviousFront ? "_front" : "") + (info.param.adaptiveHeights.empty() ? "" : "_heights") +
-           (info.param.cellListLimit ? "_limit" + std::to_string(info.param.cellListLimit) : "");
+           (info.param.cellListLimit ? "_limit" + std::to_string(info.param.cellListLimit) : "") +
+           (info.param.hitHints ? "_hints" : "");
 }
 
 // Subtree height 8, well below the BVH depth at 60k triangles, so that object-space splits happen; tiles small enough for
@@ -389,7 +468,14 @@ INSTANTIATE_TEST_SUITE_P(ProceduralScenes, ChcrtExactnessTest,
                                            ExactnessCase{"city:60k", 12, 16, true, 4, false, false, true, true,
                                                          ChcrtQueries::BoundsOnly, 8, 4, false, {}, 3},
                                            ExactnessCase{"plant:60k", 8, 16, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsOnly, 4, 4, false, {}, 12}),
+                                                         ChcrtQueries::BoundsOnly, 4, 4, false, {}, 12},
+                                           // hit hints: any-hit rays visit the leaf of their previous hit first
+                                           ExactnessCase{"city:60k", 8, 16, true, 4, false, false, true, true,
+                                                         ChcrtQueries::BoundsOnly, 8, 4, false, {}, 0, true},
+                                           ExactnessCase{"interior:60k", 12, 16, true, 4, false, false, true, true,
+                                                         ChcrtQueries::BoundsOnly, 8, 4, false, {}, 12, true},
+                                           ExactnessCase{"plant:60k", 12, 16, true, 4, true, false, true, true,
+                                                         ChcrtQueries::BoundsOnly, 8, 4, false, {10}, 64, true}),
                          caseName);
 
 } // namespace
