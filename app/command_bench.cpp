@@ -315,9 +315,17 @@ nlohmann::json chcrtOptionsJson(const ChcrtOptions& o) {
             {"min_tile", o.pairs.minTileSize}};
 }
 
-// The table row and JSON row of one method and ray type.
-void addRows(Bench& b, RayType type, const std::string& m, const MethodResult& r, double bvhMs, Table& table,
-             nlohmann::json& rowsJson) {
+// Milliseconds per traversal step (--steps): `msPerFrame` over the steps the row's active rays of a frame took; 0
+// when steps were not counted.
+double msPerStep(const Bench& b, const MethodResult& r, double msPerFrame) {
+    if (!b.options.steps || r.stepRays == 0 || r.steps == 0) return 0.0;
+    const double raysPerFrame = double(r.activeRays) / double(b.options.runs) / double(b.frames.size());
+    return msPerFrame / (double(r.steps) / double(r.stepRays) * raysPerFrame);
+}
+
+// The table row and JSON row of one method and ray type. `bvhMsPerStep`: pure BVH's (0 without --steps).
+void addRows(Bench& b, RayType type, const std::string& m, const MethodResult& r, double bvhMs, double bvhMsPerStep,
+             Table& table, nlohmann::json& rowsJson) {
     const RenderSettings& settings = b.settings;
     const SceneSession& session = b.session;
     const double frames = double(b.frames.size());
@@ -339,7 +347,17 @@ void addRows(Bench& b, RayType type, const std::string& m, const MethodResult& r
                           imageError != b.imageErrors.end() ? formatFixed(imageError->second.finalPsnrDb, 1) : "-"});
     const bool stepsCounted = b.options.steps && r.stepRays > 0;
     const double stepsPerRay = stepsCounted ? double(r.steps) / double(r.stepRays) : 0.0;
-    if (b.options.steps) table.rows.back().push_back(stepsCounted ? formatFixed(stepsPerRay, 1) : "-");
+    // What a traversal step costs (--steps): pure BVH's whole trace per step, and a CHC+RT row's subtree passes per
+    // step against that (only when every trace culled: the adaptive choice's pure passes have no subtree passes).
+    const double rowMsPerStep = m == kPureBvhMethod ? msPerStep(b, r, ms) : 0.0;
+    const bool allCulled = r.chcrt.traces > 0 && r.chcrt.fallbackTraces == 0;
+    const double subtreeMsPerStep =
+        allCulled ? msPerStep(b, r, r.chcrt.subtreePassMs / (double(b.options.runs) * frames)) : 0.0;
+    const double stepCost = subtreeMsPerStep > 0 && bvhMsPerStep > 0 ? subtreeMsPerStep / bvhMsPerStep : 0.0;
+    if (b.options.steps) {
+        table.rows.back().push_back(stepsCounted ? formatFixed(stepsPerRay, 1) : "-");
+        table.rows.back().push_back(stepCost > 0 ? formatFixed(stepCost, 2) : "-");
+    }
     table.rows.back().push_back(r.chcrt.traces ? formatFixed(100.0 * r.chcrt.culledShare(), 0) + "%" : "-");
     table.rows.back().push_back(r.chcrt.culledTraces() ? formatFixed(r.chcrt.meanHeight(), 1) : "-");
     nlohmann::json row = {{"scene", session.scene.name},
@@ -360,7 +378,11 @@ void addRows(Bench& b, RayType type, const std::string& m, const MethodResult& r
                           {"diff_pixels", session.sceneInCore ? nlohmann::json(diff) : nlohmann::json(nullptr)},
                           {"edge_cases", m == kPureBvhMethod ? 0 : r.comparison.edgeCases},
                           {"psnr_db", nullptr},
-                          {"steps_per_ray", stepsCounted ? nlohmann::json(stepsPerRay) : nlohmann::json(nullptr)}};
+                          {"steps_per_ray", stepsCounted ? nlohmann::json(stepsPerRay) : nlohmann::json(nullptr)},
+                          {"ms_per_step", rowMsPerStep > 0 ? nlohmann::json(rowMsPerStep) : nlohmann::json(nullptr)},
+                          {"subtree_ms_per_step",
+                           subtreeMsPerStep > 0 ? nlohmann::json(subtreeMsPerStep) : nlohmann::json(nullptr)},
+                          {"step_cost_vs_bvh", stepCost > 0 ? nlohmann::json(stepCost) : nlohmann::json(nullptr)}};
     if (imageError != b.imageErrors.end()) {
         addImageError(row, imageError->second, settings, type, diff, raysPerFrame, b.frames.size());
     }
@@ -445,7 +467,10 @@ int runBench(const BenchOptions& options) {
     Table table;
     table.header = {"scene", "path", "ray_type", "method", "size", "spp", "ms/frame", "Mrays/s", "speedup", "diff_px",
                     "frame PSNR dB"};
-    if (options.steps) table.header.push_back("steps/ray");
+    if (options.steps) {
+        table.header.push_back("steps/ray");
+        table.header.push_back("step cost"); // a subtree pass's ms per step over pure BVH's
+    }
     // What a CHC+RT row ran: the share of its traces that culled (the rest were the adaptive choice's pure passes)
     // and the mean termination height of the culling traces.
     table.header.push_back("culled");
@@ -457,7 +482,8 @@ int runBench(const BenchOptions& options) {
     for (RayType type : rayTypes) {
         std::map<std::string, MethodResult> results = benchRayType(b, type, progressDone);
         const double bvhMs = median(results[kPureBvhMethod].runMs);
-        for (const std::string& m : methods) addRows(b, type, m, results[m], bvhMs, table, rowsJson);
+        const double bvhMsPerStep = msPerStep(b, results[kPureBvhMethod], bvhMs);
+        for (const std::string& m : methods) addRows(b, type, m, results[m], bvhMs, bvhMsPerStep, table, rowsJson);
     }
     b.session.progress->end();
     writeOutputs(b, table, rowsJson);

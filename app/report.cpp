@@ -216,6 +216,7 @@ nlohmann::json chcrtStatsJson(const ChcrtStats& s, double frames) {
                            {"bounds_ms", s.boundsMs},
                            {"decide_ms", s.decideMs},
                            {"cell_list_ms", s.cellListMs},
+                           {"subtree_pass_ms", s.subtreePassMs},
                            {"pairs_visible", s.pairsVisible},
                            {"pairs_invisible", s.pairsInvisible},
                            {"pairs_newly_visible", s.pairsNewlyVisible},

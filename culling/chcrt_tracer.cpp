@@ -159,6 +159,7 @@ ChcrtStats& ChcrtStats::operator+=(const ChcrtStats& o) {
     boundsMs += o.boundsMs;
     decideMs += o.decideMs;
     cellListMs += o.cellListMs;
+    subtreePassMs += o.subtreePassMs;
     pairsVisible += o.pairsVisible;
     pairsInvisible += o.pairsInvisible;
     pairsNewlyVisible += o.pairsNewlyVisible;
@@ -489,7 +490,25 @@ void ChcrtTracer::intersect(std::vector<Scheduled>& work, bool anyHit) {
         if (a.distance != b.distance) return a.distance < b.distance;
         return a.subtree < b.subtree;
     });
-    residentRounds(work, [&](const std::vector<Scheduled>& resident) { drawBatches(resident, anyHit); });
+    residentRounds(work, [&](const std::vector<Scheduled>& resident) {
+        beginPassTimer();
+        drawBatches(resident, anyHit);
+        endPassTimer();
+    });
+}
+
+void ChcrtTracer::beginPassTimer() {
+    if (passTimersUsed_ == passTimers_.size()) passTimers_.push_back(std::make_unique<GpuTimer>());
+    passTimers_[passTimersUsed_]->begin();
+}
+
+void ChcrtTracer::endPassTimer() {
+    passTimers_[passTimersUsed_++]->end();
+}
+
+void ChcrtTracer::readPassTimers() {
+    for (size_t i = 0; i < passTimersUsed_; ++i) last_.subtreePassMs += passTimers_[i]->milliseconds();
+    passTimersUsed_ = 0;
 }
 
 void ChcrtTracer::residentRounds(std::vector<Scheduled>& work,
@@ -841,6 +860,7 @@ void ChcrtTracer::endTrace(VisibilityState& state, int width, int height) {
     glDisable(GL_DEPTH_TEST);
     glViewport(0, 0, width, height);
     glFinish();
+    readPassTimers();
     mode_ = Mode::None;
 }
 

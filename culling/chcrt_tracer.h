@@ -130,6 +130,9 @@ struct ChcrtStats {
     double boundsMs = 0;               // time of the ray bounds reductions (inside the phases' times)
     double decideMs = 0;               // BoundsOnly: CPU time deciding pairs against the grid (inside the phases)
     double cellListMs = 0;             // BoundsOnly: CPU time building and uploading cell lists (inside the phases)
+    // GPU time of the subtree passes (per-tile batches or cell-list draws, with their masks; GL timer queries), for
+    // the cost of a traversal step in a subtree pass against one in a pure pass (chcrt bench --steps).
+    double subtreePassMs = 0;
     uint64_t pairsVisible = 0;       // visible front after the trace
     uint64_t pairsInvisible = 0;     // invisible front after the trace
     uint64_t pairsNewlyVisible = 0;  // terminal pairs found visible in Phase 3
@@ -271,6 +274,10 @@ private:
     void intersectCells(std::vector<Scheduled>& work, bool anyHit, const RayTextures& rays, HitTargets& hits,
                         bool firstRound, int width, int height);
     GLuint maskFramebufferFor(GLuint depthTexture);
+    // GL timer queries around the subtree passes of a trace (beginPassTimer/endPassTimer), read once it has finished.
+    void beginPassTimer();
+    void endPassTimer();
+    void readPassTimers();
     // Whether traces of any-hit ray sets use hit hints: hitHints, BoundsOnly and the in-core BVH.
     bool hintsAvailable() const;
     // The hint image of the request's ray set (R32UI of the traced size, CHCRT_CULLING_IMAGE_HINT), made on first
@@ -307,6 +314,8 @@ private:
     std::unique_ptr<RayBoundsGrid> rayExtent_;    // with options_.rayExtentCulling or BoundsOnly, updated per trace
     std::unique_ptr<CellTraversal> cells_;        // BoundsOnly's intersection rounds
     std::vector<GLuint> queryPool_;
+    std::vector<std::unique_ptr<GpuTimer>> passTimers_; // the first passTimersUsed_ hold this trace's passes
+    size_t passTimersUsed_ = 0;
     size_t queriesInUse_ = 0;
     std::deque<PendingQuery> queue_;
     std::vector<int32_t> multiGroups_;

@@ -115,7 +115,9 @@ void ChcrtTracer::intersectCells(std::vector<Scheduled>& work, bool anyHit, cons
         }
         last_.cellEntries += cells_->entryCount();
         last_.subtreesScheduled += resident.size();
+        beginPassTimer();
         last_.cellsDrawn += cells_->draw(anyHit, debugDefine, width, height, maskFramebuffer, writeMask);
+        endPassTimer();
         last_.cellsWholeTree += cells_->wholeTreeCells();
         last_.cellListMs += millisecondsSince(listStart); // CPU: lists, sorting, uploads, submitting the draw (not its GPU work)
         ++last_.shaderCalls;

@@ -170,11 +170,12 @@ TEST_F(CliTest, BenchWritesTheDocumentedJsonSchema) {
 
 // --steps counts work next to time. With the whole BVH as one termination subtree and the query testing the
 // subtree root's own box, CHC+RT traverses exactly what pure BVH does per ray (tests/culling/
-// chcrt_cost_image_test.cpp), so the two counts must agree; with more subtrees they may not.
+// chcrt_cost_image_test.cpp), so the two counts must agree; with more subtrees they may not, nor with hit hints
+// (shadow rays that hit their hinted leaf skip the traversal).
 TEST_F(CliTest, BenchStepsOfOneSubtreeChcrtEqualPureBvhSteps) {
     const std::string common = "bench --scene city:30k --ray-type primary,shadow --method bvh,chcrt-noadapt --frames 0,2 "
                                "--runs 1 --warmup 0 --width 64 --height 48 --chcrt-height 64 --chcrt-tighter-bounds off "
-                               "--chcrt-min-tile 16 -q ";
+                               "--chcrt-min-tile 16 --chcrt-hints off -q ";
     const Result r = run(common + "--steps --json s.json");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("steps/ray"), std::string::npos);
@@ -187,6 +188,21 @@ TEST_F(CliTest, BenchStepsOfOneSubtreeChcrtEqualPureBvhSteps) {
         ASSERT_EQ(culled["method"], "chcrt-noadapt");
         EXPECT_GT(pure["steps_per_ray"].get<double>(), 1.0) << pure["ray_type"];
         EXPECT_EQ(pure["steps_per_ray"].get<double>(), culled["steps_per_ray"].get<double>()) << pure["ray_type"];
+        // Step costs: pure BVH's trace time per step, CHC+RT's subtree passes (GPU timer) per step, which cannot
+        // take longer than its whole traces.
+        const double pureMsPerStep = pure["ms_per_step"].get<double>();
+        const double traces = culled["frames"].get<double>() * culled["runs"].get<double>(); // frames of all runs
+        const double steps = culled["steps_per_ray"].get<double>() * culled["active_rays_per_frame"].get<double>();
+        EXPECT_NEAR(pureMsPerStep * pure["steps_per_ray"].get<double>() * pure["active_rays_per_frame"].get<double>(),
+                    pure["ms_median"].get<double>(), 1e-6 * pure["ms_median"].get<double>());
+        const double subtreeMs = culled["chcrt"]["sum"]["subtree_pass_ms"].get<double>();
+        EXPECT_GT(subtreeMs, 0.0);
+        EXPECT_LE(subtreeMs, culled["chcrt"]["sum"]["phase1_ms"].get<double>() + culled["chcrt"]["sum"]["phase2_ms"].get<double>() +
+                                 culled["chcrt"]["sum"]["phase3_ms"].get<double>() + 1.0);
+        EXPECT_NEAR(culled["subtree_ms_per_step"].get<double>() * steps, subtreeMs / traces, 1e-6 * subtreeMs);
+        EXPECT_NEAR(culled["step_cost_vs_bvh"].get<double>(), culled["subtree_ms_per_step"].get<double>() / pureMsPerStep,
+                    1e-9);
+        EXPECT_TRUE(pure["subtree_ms_per_step"].is_null());
     }
     const Result plain = run(common + "--json p.json");
     ASSERT_EQ(plain.exitCode, 0) << plain.output;
