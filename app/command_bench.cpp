@@ -311,7 +311,7 @@ nlohmann::json chcrtOptionsJson(const ChcrtOptions& o) {
             {"height", o.partition.maxSubtreeHeight},
             {"adaptive", o.adaptive},
             {"adaptive_heights", o.adaptiveHeights},
-            {"queries", o.queries == ChcrtQueries::Gl ? "gl" : "bounds-only"},
+            {"queries", toString(o.queries)},
             {"min_tile", o.pairs.minTileSize}};
 }
 

@@ -395,10 +395,13 @@ std::vector<Parameter> describeChcrt() {
             .checkbox("ray extent culling")
             .onOff(FIELD(chcrt.rayExtentCulling)),
         Describe(Area::Chcrt, "--chcrt-queries", "chcrtQueries",
-                 "CHC+RT: how query pairs are decided: gl (GL occlusion queries, per-tile subtree draws) or "
-                 "bounds-only (the ray bounds grid decides every pair; cell lists, one draw per round)")
+                 "CHC+RT: how query pairs are decided: gl (GL occlusion queries, per-tile subtree draws), "
+                 "bounds-only (the ray bounds grid decides every pair on the CPU; cell lists, one draw per round) or "
+                 "bounds-gpu (the same grid decides every cell's list on the GPU, no read-back; in core)")
             .widget(Kind::Combo, "queries")
-            .choice<ChcrtQueries>(FIELD(chcrt.queries), {{"gl", ChcrtQueries::Gl}, {"bounds-only", ChcrtQueries::BoundsOnly}}),
+            .choice<ChcrtQueries>(FIELD(chcrt.queries), {{"gl", ChcrtQueries::Gl},
+                                                         {"bounds-only", ChcrtQueries::BoundsOnly},
+                                                         {"bounds-gpu", ChcrtQueries::BoundsGpu}}),
         Describe(Area::Chcrt, "--chcrt-bounds-cell", "chcrtBoundsCell",
                  "CHC+RT: ray bounds grid cell edge in pixels (a power of two)")
             .minusOneUnsets()

@@ -107,6 +107,26 @@ uint32_t CellTraversal::draw(bool anyHit, const std::string& debugDefine, int wi
     glBindTextureUnit(CHCRT_UNIT_CULLING_CELL_ROOTS, b.roots.texture.id());
     glBindTextureUnit(CHCRT_UNIT_CULLING_DRAW_CELLS, b.drawCells.texture.id());
     if (withIds) glBindTextureUnit(CHCRT_UNIT_CULLING_CELL_IDS, b.ids.texture.id());
+    drawMaskAndCells(anyHit, debugDefine, width, height, maskFramebuffer, writeMask,
+                     [&](const ShaderProgram& p) { drawPoints(p, width, height); });
+    entries_.clear();
+    return uint32_t(drawCells_.size());
+}
+
+void CellTraversal::drawIndirect(bool anyHit, const std::string& debugDefine, int width, int height, int cellsX,
+                                 int cellSize, GLuint maskFramebuffer, bool writeMask) {
+    drawMaskAndCells(anyHit, debugDefine, width, height, maskFramebuffer, writeMask, [&](const ShaderProgram& p) {
+        p.use();
+        p.set("raySize", glm::ivec2(width, height));
+        p.set("cellsX", cellsX);
+        p.set("cellSize", cellSize);
+        drawAttributelessIndirect(GL_POINTS);
+    });
+}
+
+void CellTraversal::drawMaskAndCells(bool anyHit, const std::string& debugDefine, int width, int height,
+                                     GLuint maskFramebuffer, bool writeMask,
+                                     const std::function<void(const ShaderProgram&)>& issue) {
     glBindFramebuffer(GL_FRAMEBUFFER, maskFramebuffer);
     glViewport(0, 0, width, height);
     glEnable(GL_PROGRAM_POINT_SIZE);
@@ -117,14 +137,12 @@ uint32_t CellTraversal::draw(bool anyHit, const std::string& debugDefine, int wi
         glClearNamedFramebufferfv(maskFramebuffer, GL_DEPTH, 0, &skip);
         glDepthFunc(GL_ALWAYS);
         glDepthMask(GL_TRUE);
-        drawPoints(maskProgram_, width, height);
+        issue(maskProgram_);
     }
     glDepthFunc(GL_LESS); // passes where the mask holds 1
     glDepthMask(GL_FALSE);
-    drawPoints(program(anyHit, debugDefine), width, height);
+    issue(program(anyHit, debugDefine));
     glDisable(GL_PROGRAM_POINT_SIZE);
-    entries_.clear();
-    return uint32_t(drawCells_.size());
 }
 
 } // namespace chcrt

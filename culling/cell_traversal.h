@@ -53,6 +53,10 @@ public:
     // the first). `debugDefine` names a debug image variant ("" = none). Returns the number of cells with work.
     uint32_t draw(bool anyHit, const std::string& debugDefine, int width, int height, GLuint maskFramebuffer,
                   bool writeMask);
+    // The same for lists decided on the GPU (gpu_cell_lists.h): the list texture units and the indirect draw of the
+    // cells with work are bound already; cellsX / cellSize describe the grid.
+    void drawIndirect(bool anyHit, const std::string& debugDefine, int width, int height, int cellsX, int cellSize,
+                      GLuint maskFramebuffer, bool writeMask);
 
 private:
     struct Entry {
@@ -64,6 +68,9 @@ private:
     };
     const ShaderProgram& program(bool anyHit, const std::string& debugDefine);
     void drawPoints(const ShaderProgram& program, int width, int height) const;
+    // The mask (when asked for) and the traversal of the cells `issue` draws, into `maskFramebuffer`.
+    void drawMaskAndCells(bool anyHit, const std::string& debugDefine, int width, int height, GLuint maskFramebuffer,
+                          bool writeMask, const std::function<void(const ShaderProgram&)>& issue);
     static void upload(TextureBuffer& target, const void* data, size_t bytes, GLenum format);
     static ShaderProgram makeMaskProgram();
 

@@ -55,10 +55,10 @@ void validate(const ChcrtOptions& o) {
         throw InputError("chcrt: at most " + std::to_string(CHCRT_CULLING_MAX_QUERY_BOXES / 2) + " pairs per multi-query");
     }
     if (o.adaptiveProbeInterval < 1) throw InputError("chcrt: adaptive probe interval must be at least 1");
-    if (o.queries == ChcrtQueries::BoundsOnly && o.visibleThreshold > 0) {
+    if (decidesByBounds(o.queries) && o.visibleThreshold > 0) {
         throw InputError("chcrt: the aggressive threshold counts rays per query; it needs --chcrt-queries gl");
     }
-    if (o.queries == ChcrtQueries::BoundsOnly && o.subtreeDefines) {
+    if (decidesByBounds(o.queries) && o.subtreeDefines) {
         throw InputError("chcrt: cell lists traverse the pure BVH; another subtree traversal needs --chcrt-queries gl");
     }
 }
@@ -86,13 +86,22 @@ ChcrtOptions recommendedChcrtOptions() {
 }
 
 const char* toString(ChcrtQueries queries) {
-    return queries == ChcrtQueries::Gl ? "gl" : "bounds-only";
+    switch (queries) {
+    case ChcrtQueries::Gl: return "gl";
+    case ChcrtQueries::BoundsOnly: return "bounds-only";
+    default: return "bounds-gpu";
+    }
 }
 
 ChcrtQueries parseChcrtQueries(const std::string& name) {
     if (name == "gl") return ChcrtQueries::Gl;
     if (name == "bounds-only") return ChcrtQueries::BoundsOnly;
-    throw InputError("unknown CHC+RT query mode '" + name + "' (available: gl, bounds-only)");
+    if (name == "bounds-gpu") return ChcrtQueries::BoundsGpu;
+    throw InputError("unknown CHC+RT query mode '" + name + "' (available: gl, bounds-only, bounds-gpu)");
+}
+
+bool decidesByBounds(ChcrtQueries queries) {
+    return queries == ChcrtQueries::BoundsOnly || queries == ChcrtQueries::BoundsGpu;
 }
 
 ChcrtDebugImage parseChcrtDebugImage(const std::string& name) {
@@ -197,6 +206,10 @@ ChcrtTracer::ChcrtTracer(CullingHierarchy hierarchy, SubtreeSource& source, Trac
     : name_(std::move(name)), options_((validate(options), options)), hierarchy_(std::move(hierarchy)),
       source_(&source), fullTracer_(fullTracer) {
     if (hierarchy_.nodes.empty() || hierarchy_.subtrees.empty()) throw InputError("chcrt: empty culling hierarchy");
+    if (options_.queries == ChcrtQueries::BoundsGpu) {
+        throw InputError("chcrt: --chcrt-queries bounds-gpu needs the scene's BVH in core (its cells may traverse the "
+                         "whole tree); out of core use gl or bounds-only");
+    }
     compilePrograms();
 }
 
@@ -217,7 +230,7 @@ std::vector<ShaderDefine> ChcrtTracer::subtreeDefines(bool anyHit) const {
 }
 
 void ChcrtTracer::compilePrograms() {
-    const bool bounded = options_.queries == ChcrtQueries::BoundsOnly;
+    const bool bounded = decidesByBounds(options_.queries);
     if ((options_.rayExtentCulling || bounded) && !rayExtent_) rayExtent_ = std::make_unique<RayBoundsGrid>(options_.bounds);
     if (bounded && !cells_) {
         // Cells over the list limit traverse the whole BVH: a stack as deep as the pure tracer's.
@@ -233,6 +246,9 @@ void ChcrtTracer::compilePrograms() {
         });
         if (wholeTree) cells_->setWholeTree(0u, options_.cellListLimit);
         cells_->compile();
+    }
+    if (options_.queries == ChcrtQueries::BoundsGpu && !gpuLists_) {
+        gpuLists_ = std::make_unique<GpuCellLists>(hierarchy_, options_.bounds.pieces);
     }
     for (int anyHit = 0; anyHit < 2; ++anyHit) {
         const std::vector<ShaderDefine> defines = subtreeDefines(anyHit != 0);
@@ -318,7 +334,7 @@ GLuint ChcrtTracer::framebufferFor(const HitTargets& hits) {
 
 bool ChcrtTracer::hintsAvailable() const {
     // Hints name nodes of the in-core BVH; out of core a cache slot's nodes change as subtrees come and go.
-    return options_.hitHints && bvh_ != nullptr && options_.queries == ChcrtQueries::BoundsOnly;
+    return options_.hitHints && bvh_ != nullptr && decidesByBounds(options_.queries);
 }
 
 GLuint ChcrtTracer::hintTexture(const TraceRequest& request) const {
@@ -724,8 +740,11 @@ bool ChcrtTracer::traceOwn(const TraceRequest& request, const RayTextures& rays,
                            int height) {
     last_ = ChcrtStats{};
     ++tracesRun_;
-    return options_.queries == ChcrtQueries::BoundsOnly ? traceBounded(request, rays, hits, width, height)
-                                                        : traceCulled(request, rays, hits, width, height);
+    switch (options_.queries) {
+    case ChcrtQueries::BoundsOnly: return traceBounded(request, rays, hits, width, height);
+    case ChcrtQueries::BoundsGpu: return traceBoundedGpu(request, rays, hits, width, height);
+    default: return traceCulled(request, rays, hits, width, height);
+    }
 }
 
 bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width,
@@ -852,6 +871,10 @@ void ChcrtTracer::endTrace(VisibilityState& state, int width, int height) {
     state.collectLeaves(visibleLeaves, invisibleLeaves);
     last_.pairsVisible = visibleLeaves.size();
     last_.pairsInvisible = invisibleLeaves.size();
+    finishTrace(width, height);
+}
+
+void ChcrtTracer::finishTrace(int width, int height) {
     // Hand the hits to texture fetches and read-backs of the renderer; leave GL state as the pure tracer does.
     glMemoryBarrier(GL_ALL_BARRIER_BITS);
     dirtyTiles_.clear();

@@ -12,6 +12,7 @@
 #include "culling/culling_hierarchy.h"
 #include "culling/query_pair_hierarchy.h"
 #include "culling/cell_traversal.h"
+#include "culling/gpu_cell_lists.h"
 #include "culling/ray_bounds_grid.h"
 #include "culling/subtree_source.h"
 #include "culling/visibility_state.h"
@@ -31,10 +32,12 @@ namespace chcrt {
 // How query pairs are decided (culling/README.md "Deciding pairs"). Both are exact.
 enum class ChcrtQueries : uint8_t {
     Gl,         // §4.1 as in the paper: one GL occlusion query per pair (or §5.1 multi-query), per-tile subtree draws
-    BoundsOnly, // the ray bounds grid decides every pair (no queries); cell lists, one draw per intersection round
+    BoundsOnly, // the ray bounds grid decides every pair (no queries) on the CPU; cell lists, one draw per round
+    BoundsGpu,  // the same grid decides every cell's list on the GPU (gpu_cell_lists.h): no read-back; in core only
 };
 const char* toString(ChcrtQueries queries);
-ChcrtQueries parseChcrtQueries(const std::string& name); // "gl" | "bounds-only"; InputError otherwise
+ChcrtQueries parseChcrtQueries(const std::string& name); // "gl" | "bounds-only" | "bounds-gpu"; InputError otherwise
+bool decidesByBounds(ChcrtQueries queries);              // BoundsOnly or BoundsGpu: cell lists, no GL queries
 
 struct ChcrtOptions {
     // Defaults: the paper's configuration (GL queries, termination height 24); recommendedChcrtOptions() below is
@@ -260,10 +263,13 @@ private:
     // §5.4 residency rounds: makes the scheduled subtrees resident, as many as fit, nearest first, and hands each
     // round's resident ones (with their GPU roots) to `draw`, until all are done or the upload budget ran out.
     void residentRounds(std::vector<Scheduled>& work, const std::function<void(const std::vector<Scheduled>&)>& draw);
+    // BoundsGpu (chcrt_tracer_bounds.cpp): the reduction, the GPU's cell lists and one cell pass, no read-back.
+    bool traceBoundedGpu(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width, int height);
     // BoundsOnly (chcrt_tracer_bounds.cpp): Algorithm 1 with the ray bounds grid deciding every pair.
     bool traceBounded(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width, int height);
     void beginTrace(const RayTextures& rays, HitTargets& hits, int width, int height);
-    void endTrace(VisibilityState& state, int width, int height); // pull-up, fronts' statistics, GL state
+    void endTrace(VisibilityState& state, int width, int height); // pull-up, fronts' statistics, then finishTrace
+    void finishTrace(int width, int height);                      // GL state, glFinish, the passes' GPU times
     // Subdivides a pair that turned visible (§4.3, `split` its domain) into new invisible leaves; returns how many.
     int subdividePair(VisibilityState& state, int32_t pair, PairSplit split, std::array<int32_t, 4>& children) const;
     void updateBounds(const RayTextures& rays, GLuint hitImage, bool anyHit, int width, int height);
@@ -278,7 +284,7 @@ private:
     void beginPassTimer();
     void endPassTimer();
     void readPassTimers();
-    // Whether traces of any-hit ray sets use hit hints: hitHints, BoundsOnly and the in-core BVH.
+    // Whether traces of any-hit ray sets use hit hints: hitHints, bounds-decided cell lists and the in-core BVH.
     bool hintsAvailable() const;
     // The hint image of the request's ray set (R32UI of the traced size, CHCRT_CULLING_IMAGE_HINT), made on first
     // use with no hints; 0 when the ray set has none (hints off, or closest-hit rays).
@@ -312,7 +318,8 @@ private:
     std::map<uint64_t, GlTexture> hints_; // hit hints per ray set (rayStateKey), hitHints only
     std::map<uint64_t, AdaptiveChoice> adaptive_; // per ray kind
     std::unique_ptr<RayBoundsGrid> rayExtent_;    // with options_.rayExtentCulling or BoundsOnly, updated per trace
-    std::unique_ptr<CellTraversal> cells_;        // BoundsOnly's intersection rounds
+    std::unique_ptr<CellTraversal> cells_;        // BoundsOnly's and BoundsGpu's intersection rounds
+    std::unique_ptr<GpuCellLists> gpuLists_;      // BoundsGpu's cell lists
     std::vector<GLuint> queryPool_;
     std::vector<std::unique_ptr<GpuTimer>> passTimers_; // the first passTimersUsed_ hold this trace's passes
     size_t passTimersUsed_ = 0;

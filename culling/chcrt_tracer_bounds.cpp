@@ -66,6 +66,46 @@ bool ChcrtTracer::decideByBounds(int32_t first, VisibilityState& state, std::vec
     return firstVisible;
 }
 
+bool ChcrtTracer::traceBoundedGpu(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width,
+                                  int height) {
+    const bool anyHit = request.anyHit;
+    const bool warm = tracesRun_ > 1; // every trace is alike; the first compiles and fills caches
+    auto start = Clock::now();
+    beginTrace(rays, hits, width, height);
+    const GLuint hintImage = hintImageFor(request, width, height);
+    if (hintImage != 0) glBindImageTexture(CHCRT_CULLING_IMAGE_HINT, hintImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+    // The reduction and the lists are queued one after the other; the CPU waits for neither (the times below are
+    // the CPU's, submitting them; the cell pass's GPU time is subtreePassMs).
+    const auto boundsStart = Clock::now();
+    const CullingHierarchy::Node& root = hierarchy_.nodes[0];
+    rayExtent_->reduce(rays.origin.id(), rays.direction.id(), 0, anyHit, width, height, root.boxMin, root.boxMax);
+    ++last_.boundsUpdates;
+    last_.boundsMs += millisecondsSince(boundsStart);
+    const auto listStart = Clock::now();
+    const int cell = rayExtent_->options().cellSize;
+    const int cellsX = (width + cell - 1) / cell, cellsY = (height + cell - 1) / cell;
+    gpuLists_->build(rayExtent_->buffer(), cellsX, cellsY, options_.cellListLimit, options_.bounds.relativePad);
+    last_.cellListMs += millisecondsSince(listStart);
+    last_.phase1Ms = millisecondsSince(start);
+
+    start = Clock::now();
+    mode_ = Mode::None;
+    beginPassTimer();
+    cells_->drawIndirect(anyHit, debugDefineOfKind(), width, height, cellsX, cell, maskFramebufferFor(rays.active.id()),
+                         false);
+    endPassTimer();
+    ++last_.shaderCalls;
+    finishTrace(width, height);
+    const GpuCellLists::Counters counters = gpuLists_->counters();
+    last_.cellsDrawn = counters.cellsDrawn;
+    last_.cellEntries = counters.entries;
+    last_.cellsWholeTree = counters.wholeTreeCells;
+    last_.pairsDecidedBounds = counters.nodesTested;
+    last_.subtreesScheduled = counters.entries;
+    last_.phase3Ms = millisecondsSince(start);
+    return warm;
+}
+
 std::string ChcrtTracer::debugDefineOfKind() const {
     switch (debugKind_) {
     case ChcrtDebugImage::Subtrees: return "CHCRT_CULLING_DEBUG_SUBTREES";

@@ -30,6 +30,17 @@ RayBoundsGrid::RayBoundsGrid(const RayBoundsOptions& options) : options_(options
 
 void RayBoundsGrid::update(GLuint origins, GLuint directions, GLuint hitImage, bool anyHit, int width, int height,
                            glm::vec3 sceneMin, glm::vec3 sceneMax) {
+    reduce(origins, directions, hitImage, anyHit, width, height, sceneMin, sceneMax);
+    const int cell = options_.cellSize;
+    const size_t values = size_t((width + cell - 1) / cell) * size_t((height + cell - 1) / cell) *
+                          size_t(1 + 2 * (options_.pieces + 2));
+    readBack_.resize(values);
+    glGetNamedBufferSubData(buffer_.id(), 0, GLsizeiptr(values * sizeof(glm::vec4)), readBack_.data());
+    setCells(width, height, readBack_);
+}
+
+void RayBoundsGrid::reduce(GLuint origins, GLuint directions, GLuint hitImage, bool anyHit, int width, int height,
+                           glm::vec3 sceneMin, glm::vec3 sceneMax) {
     const int variant = hitImage == 0 ? 0 : (anyHit ? 2 : 1);
     ShaderProgram& program = programs_[variant];
     if (!program.valid()) {
@@ -56,10 +67,7 @@ void RayBoundsGrid::update(GLuint origins, GLuint directions, GLuint hitImage, b
     if (hitImage != 0) glBindImageTexture(CHCRT_CULLING_IMAGE_HIT, hitImage, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32UI);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, CHCRT_CULLING_BOUNDS_BUFFER, buffer_.id());
     glDispatchCompute(GLuint((cellsX + 7) / 8), GLuint((cellsY + 7) / 8), 1); // an invocation per cell
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    readBack_.resize(values);
-    glGetNamedBufferSubData(buffer_.id(), 0, GLsizeiptr(bytes), readBack_.data());
-    setCells(width, height, readBack_);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
 }
 
 void RayBoundsGrid::setCells(int width, int height, const std::vector<glm::vec4>& buffer) {

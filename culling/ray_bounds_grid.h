@@ -48,6 +48,11 @@ public:
     // call compiles the reduction shader).
     void update(GLuint origins, GLuint directions, GLuint hitImage, bool anyHit, int width, int height,
                 glm::vec3 sceneMin, glm::vec3 sceneMax);
+    // The reduction alone, into buffer() (CHCRT_CULLING_BOUNDS_* layout), for passes that read the grid on the GPU
+    // (gpu_cell_lists.h): nothing is read back, the CPU side keeps its previous cells.
+    void reduce(GLuint origins, GLuint directions, GLuint hitImage, bool anyHit, int width, int height,
+                glm::vec3 sceneMin, glm::vec3 sceneMax);
+    GLuint buffer() const { return buffer_.id(); }
 
     // True when some ray of `tile`'s pixels may meet one of the `count` boxes (lower[i], upper[i]) before its hit;
     // false means no ray of the tile can hit anything inside them. Tiles are in pixels of the ray set, GL

@@ -154,11 +154,12 @@ GlFramebuffer createFramebuffer(const GLuint* colorTextures, int colorCount, GLu
     return framebuffer;
 }
 
-void drawAttributeless(GLenum mode, GLsizei vertexCount) {
-    // Core profile draws need a bound VAO even without attributes. One empty VAO per context: VAOs are not
-    // shared between contexts, so the cached name is dropped whenever loadGlFunctions() has run again (every
-    // new context, including a GLFW window, loads the table first). The old name died with its context and is
-    // deliberately not deleted. Single-threaded use only, like the one-context-per-process model.
+namespace {
+// Core profile draws need a bound VAO even without attributes. One empty VAO per context: VAOs are not shared
+// between contexts, so the cached name is dropped whenever loadGlFunctions() has run again (every new context,
+// including a GLFW window, loads the table first). The old name died with its context and is deliberately not
+// deleted. Single-threaded use only, like the one-context-per-process model.
+void bindEmptyVertexArray() {
     static GLuint vao = 0;
     static unsigned vaoGeneration = 0;
     if (vao == 0 || vaoGeneration != detail::glLoadGeneration()) {
@@ -166,6 +167,16 @@ void drawAttributeless(GLenum mode, GLsizei vertexCount) {
         vaoGeneration = detail::glLoadGeneration();
     }
     glBindVertexArray(vao);
+}
+} // namespace
+
+void drawAttributelessIndirect(GLenum mode) {
+    bindEmptyVertexArray();
+    glDrawArraysIndirect(mode, nullptr);
+}
+
+void drawAttributeless(GLenum mode, GLsizei vertexCount) {
+    bindEmptyVertexArray();
     glDrawArrays(mode, 0, vertexCount);
 }
 

@@ -72,6 +72,8 @@ void drawFullscreenTriangle();
 // Draws `vertexCount` vertices as primitives `mode` with no vertex attributes (the vertex shader derives everything
 // from gl_VertexID), with the same empty VAO.
 void drawAttributeless(GLenum mode, GLsizei vertexCount);
+// The same with the vertex count of the indirect command at offset 0 of the bound GL_DRAW_INDIRECT_BUFFER.
+void drawAttributelessIndirect(GLenum mode);
 
 // GPU time of a scope via GL_TIME_ELAPSED (blocking read; used only where timings are requested).
 class GpuTimer {

@@ -42,6 +42,26 @@
 #define CHCRT_UNIT_CULLING_CELL_IDS 29
 #define CHCRT_UNIT_CULLING_DRAW_CELLS 30
 
+// Cell lists decided on the GPU (`--chcrt-queries bounds-gpu`, culling/gpu_cell_lists.h): one compute invocation per
+// cell traverses the upper hierarchy with the cell's boxes from the ray bounds buffer and writes the cell's list
+// in the layouts above (headers, roots, ids as the cell pass reads them through texture buffers), appending the
+// cell to the cells drawn. The upper hierarchy is a texture buffer of CHCRT_CULLING_HIERARCHY_TEXELS RGBA32F texels
+// per node: (box min, bits of the first child or CHCRT_NO_HIT_ID for a termination root), (box max, bits of the
+// termination root's GPU root), (tight box 0 min, bits of the tight box count), (tight box 0 max, bits of the
+// subtree index), (tight box 1 min, 0), (tight box 1 max, 0). Shader storage bindings of the outputs: headers
+// (uvec2 per cell), roots (uvec2 per entry), ids (uint per entry), and the draw buffer: an indirect draw command
+// (count, instances, first, base instance), the counters (entries, cells over the list limit, nodes tested, 0),
+// then the cells drawn. Entry 0 of the roots is the whole tree; cell c's list starts at 1 + c ·
+// CHCRT_CULLING_GPU_LIST_MAX, and a cell with more entries than its limit traverses the whole tree instead.
+#define CHCRT_UNIT_CULLING_HIERARCHY 31
+#define CHCRT_CULLING_HIERARCHY_TEXELS 6
+#define CHCRT_CULLING_GPU_HEADERS_BUFFER 1
+#define CHCRT_CULLING_GPU_ROOTS_BUFFER 2
+#define CHCRT_CULLING_GPU_IDS_BUFFER 3
+#define CHCRT_CULLING_GPU_DRAW_BUFFER 4
+#define CHCRT_CULLING_GPU_DRAW_HEADER 64 // uints before the cells drawn (256 bytes: any texture-buffer offset alignment)
+#define CHCRT_CULLING_GPU_LIST_MAX 64
+
 // Boxes per occlusion query: §5.1 multi-queries of up to 8 pairs with tighter bounds (2 child boxes each).
 #define CHCRT_CULLING_MAX_QUERY_BOXES 16
 

@@ -139,7 +139,7 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
     shadow.rayType = RayType::Shadow;
     shadow.anyHit = true;
     TraceRequest primary;
-    if (c.hitHints && c.queries == ChcrtQueries::BoundsOnly) {
+    if (c.hitHints && decidesByBounds(c.queries)) {
         EXPECT_EQ(chcrt.hintTexture(primary), 0u);
         const std::vector<uint32_t> leaves = readHints(chcrt.hintTexture(shadow), settings.width, settings.height);
         size_t recorded = 0;
@@ -161,23 +161,31 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
         EXPECT_EQ(total.queriesMulti, 0u);
     }
     EXPECT_EQ(total.traces, 6u * 4u * 2u);
-    const bool bounded = c.queries == ChcrtQueries::BoundsOnly;
+    const bool bounded = decidesByBounds(c.queries);
+    const bool gpuLists = c.queries == ChcrtQueries::BoundsGpu;
     if (!c.adaptive) {
         EXPECT_EQ(total.fallbackTraces, 0u);
-        EXPECT_GT(total.pairsInvisible, 0u);
+        if (!gpuLists) {
+            EXPECT_GT(total.pairsInvisible, 0u); // the GPU keeps no pairs
+        }
         // Phase 1 reuses the previous visible front (GL queries, or the bounds with boundsPreviousFront); without
         // it every scheduled subtree is a newly visible terminal pair.
         if (!bounded || c.boundsPreviousFront) EXPECT_GT(total.subtreesScheduled, total.pairsNewlyVisible);
-        else EXPECT_EQ(total.subtreesScheduled, total.pairsNewlyVisible);
+        else if (!gpuLists) {
+            EXPECT_EQ(total.subtreesScheduled, total.pairsNewlyVisible);
+        }
         if (bounded) {
             // Every pair decided by the grid, intersected from cell lists: the exactness above covers both.
             EXPECT_EQ(total.queries, 0u);
             EXPECT_GT(total.pairsDecidedBounds, total.traces);
             EXPECT_GT(total.cellEntries, 0u);
             EXPECT_GT(total.cellsDrawn, 0u);
-            // A list limit sends some cells through the whole BVH, and not every cell.
+            // A list limit sends some cells through the whole BVH, and not every cell (the GPU's lists hold at most
+            // CHCRT_CULLING_GPU_LIST_MAX entries whatever the limit).
             if (c.cellListLimit > 0) {
                 EXPECT_GT(total.cellsWholeTree, 0u);
+                EXPECT_LT(total.cellsWholeTree, total.cellsDrawn);
+            } else if (gpuLists) {
                 EXPECT_LT(total.cellsWholeTree, total.cellsDrawn);
             } else {
                 EXPECT_EQ(total.cellsWholeTree, 0u);
@@ -224,8 +232,9 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
         for (const auto& [type, sequence] : kinds) {
             EXPECT_EQ(std::count(sequence.begin(), sequence.end(), configured), 12) << type; // no fallback, one height
         }
-        // per sample index for AO and diffuse, one state each for primary and shadow (§5.3)
-        EXPECT_EQ(chcrt.rayStateCount(), 2u + 2u + 2u);
+        // per sample index for AO and diffuse, one state each for primary and shadow (§5.3); the GPU's lists keep
+        // none
+        EXPECT_EQ(chcrt.rayStateCount(), gpuLists ? 0u : 2u + 2u + 2u);
     }
     std::printf("[ stats    ] %s: %llu traces, %llu queries (%llu invisible, %llu lazy, %llu traversal), "
                 "%llu subtrees in %llu calls, fronts %llu visible / %llu invisible, phases %.1f/%.1f/%.1f ms\n",
@@ -382,6 +391,38 @@ TEST_F(RenderTest, ArbitraryHitHintsKeepHitsExact) {
     EXPECT_EQ(differing, 0u);
 }
 
+TEST_F(RenderTest, GpuCellListsWithRayBoundsShrunkBelowTheRoundingPadLoseHits) {
+    // Negative control of the bounds-gpu cases: the GPU's lists from boxes that are too small must change hits.
+    RenderSettings settings;
+    settings.width = 96;
+    settings.height = 72;
+    Renderer& renderer = makeProceduralRenderer("city:60k", settings);
+    ChcrtOptions options;
+    options.partition.maxSubtreeHeight = 8;
+    options.adaptive = false;
+    options.queries = ChcrtQueries::BoundsGpu;
+    options.bounds.relativePad = -1.0f / 64.0f;
+    ChcrtTracer shrunk(bvh_, options);
+    const CameraPath path = proceduralNearPath(spec_);
+    size_t differing = 0;
+    FrameStats stats;
+    for (int frame = 0; frame < 3; ++frame) {
+        const Camera camera = path.cameraAtFrame(frame * 2);
+        renderer.renderGBuffer(camera, stats);
+        for (RayType type : {RayType::Primary, RayType::Shadow, RayType::Ao}) {
+            renderer.generateRayPass(camera, type, 0, stats);
+            renderer.useTracer(nullptr);
+            renderer.traceRayPass(camera, type, 0, stats);
+            const std::vector<Hit> reference = renderer.readHits(0);
+            renderer.useTracer(&shrunk);
+            renderer.traceRayPass(camera, type, 0, stats);
+            const std::vector<Hit> culled = renderer.readHits(0);
+            for (size_t i = 0; i < reference.size(); ++i) differing += !sameHit(reference[i], culled[i], isAnyHit(type));
+        }
+    }
+    EXPECT_GT(differing, 0u);
+}
+
 TEST_F(RenderTest, WithoutTemporalCoherenceEveryTraceStartsFromTheRootPair) {
     RenderSettings settings;
     settings.width = 64;
@@ -415,8 +456,10 @@ std::string caseName(const ::testing::TestParamInfo<ExactnessCase>& info) {
            (info.param.tighterBounds ? "" : "_loose") + "_multi" + std::to_string(info.param.multiQueryPairs) +
            (info.param.adaptive ? "_adaptive" : "") + (info.param.leafCache ? "_leafcache" : "") +
            (info.param.rayExtent ? "" : "_noextent") + (info.param.mergedBatch ? "" : "_persubtree") +
-           (info.param.queries == ChcrtQueries::Gl ? "" : "_bounds_cell" + std::to_string(info.param.boundsCell) +
-                                                              "_pieces" + std::to_string(info.param.boundsPieces)) +
+           (info.param.queries == ChcrtQueries::Gl ? ""
+                                                   : std::string(info.param.queries == ChcrtQueries::BoundsGpu ? "_gpu" : "") +
+                                                         "_bounds_cell" + std::to_string(info.param.boundsCell) +
+                                                         "_pieces" + std::to_string(info.param.boundsPieces)) +
            (info.param.boundsPreviousFront ? "_front" : "") + (info.param.adaptiveHeights.empty() ? "" : "_heights") +
            (info.param.cellListLimit ? "_limit" + std::to_string(info.param.cellListLimit) : "") +
            (info.param.hitHints ? "_hints" : "");
@@ -475,7 +518,17 @@ INSTANTIATE_TEST_SUITE_P(ProceduralScenes, ChcrtExactnessTest,
                                            ExactnessCase{"interior:60k", 12, 16, true, 4, false, false, true, true,
                                                          ChcrtQueries::BoundsOnly, 8, 4, false, {}, 12, true},
                                            ExactnessCase{"plant:60k", 12, 16, true, 4, true, false, true, true,
-                                                         ChcrtQueries::BoundsOnly, 8, 4, false, {10}, 64, true}),
+                                                         ChcrtQueries::BoundsOnly, 8, 4, false, {10}, 64, true},
+                                           // cell lists decided on the GPU: heights, cells, pieces, list limits
+                                           // (3: cells over it traverse the whole tree), hints, the adaptive choice
+                                           ExactnessCase{"city:60k", 8, 16, true, 4, false, false, true, true,
+                                                         ChcrtQueries::BoundsGpu},
+                                           ExactnessCase{"interior:60k", 12, 16, true, 4, false, false, true, true,
+                                                         ChcrtQueries::BoundsGpu, 4, 8, false, {}, 3, true},
+                                           ExactnessCase{"plant:60k", 6, 16, true, 4, false, false, true, true,
+                                                         ChcrtQueries::BoundsGpu, 16, 1, false, {}, 12},
+                                           ExactnessCase{"city:60k", 12, 16, true, 4, true, false, true, true,
+                                                         ChcrtQueries::BoundsGpu, 8, 4, false, {10}, 64, true}),
                          caseName);
 
 } // namespace
