@@ -21,16 +21,18 @@ const ShaderProgram& CellTraversal::program(bool anyHit, const std::string& debu
     std::vector<ShaderDefine> defines = defines_(anyHit);
     defines.push_back({"TRACE_ANY_HIT", anyHit ? "1" : "0"});
     if (!debugDefine.empty()) defines.push_back({debugDefine, "1"});
-    ShaderProgram program({{GL_VERTEX_SHADER, "culling/chcrt_cells.vert.glsl"},
-                           {GL_FRAGMENT_SHADER, "culling/chcrt_cells.frag.glsl"}},
-                          defines);
+    if (compute()) defines.push_back({"CHCRT_CELL_SIZE", std::to_string(computeCellSize_)});
+    ShaderProgram program = compute() ? ShaderProgram({{GL_COMPUTE_SHADER, "culling/chcrt_cells.comp.glsl"}}, defines)
+                                      : ShaderProgram({{GL_VERTEX_SHADER, "culling/chcrt_cells.vert.glsl"},
+                                                       {GL_FRAGMENT_SHADER, "culling/chcrt_cells.frag.glsl"}},
+                                                      defines);
     return programs_.emplace(std::make_pair(debugDefine, anyHit), std::move(program)).first->second;
 }
 
 void CellTraversal::compile() {
     program(false, "");
     program(true, "");
-    if (!maskProgram_.valid()) maskProgram_ = makeMaskProgram();
+    if (!compute() && !maskProgram_.valid()) maskProgram_ = makeMaskProgram();
 }
 
 ShaderProgram CellTraversal::makeMaskProgram() {
@@ -51,7 +53,8 @@ void CellTraversal::drawPoints(const ShaderProgram& program, int width, int heig
     program.set("raySize", glm::ivec2(width, height));
     program.set("cellsX", cellsX_);
     program.set("cellSize", cellSize_);
-    drawAttributeless(GL_POINTS, GLsizei(drawCells_.size()));
+    if (compute()) glDispatchCompute(GLuint(drawCells_.size()), 1, 1);
+    else drawAttributeless(GL_POINTS, GLsizei(drawCells_.size()));
 }
 
 uint32_t CellTraversal::draw(bool anyHit, const std::string& debugDefine, int width, int height,
@@ -120,13 +123,18 @@ void CellTraversal::drawIndirect(bool anyHit, const std::string& debugDefine, in
         p.set("raySize", glm::ivec2(width, height));
         p.set("cellsX", cellsX);
         p.set("cellSize", cellSize);
-        drawAttributelessIndirect(GL_POINTS);
+        if (compute()) glDispatchComputeIndirect(CHCRT_CULLING_GPU_DISPATCH_OFFSET);
+        else drawAttributelessIndirect(GL_POINTS);
     });
 }
 
 void CellTraversal::drawMaskAndCells(bool anyHit, const std::string& debugDefine, int width, int height,
                                      GLuint maskFramebuffer, bool writeMask,
                                      const std::function<void(const ShaderProgram&)>& issue) {
+    if (compute()) {
+        issue(program(anyHit, debugDefine));
+        return;
+    }
     glBindFramebuffer(GL_FRAMEBUFFER, maskFramebuffer);
     glViewport(0, 0, width, height);
     glEnable(GL_PROGRAM_POINT_SIZE);

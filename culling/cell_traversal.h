@@ -26,7 +26,11 @@ public:
     static constexpr uint32_t kWholeTreeId = 0xfffffffeu;
     // `defines(anyHit)`: the defines of the subtree shader variant (stack size, a debug image's define).
     using Defines = std::function<std::vector<ShaderDefine>(bool anyHit)>;
-    explicit CellTraversal(Defines defines) : defines_(std::move(defines)) {}
+    // `computeCellSize` > 0: the passes are compute dispatches with work groups of that edge (the grid's cell size),
+    // one per cell with work (chcrt_cells.comp.glsl); 0: fragment passes drawing a point per cell.
+    explicit CellTraversal(Defines defines, int computeCellSize = 0)
+        : defines_(std::move(defines)), computeCellSize_(computeCellSize) {}
+    bool compute() const { return computeCellSize_ > 0; }
 
     // Starts new lists for a grid of cellsX × cellsY cells of cellSize² pixels.
     void begin(int cellsX, int cellsY, int cellSize);
@@ -68,13 +72,15 @@ private:
     };
     const ShaderProgram& program(bool anyHit, const std::string& debugDefine);
     void drawPoints(const ShaderProgram& program, int width, int height) const;
-    // The mask (when asked for) and the traversal of the cells `issue` draws, into `maskFramebuffer`.
+    // The mask (when asked for) and the traversal of the cells `issue` draws, into `maskFramebuffer`; compute passes
+    // need no mask (finished and inactive rays return at once) and no framebuffer.
     void drawMaskAndCells(bool anyHit, const std::string& debugDefine, int width, int height, GLuint maskFramebuffer,
                           bool writeMask, const std::function<void(const ShaderProgram&)>& issue);
     static void upload(TextureBuffer& target, const void* data, size_t bytes, GLenum format);
     static ShaderProgram makeMaskProgram();
 
     Defines defines_;
+    int computeCellSize_ = 0;
     std::map<std::pair<std::string, bool>, ShaderProgram> programs_;
     ShaderProgram maskProgram_;
     int cellsX_ = 0, cellsY_ = 0, cellSize_ = 0;

@@ -234,7 +234,9 @@ void ChcrtTracer::compilePrograms() {
     if ((options_.rayExtentCulling || bounded) && !rayExtent_) rayExtent_ = std::make_unique<RayBoundsGrid>(options_.bounds);
     if (bounded && !cells_) {
         // Cells over the list limit traverse the whole BVH: a stack as deep as the pure tracer's.
-        const bool wholeTree = bvh_ != nullptr && options_.cellListLimit > 0;
+        // (The GPU's lists send a cell over CHCRT_CULLING_GPU_LIST_MAX subtrees there whatever the limit.)
+        const bool wholeTree =
+            bvh_ != nullptr && (options_.cellListLimit > 0 || options_.queries == ChcrtQueries::BoundsGpu);
         const bool hints = hintsAvailable();
         cells_ = std::make_unique<CellTraversal>([this, wholeTree, hints](bool anyHit) {
             std::vector<ShaderDefine> defines = subtreeDefines(anyHit);
@@ -243,7 +245,7 @@ void ChcrtTracer::compilePrograms() {
             }
             defines.push_back({"CHCRT_CULLING_HINTS", hints && anyHit ? "1" : "0"});
             return defines;
-        });
+        }, options_.computeCellPass ? options_.bounds.cellSize : 0);
         if (wholeTree) cells_->setWholeTree(0u, options_.cellListLimit);
         cells_->compile();
     }

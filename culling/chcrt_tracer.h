@@ -66,6 +66,9 @@ struct ChcrtOptions {
     // list and is done when it hits there. Algorithm 1's Phase 1 (the previous visible front first) at the finest
     // granularity: one leaf per pixel.
     bool hitHints = false;
+    // BoundsOnly and BoundsGpu: trace the cell lists in compute dispatches (a work group per cell) instead of fragment
+    // passes; for GPUs whose fragment work runs on few units (docs/architecture.md). Same hits.
+    bool computeCellPass = false;
     uint32_t visibleThreshold = 0;   // §7 aggressive culling: visible only when more rays pass (0 = exact)
     uint32_t seed = 1;               // of the randomized re-query phases
     bool tighterBounds = true;       // §5.1: query the node's two children's boxes instead of its own box

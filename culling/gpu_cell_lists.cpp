@@ -67,8 +67,8 @@ void GpuCellLists::ensureCapacity(size_t cells) {
 void GpuCellLists::build(GLuint boundsBuffer, int cellsX, int cellsY, uint32_t listLimit, float relativePad) {
     const size_t cells = size_t(cellsX) * size_t(cellsY);
     ensureCapacity(cells);
-    // A fresh indirect command (no cells yet, one instance) and zero counters.
-    const std::array<uint32_t, 8> reset = {0u, 1u, 0u, 0u, 0u, 0u, 0u, 0u};
+    // Fresh indirect commands (no cells yet: a draw of one instance, a dispatch of one row) and zero counters.
+    const std::array<uint32_t, 11> reset = {0u, 1u, 0u, 0u, 0u, 1u, 1u, 0u, 0u, 0u, 0u};
     glNamedBufferSubData(draw_.id(), 0, sizeof(reset), reset.data());
     const uint32_t limit = listLimit == 0 ? CHCRT_CULLING_GPU_LIST_MAX : std::min<uint32_t>(listLimit, CHCRT_CULLING_GPU_LIST_MAX);
     program_.use();
@@ -89,12 +89,13 @@ void GpuCellLists::build(GLuint boundsBuffer, int cellsX, int cellsY, uint32_t l
     glBindTextureUnit(CHCRT_UNIT_CULLING_CELL_IDS, ids_.texture.id());
     glBindTextureUnit(CHCRT_UNIT_CULLING_DRAW_CELLS, drawCells_.texture.id());
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, draw_.id());
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, draw_.id());
 }
 
 GpuCellLists::Counters GpuCellLists::counters() const {
-    std::array<uint32_t, 8> head{};
+    std::array<uint32_t, 11> head{};
     if (draw_.id() != 0) glGetNamedBufferSubData(draw_.id(), 0, sizeof(head), head.data());
-    return Counters{head[0], head[4], head[5], head[6]};
+    return Counters{head[0], head[8], head[9], head[10]};
 }
 
 } // namespace chcrt

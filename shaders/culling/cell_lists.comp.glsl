@@ -58,7 +58,8 @@ bool reachesBox(vec3 lo, vec3 hi) {
 void writeWholeTree(uint cell) {
     headers[cell] = uvec2(0u, 1u);
     uint slot = atomicAdd(draw[0], 1u);
-    atomicAdd(draw[5], 1u);
+    atomicAdd(draw[4], 1u);
+    atomicAdd(draw[9], 1u);
     draw[CHCRT_CULLING_GPU_DRAW_HEADER + slot] = cell;
 }
 
@@ -151,7 +152,7 @@ void main() {
         listId[i] = floatBitsToUint(tight1.w);
         ++count;
     }
-    atomicAdd(draw[6], tested);
+    atomicAdd(draw[10], tested);
     if (overflow) {
         writeWholeTree(cell);
         return;
@@ -166,6 +167,7 @@ void main() {
         ids[first + i] = listId[i];
     }
     uint slot = atomicAdd(draw[0], 1u);
-    atomicAdd(draw[4], count);
+    atomicAdd(draw[4], 1u);
+    atomicAdd(draw[8], count);
     draw[CHCRT_CULLING_GPU_DRAW_HEADER + slot] = cell;
 }

@@ -1,71 +1,13 @@
 #version 450 core
-// CHC+RT subtree intersection over cell lists (culling/cell_traversal.h): one draw per round, a point per cell with
-// work (chcrt_cells.vert.glsl); each ray continues from the nearest hit stored so far (image load/store on the hit buffer: one fragment per
-// pixel per draw, so no other invocation touches it) and traverses its cell's list of termination subtrees with
-// the project's exact hit rule (render/bvh_nodes.glsl), so the final hits are those of pure BVH tracing. Inactive
-// and finished rays are rejected by the early depth test against a mask (the ray set's active-ray mask, or
-// chcrt_cells_mask.frag.glsl's), as in the pure passes: nothing here writes depth.
-// Host defines: TRACE_ANY_HIT (0 | 1), CHCRT_SUBTREE_STACK (traversal stack entries: the partition's maximum
-// subtree height + 1, §5.2), CHCRT_CULLING_DEBUG_SUBTREES / _BATCHES / _COST (debug images, as the subtree pass
-// of culling/chcrt_subtrees.frag.glsl: 1 + id of the subtree that changed the hit last / subtrees listed for the
-// pixel / traversal steps, bit 31 = capped), CHCRT_CULLING_HINTS (1, any-hit rays only: visit the ray's hinted
-// leaf first, and record the leaf of every hit this pass finds in the ray set's hint image).
-#include "shared/render_layout.h"
-#include "shared/bvh_layout.h"
-#include "shared/culling_layout.h"
-#ifdef CHCRT_SUBTREE_STACK
-#undef CHCRT_MAX_BVH_DEPTH
-#define CHCRT_MAX_BVH_DEPTH CHCRT_SUBTREE_STACK
-#endif
-#ifndef CHCRT_CULLING_HINTS
-#define CHCRT_CULLING_HINTS 0
-#endif
-#include "render/bvh_nodes.glsl"
+// CHC+RT subtree intersection over cell lists (culling/cell_traversal.h) as a fragment pass: one draw per round, a
+// point per cell with work (chcrt_cells.vert.glsl); each pixel's ray is traced by cell_pixel.glsl. Inactive and
+// finished rays are rejected by the early depth test against a mask (the ray set's active-ray mask, or
+// chcrt_cells_mask.frag.glsl's), as in the pure passes: nothing here writes depth. Host defines: cell_pixel.glsl's.
+#include "culling/cell_pixel.glsl"
 
 layout(early_fragment_tests) in;
 
-layout(binding = CHCRT_UNIT_RAY_ORIGIN) uniform sampler2D rayOrigins;
-layout(binding = CHCRT_UNIT_RAY_DIRECTION) uniform sampler2D rayDirections;
-layout(binding = CHCRT_CULLING_IMAGE_HIT, rgba32ui) uniform uimage2D hitImage;
-#if CHCRT_CULLING_HINTS
-layout(binding = CHCRT_CULLING_IMAGE_HINT, r32ui) uniform uimage2D hintImage;
-#endif
-
-layout(binding = CHCRT_UNIT_CULLING_CELL_HEADERS) uniform usamplerBuffer cellHeaders;
-layout(binding = CHCRT_ATOMIC_BINDING_CAPPED_RAYS, offset = 0) uniform atomic_uint cappedRays;
-#if defined(CHCRT_CULLING_DEBUG_SUBTREES) || defined(CHCRT_CULLING_DEBUG_BATCHES) || defined(CHCRT_CULLING_DEBUG_COST)
-layout(binding = CHCRT_CULLING_IMAGE_DEBUG, r32ui) uniform coherent uimage2D debugImage;
-#endif
-
-uniform int cellsX;
-uniform int cellSize;
 flat in int cellIndex;
-
-#ifdef CHCRT_CULLING_DEBUG_SUBTREES
-layout(binding = CHCRT_UNIT_CULLING_CELL_IDS) uniform usamplerBuffer cellIds;
-uint changedBy = 0u; // 1 + the subtree id of the listed root whose traversal last changed the hit
-#endif
-#if defined(CHCRT_CULLING_DEBUG_SUBTREES) || CHCRT_CULLING_HINTS
-#define CHCRT_CELL_TRACK_LEAF 1
-uint changedLeaf = CHCRT_NO_HIT_ID; // the BVH leaf whose triangle last changed the hit
-// The leaf test, remembering which listed root (entry) and which leaf (node) changed the hit.
-bool visitLeafTracked(uint entry, uint node, uint first, uint count, vec3 origin, vec3 direction, float tmin,
-                      inout TraceHit best, inout TraceCost cost) {
-    uint idBefore = best.triangleId;
-    float tBefore = best.t;
-    bool done = intersectLeaf(first, count, origin, direction, tmin, best, cost);
-    if (best.triangleId != idBefore || best.t != tBefore) {
-        changedLeaf = node;
-#ifdef CHCRT_CULLING_DEBUG_SUBTREES
-        changedBy = texelFetch(cellIds, int(entry)).x + 1u;
-#endif
-    }
-    return done;
-}
-#endif
-#include "culling/cell_list_traverse.glsl"
-#include "culling/debug_cost.glsl"
-#include "culling/hint_leaf.glsl"
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
@@ -73,57 +15,5 @@ void main() {
     if (cell.y * cellsX + cell.x != cellIndex) {
         return; // a neighbour's pixel under an edge cell's shifted point
     }
-    vec4 originTmin = texelFetch(rayOrigins, pixel, 0);
-    vec4 directionTmax = texelFetch(rayDirections, pixel, 0);
-    uvec4 stored = imageLoad(hitImage, pixel);
-#if TRACE_ANY_HIT
-    if (stored.y != CHCRT_NO_HIT_ID) {
-        return; // finished (the mask keeps most such rays out already)
-    }
-#endif
-    uvec2 header = texelFetch(cellHeaders, cellIndex).xy;
-#ifdef CHCRT_CULLING_DEBUG_BATCHES
-    imageAtomicAdd(debugImage, pixel, header.y);
-#endif
-    TraceHit best = makeMiss(directionTmax.w);
-    if (stored.y != CHCRT_NO_HIT_ID) {
-        best.t = uintBitsToFloat(stored.x);
-        best.triangleId = stored.y;
-        best.barycentrics = uintBitsToFloat(stored.zw);
-    }
-    uint previousId = best.triangleId;
-    float previousT = best.t;
-    TraceCost cost = TraceCost(0u, 0u, 0u, 0u);
-#if CHCRT_CULLING_HINTS
-    // Hit hints (any-hit rays): the leaf of the ray's hit in the previous trace of its ray set first; a hit there
-    // finishes the ray.
-    uint hintLeaf = imageLoad(hintImage, pixel).x;
-    if (hintLeaf != CHCRT_NO_HIT_ID) {
-        visitHintLeaf(hintLeaf, originTmin.xyz, directionTmax.xyz, originTmin.w, best, cost);
-        changedLeaf = hintLeaf;
-    }
-    if (best.triangleId == CHCRT_NO_HIT_ID)
-#endif
-    traverseCellList(header.x, header.x + header.y, originTmin.xyz, directionTmax.xyz, originTmin.w, best, cost);
-    if (cost.iterations >= CHCRT_TRACE_ITERATION_CAP) {
-        atomicCounterIncrement(cappedRays);
-    }
-#ifdef CHCRT_CULLING_DEBUG_COST
-    addCostSteps(pixel, cost);
-#endif
-    if (best.triangleId == previousId && best.t == previousT) {
-#if CHCRT_CULLING_HINTS
-        if (hintLeaf != CHCRT_NO_HIT_ID) {
-            imageStore(hintImage, pixel, uvec4(CHCRT_NO_HIT_ID)); // a hint that no longer hits is dropped
-        }
-#endif
-        return; // nothing nearer in these subtrees
-    }
-#ifdef CHCRT_CULLING_DEBUG_SUBTREES
-    imageStore(debugImage, pixel, uvec4(changedBy));
-#endif
-    imageStore(hitImage, pixel, uvec4(floatBitsToUint(best.t), best.triangleId, floatBitsToUint(best.barycentrics)));
-#if CHCRT_CULLING_HINTS
-    imageStore(hintImage, pixel, uvec4(changedLeaf));
-#endif
+    traceCellPixel(pixel, cellIndex);
 }

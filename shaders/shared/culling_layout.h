@@ -50,8 +50,8 @@
 // termination root's GPU root), (tight box 0 min, bits of the tight box count), (tight box 0 max, bits of the
 // subtree index), (tight box 1 min, 0), (tight box 1 max, 0). Shader storage bindings of the outputs: headers
 // (uvec2 per cell), roots (uvec2 per entry), ids (uint per entry), and the draw buffer: an indirect draw command
-// (count, instances, first, base instance), the counters (entries, cells over the list limit, nodes tested, 0),
-// then the cells drawn. Entry 0 of the roots is the whole tree; cell c's list starts at 1 + c ·
+// (count, instances, first, base instance), an indirect dispatch command (count, 1, 1) and a 0, the counters
+// (entries, cells over the list limit, nodes tested), then from CHCRT_CULLING_GPU_DRAW_HEADER on the cells drawn. Entry 0 of the roots is the whole tree; cell c's list starts at 1 + c ·
 // CHCRT_CULLING_GPU_LIST_MAX, and a cell with more entries than its limit traverses the whole tree instead.
 #define CHCRT_UNIT_CULLING_HIERARCHY 31
 #define CHCRT_CULLING_HIERARCHY_TEXELS 6
@@ -59,6 +59,7 @@
 #define CHCRT_CULLING_GPU_ROOTS_BUFFER 2
 #define CHCRT_CULLING_GPU_IDS_BUFFER 3
 #define CHCRT_CULLING_GPU_DRAW_BUFFER 4
+#define CHCRT_CULLING_GPU_DISPATCH_OFFSET 16 // bytes: the dispatch command in the draw buffer
 #define CHCRT_CULLING_GPU_DRAW_HEADER 64 // uints before the cells drawn (256 bytes: any texture-buffer offset alignment)
 #define CHCRT_CULLING_GPU_LIST_MAX 64
 

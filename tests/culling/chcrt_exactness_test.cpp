@@ -34,6 +34,7 @@ struct ExactnessCase {
     std::vector<uint32_t> adaptiveHeights = {}; // more culling arms of the adaptive choice
     uint32_t cellListLimit = 0; // BoundsOnly: longer cell lists traverse the whole BVH
     bool hitHints = false;      // BoundsOnly: any-hit rays visit the leaf of their previous hit first
+    bool computeCellPass = false; // cell lists traced in compute dispatches instead of fragment passes
 };
 
 class ChcrtExactnessTest : public RenderTest, public ::testing::WithParamInterface<ExactnessCase> {};
@@ -65,6 +66,7 @@ ChcrtOptions optionsOf(const ExactnessCase& c, const int& frame) {
     options.adaptiveHeights = c.adaptiveHeights;
     options.cellListLimit = c.cellListLimit;
     options.hitHints = c.hitHints;
+    options.computeCellPass = c.computeCellPass;
     if (c.adaptive) {
         options.adaptiveTiming = fixedAdaptiveTiming(frame);
         options.adaptiveProbeInterval = 1;
@@ -462,7 +464,7 @@ std::string caseName(const ::testing::TestParamInfo<ExactnessCase>& info) {
                                                          "_pieces" + std::to_string(info.param.boundsPieces)) +
            (info.param.boundsPreviousFront ? "_front" : "") + (info.param.adaptiveHeights.empty() ? "" : "_heights") +
            (info.param.cellListLimit ? "_limit" + std::to_string(info.param.cellListLimit) : "") +
-           (info.param.hitHints ? "_hints" : "");
+           (info.param.hitHints ? "_hints" : "") + (info.param.computeCellPass ? "_compute" : "");
 }
 
 // Subtree height 8, well below the BVH depth at 60k triangles, so that object-space splits happen; tiles small enough for
@@ -528,7 +530,18 @@ INSTANTIATE_TEST_SUITE_P(ProceduralScenes, ChcrtExactnessTest,
                                            ExactnessCase{"plant:60k", 6, 16, true, 4, false, false, true, true,
                                                          ChcrtQueries::BoundsGpu, 16, 1, false, {}, 12},
                                            ExactnessCase{"city:60k", 12, 16, true, 4, true, false, true, true,
-                                                         ChcrtQueries::BoundsGpu, 8, 4, false, {10}, 64, true}),
+                                                         ChcrtQueries::BoundsGpu, 8, 4, false, {10}, 64, true},
+                                           // the cell passes as compute dispatches (CPU and GPU lists, hints, cells of
+                                           // 4 and 16 pixels, the whole tree over a list limit)
+                                           ExactnessCase{"city:60k", 8, 16, true, 4, false, false, true, true,
+                                                         ChcrtQueries::BoundsOnly, 8, 4, false, {}, 0, true, true},
+                                           ExactnessCase{"plant:60k", 12, 16, true, 4, false, false, true, true,
+                                                         ChcrtQueries::BoundsGpu, 4, 4, false, {}, 12, true, true},
+                                           ExactnessCase{"interior:60k", 8, 16, true, 4, false, false, true, true,
+                                                         ChcrtQueries::BoundsGpu, 16, 2, false, {}, 0, false, true},
+                                           // without a list limit the GPU's longest lists still go to the whole tree
+                                           ExactnessCase{"interior:60k", 8, 16, true, 4, false, false, true, true,
+                                                         ChcrtQueries::BoundsGpu, 16, 2}),
                          caseName);
 
 } // namespace
