@@ -17,63 +17,104 @@ AdaptiveChoice::AdaptiveChoice(uint32_t arms, uint32_t probeInterval, double pro
     : arms_(std::max<uint32_t>(arms, 2)), base_(std::max<uint32_t>(probeInterval, 1)),
       budget_(probeBudget > 0.0 ? probeBudget : kAllowedProbeCost) {}
 
+bool AdaptiveChoice::measured(uint32_t arm) const {
+    return arm == kPureArm ? pureAll_.known() : arms_[arm].relative.known();
+}
+
+double AdaptiveChoice::relativeCost(uint32_t arm) const {
+    return arm == kPureArm ? 1.0 : arms_[arm].relative.estimate();
+}
+
+double AdaptiveChoice::baseline(uint32_t set) const {
+    const auto it = pureBySet_.find(set);
+    return it != pureBySet_.end() && it->second.known() ? it->second.estimate() : 0.0;
+}
+
 uint32_t AdaptiveChoice::lowest() const {
     uint32_t best = kPureArm;
-    double bestMs = 0.0;
-    bool any = false;
-    for (uint32_t a = 0; a < arms_.size(); ++a) {
-        if (!arms_[a].times.known()) continue;
-        const double ms = arms_[a].times.estimate();
-        if (!any || ms < bestMs) best = a, bestMs = ms, any = true;
+    for (uint32_t a = 1; a < arms_.size(); ++a) {
+        if (measured(a) && (!measured(best) || relativeCost(a) < relativeCost(best))) best = a;
     }
     return best;
 }
 
 uint32_t AdaptiveChoice::probeInterval(uint32_t arm) const {
     const uint32_t winner = best();
-    if (arm == winner || !arms_[arm].times.known() || !arms_[winner].times.known()) return base_;
-    const double bestMs = arms_[winner].times.estimate();
-    const double ratio = bestMs > 0.0 ? arms_[arm].times.estimate() / bestMs : 1.0;
+    if (arm == winner || !measured(arm) || !measured(winner)) return base_;
+    const double bestCost = relativeCost(winner);
+    const double ratio = bestCost > 0.0 ? relativeCost(arm) / bestCost : 1.0;
     const double losers = double(arms_.size() - 1);
     const double wait = std::ceil(losers * std::max(ratio - 1.0, 0.0) / budget_);
     return uint32_t(std::clamp(wait, double(base_), double(kMaxProbeInterval)));
 }
 
-uint32_t AdaptiveChoice::next() const {
-    // The configured culling and the pure pass first; the further arms once 2 * probeInterval traces have run, so
-    // that a short run does not spend itself on them.
-    if (!arms_[1].times.known()) return 1;
-    if (!arms_[kPureArm].times.known()) return kPureArm;
-    for (uint32_t a = 2; a < arms_.size(); ++a) {
-        if (!arms_[a].times.known() && traces_ >= 2 * base_) return a;
+uint32_t AdaptiveChoice::next(uint32_t set) const {
+    const uint32_t arm = choose();
+    // A culling trace counts only against the pure pass on the same set: without that baseline, trace the pure pass
+    // (it is never worse than a culling arm that still has to prove itself).
+    if (arm != kPureArm && baseline(set) <= 0.0 && (!measured(arm) || arm != best())) return kPureArm;
+    return arm;
+}
+
+uint32_t AdaptiveChoice::choose() const {
+    // The pure pass first (the baseline of every relative cost), then the configured culling.
+    if (!measured(kPureArm)) return kPureArm;
+    if (!measured(1)) return 1;
+    // Further arms once 2 * probeInterval traces have run, and only while culling comes close to the pure pass.
+    bool closeCulling = false;
+    for (uint32_t a = 1; a < arms_.size(); ++a) {
+        closeCulling = closeCulling || (measured(a) && relativeCost(a) <= 1.0 + kExploreMargin);
     }
-    // The most overdue probe, else the best arm.
+    if (closeCulling && traces_ >= 2 * base_) {
+        for (uint32_t a = 2; a < arms_.size(); ++a) {
+            if (!measured(a)) return a;
+        }
+    }
+    // An arm measured once that would take over is measured again at once: a switch needs two measurements, and
+    // confirming a winner costs nothing.
     const uint32_t winner = best();
+    for (uint32_t a = 1; a < arms_.size(); ++a) {
+        if (a != winner && arms_[a].relative.count() == 1 &&
+            relativeCost(a) < (1.0 - kSwitchMargin) * relativeCost(winner)) {
+            return a;
+        }
+    }
+    // The most overdue probe among the measured arms, else the best arm.
     uint32_t probe = winner;
     double overdue = 0.0;
     for (uint32_t a = 0; a < arms_.size(); ++a) {
-        if (a == winner || !arms_[a].times.known()) continue;
+        if (a == winner || !measured(a)) continue;
         const double due = double(arms_[a].since) / double(probeInterval(a)); // waited a whole interval
         if (due >= 1.0 && due > overdue) probe = a, overdue = due;
     }
     return probe;
 }
 
-void AdaptiveChoice::report(uint32_t arm, double ms, bool counted) {
+void AdaptiveChoice::report(uint32_t arm, double ms, bool counted, uint32_t set) {
     Arm& ran = arms_[arm];
-    if (counted && !(arm == kPureArm && ran.runs == 0)) ran.times.add(ms);
+    if (arm == kPureArm) {
+        if (counted && ran.runs > 0) {
+            pureBySet_[set].add(ms);
+            pureAll_.add(ms);
+        }
+    } else if (counted && baseline(set) > 0.0) {
+        ran.relative.add(ms / baseline(set));
+    }
     ++ran.runs;
     ran.since = 0;
     for (uint32_t a = 0; a < arms_.size(); ++a) {
         if (a != arm) ++arms_[a].since;
     }
-    // Until every arm is measured the lowest runs outright; afterwards a challenger needs the margin.
-    const uint32_t challenger = lowest();
     ++traces_;
-    if (!explored_ || arms_[challenger].times.estimate() < (1.0 - kSwitchMargin) * arms_[current_].times.estimate()) {
+    // Until the pure pass and the configured culling are measured the lowest runs outright; afterwards a challenger
+    // needs the margin and a second measurement (one noisy trace does not switch).
+    const uint32_t challenger = lowest();
+    const bool started = measured(kPureArm) && measured(1);
+    const bool confirmed = challenger == kPureArm || arms_[challenger].relative.count() >= 2;
+    if (!started || !measured(current_) ||
+        (confirmed && relativeCost(challenger) < (1.0 - kSwitchMargin) * relativeCost(current_))) {
         current_ = challenger;
     }
-    explored_ = std::all_of(arms_.begin(), arms_.end(), [](const Arm& a) { return a.times.known(); });
 }
 
 } // namespace chcrt

@@ -698,7 +698,7 @@ void ChcrtTracer::trace(const TraceRequest& request, const RayTextures& rays, Hi
     AdaptiveChoice& choice =
         adaptive_.try_emplace(adaptiveKey(request), arms, options_.adaptiveProbeInterval, options_.adaptiveProbeBudget)
             .first->second;
-    const uint32_t arm = canFallBack ? choice.next() : 1;
+    const uint32_t arm = canFallBack ? choice.next(uint32_t(request.sampleIndex)) : 1;
     const auto timed = [this](uint32_t ran, double ms) {
         return options_.adaptiveTiming ? options_.adaptiveTiming(ran, ms) : ms;
     };
@@ -712,13 +712,13 @@ void ChcrtTracer::trace(const TraceRequest& request, const RayTextures& rays, Hi
         last_.heightSum = tracer.hierarchy_.maxSubtreeHeight;
         // The culling traces end with glFinish. A debug trace's time includes the instrumentation: not a sample
         // of culling's cost for the choice.
-        if (canFallBack) choice.report(arm, timed(arm, millisecondsSince(start)), warm);
+        if (canFallBack) choice.report(arm, timed(arm, millisecondsSince(start)), warm, uint32_t(request.sampleIndex));
         stats.passes += 1 + last_.shaderCalls + last_.queries;
     } else {
         fullTracer_->trace(request, rays, hits, width, height, stats);
         glFinish();
         const double ms = millisecondsSince(start);
-        choice.report(arm, timed(arm, ms), true);
+        choice.report(arm, timed(arm, ms), true, uint32_t(request.sampleIndex));
         last_.fallbackTraces = 1;
         last_.fallbackMs = ms;
     }

@@ -4,26 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <utility>
 #include <vector>
 
 namespace chcrt::test {
 namespace {
 
-// Runs `traces` traces with the given costs; returns how many culled.
-int run(AdaptiveChoice& choice, int traces, double cullMs, double fullMs) {
-    int culled = 0;
-    for (int i = 0; i < traces; ++i) {
-        if (choice.shouldCull()) {
-            choice.culled(cullMs, true);
-            ++culled;
-        } else {
-            choice.tracedFull(fullMs);
-        }
-    }
-    return culled;
-}
-
-// Runs `traces` traces of fixed per-arm costs; returns the total time and counts the traces per arm.
+// Runs `traces` traces of fixed per-arm costs on ray set 0; returns the total time and counts the traces per arm.
 double runArms(AdaptiveChoice& choice, int traces, const std::vector<double>& ms, std::vector<int>* counts = nullptr) {
     double total = 0.0;
     for (int i = 0; i < traces; ++i) {
@@ -53,6 +40,32 @@ TEST(RecentTimes, MedianOfTheLastFive) {
     EXPECT_DOUBLE_EQ(t.estimate(), 20.0);
     t.add(3.0);  // 100, 30, 1, 2, 3
     EXPECT_DOUBLE_EQ(t.estimate(), 3.0);
+    EXPECT_EQ(t.count(), 7u);
+}
+
+TEST(AdaptiveChoice, MeasuresThePurePassTwiceThenCulling) {
+    AdaptiveChoice choice(2, 8);
+    EXPECT_EQ(choice.next(), AdaptiveChoice::kPureArm);
+    choice.report(0, 99.0, true); // first pure pass: not counted (compiles)
+    EXPECT_FALSE(choice.measured(0));
+    EXPECT_EQ(choice.next(), AdaptiveChoice::kPureArm);
+    choice.report(0, 10.0, true);
+    EXPECT_DOUBLE_EQ(choice.pureTimes().estimate(), 10.0);
+    EXPECT_EQ(choice.next(), 1u);
+    choice.report(1, 50.0, false); // cold: not counted
+    EXPECT_EQ(choice.next(), 1u);
+    choice.report(1, 12.0, true);
+    EXPECT_DOUBLE_EQ(choice.relativeCost(1), 1.2);
+    EXPECT_EQ(choice.next(), AdaptiveChoice::kPureArm); // culling (1.2x) loses
+}
+
+TEST(AdaptiveChoice, AWinnerIsConfirmedAtOnceAndTakesOverOnTwoMeasurements) {
+    AdaptiveChoice choice(2, 8);
+    runArms(choice, 3, {10.0, 5.0}); // pure twice, culling once
+    EXPECT_EQ(choice.best(), AdaptiveChoice::kPureArm); // one measurement does not switch
+    EXPECT_EQ(choice.next(), 1u);                       // but it is measured again at once
+    runArms(choice, 1, {10.0, 5.0});
+    EXPECT_EQ(choice.best(), 1u);
 }
 
 TEST(AdaptiveChoice, NearlyEqualArmsDoNotSwapOnNoise) {
@@ -67,27 +80,12 @@ TEST(AdaptiveChoice, NearlyEqualArmsDoNotSwapOnNoise) {
     EXPECT_EQ(choice.best(), 1u);
 }
 
-TEST(AdaptiveChoice, StartsCullingThenMeasuresThePurePassTwice) {
-    AdaptiveChoice choice(2, 8);
-    EXPECT_TRUE(choice.shouldCull());
-    choice.culled(50.0, false); // cold: not counted
-    EXPECT_TRUE(choice.shouldCull());
-    choice.culled(12.0, true);
-    EXPECT_FALSE(choice.shouldCull());
-    choice.tracedFull(99.0); // first pure pass: not counted
-    EXPECT_FALSE(choice.fullTimes().known());
-    EXPECT_FALSE(choice.shouldCull());
-    choice.tracedFull(10.0);
-    EXPECT_DOUBLE_EQ(choice.fullTimes().estimate(), 10.0);
-    EXPECT_FALSE(choice.shouldCull()); // culling (12) loses
-}
-
 TEST(AdaptiveChoice, ProbesOfLosingArmsCostAtMostTheBudget) {
     for (const std::vector<double>& ms : {std::vector<double>{10.0, 13.0}, std::vector<double>{10.0, 30.0},
-                                          std::vector<double>{10.0, 12.0, 25.0, 11.0},
+                                          std::vector<double>{10.0, 10.5, 25.0, 11.0},
                                           std::vector<double>{14.0, 10.0, 11.0}}) {
         AdaptiveChoice choice(uint32_t(ms.size()), 8, 0.03);
-        runArms(choice, 40, ms); // start-up: every arm measured
+        runArms(choice, 40, ms); // start-up: every arm measured that is explored
         const double best = *std::min_element(ms.begin(), ms.end());
         const int traces = 2000;
         const double total = runArms(choice, traces, ms);
@@ -97,18 +95,85 @@ TEST(AdaptiveChoice, ProbesOfLosingArmsCostAtMostTheBudget) {
     }
 }
 
+TEST(AdaptiveChoice, ProbingCostsAtMostTheBudgetOnAShortRunWhereCullingLoses) {
+    // 32 traces of one kind (8 frames at 4 spp), culling 1.15x or 1.3x slower at every height, the first trace of each
+    // culling configuration not counted (it starts cold): the pure pass runs, the other heights are not explored. (A
+    // culling twice as slow costs two of its traces at least — the cold one and one measured —, within the budget
+    // from 128 traces on.)
+    for (const auto& [slower, traces] : {std::pair{1.15, 32}, std::pair{1.3, 32}, std::pair{2.0, 128}}) {
+        AdaptiveChoice choice(4, 8, 0.015);
+        std::vector<int> runs(4, 0);
+        double total = 0.0;
+        for (int i = 0; i < traces; ++i) {
+            const uint32_t arm = choice.next();
+            const double ms = arm == 0 ? 10.0 : 10.0 * slower;
+            choice.report(arm, ms, arm == 0 || runs[arm] > 0);
+            ++runs[arm];
+            total += ms;
+        }
+        EXPECT_EQ(runs[2] + runs[3], 0) << slower;
+        EXPECT_LE(total, 1.03 * 10.0 * traces) << slower;
+    }
+}
+
+TEST(AdaptiveChoice, FurtherArmsAreMeasuredOnlyWhenCullingComesClose) {
+    AdaptiveChoice close(4, 2);
+    std::vector<uint32_t> order;
+    for (int i = 0; i < 8; ++i) {
+        order.push_back(close.next());
+        close.report(order.back(), order.back() == 0 ? 10.0 : 10.5, true);
+    }
+    // The pure pass twice (its first trace is not counted), the configured culling, the pure pass (best) until
+    // 2 * 2 traces have run, then the other heights; afterwards the pure pass.
+    EXPECT_EQ(order, (std::vector<uint32_t>{0, 0, 1, 0, 2, 3, 0, 0}));
+    AdaptiveChoice far(4, 2);
+    std::vector<int> runs(4, 0);
+    runArms(far, 200, {10.0, 12.0, 12.0, 12.0}, &runs);
+    EXPECT_EQ(runs[2] + runs[3], 0); // 1.2x: beyond the exploration margin
+    EXPECT_GT(runs[1], 1);           // but re-probed
+}
+
+TEST(AdaptiveChoice, CostsAreComparedOnTheSameRaySet) {
+    // Two ray sets of very different cost, traced alternately; culling is 1.2x the pure pass on each. Compared by
+    // absolute time, a culling trace of the cheap set beat the pure pass of the expensive one.
+    AdaptiveChoice choice(2, 8, 0.03);
+    const double pure[2] = {5.0, 20.0};
+    int culled = 0;
+    for (int i = 0; i < 400; ++i) {
+        const uint32_t set = uint32_t(i % 2);
+        const uint32_t arm = choice.next(set);
+        choice.report(arm, arm == 0 ? pure[set] : 1.2 * pure[set], true, set);
+        culled += arm != 0;
+        EXPECT_EQ(choice.best(), AdaptiveChoice::kPureArm) << "trace " << i;
+    }
+    EXPECT_NEAR(choice.relativeCost(1), 1.2, 1e-9);
+    EXPECT_LE(culled, 400 / 9 + 2); // only probes: every 8 traces (the floor; 0.2 / 0.03 = 7)
+}
+
+TEST(AdaptiveChoice, CullingIsMeasuredOnlyOnSetsThePurePassWasMeasuredOn) {
+    AdaptiveChoice choice(2, 8);
+    choice.report(0, 99.0, true, 0); // not counted
+    choice.report(0, 10.0, true, 1);
+    EXPECT_EQ(choice.next(2), AdaptiveChoice::kPureArm); // set 2 has no pure time yet
+    EXPECT_EQ(choice.next(1), 1u);
+    choice.report(1, 30.0, true, 2); // a culling trace of a set without a baseline is not counted
+    EXPECT_FALSE(choice.measured(1));
+    choice.report(1, 12.0, true, 1);
+    EXPECT_DOUBLE_EQ(choice.relativeCost(1), 1.2);
+}
+
 TEST(AdaptiveChoice, ASlowerLoserWaitsLonger) {
     AdaptiveChoice choice(3, 8, 0.03);
-    runArms(choice, 24, {10.0, 12.0, 30.0});
+    runArms(choice, 24, {10.0, 10.9, 30.0});
     EXPECT_EQ(choice.best(), AdaptiveChoice::kPureArm);
-    // Two losers: arm 1 (1.2x) every 2 * 0.2 / 0.03 = 14 traces, arm 2 (3x) every 2 * 2 / 0.03 = 134.
-    EXPECT_EQ(choice.probeInterval(1), 14u);
+    // Two losers: arm 1 (1.09x) every 2 * 0.09 / 0.03 = 6 -> the floor of 8 traces, arm 2 (3x) every 2 * 2 / 0.03 = 134.
+    EXPECT_EQ(choice.probeInterval(1), 8u);
     EXPECT_EQ(choice.probeInterval(2), 134u);
     std::vector<int> counts(3, 0);
-    runArms(choice, 1340, {10.0, 12.0, 30.0}, &counts);
+    runArms(choice, 1350, {10.0, 10.9, 30.0}, &counts);
     // A loser runs after waiting a whole interval: once every interval + 1 traces.
-    EXPECT_NEAR(counts[1], 1340 / 15, 2);
-    EXPECT_NEAR(counts[2], 1340 / 135, 1);
+    EXPECT_NEAR(counts[1], 1350 / 9, 3);
+    EXPECT_NEAR(counts[2], 1350 / 135, 1);
 }
 
 TEST(AdaptiveChoice, TheIntervalHasAFloorAndACeiling) {
@@ -120,21 +185,10 @@ TEST(AdaptiveChoice, TheIntervalHasAFloorAndACeiling) {
     EXPECT_EQ(far.probeInterval(1), AdaptiveChoice::kMaxProbeInterval);
 }
 
-TEST(AdaptiveChoice, FurtherArmsAreMeasuredAfterTwoProbeIntervals) {
-    AdaptiveChoice choice(4, 2);
-    std::vector<uint32_t> order;
-    for (int i = 0; i < 7; ++i) {
-        order.push_back(choice.next());
-        choice.report(order.back(), 10.0, true);
-    }
-    // The configured culling, the pure pass twice (its first trace is not counted), culling (best by the order of
-    // arms) until 2 * 2 traces have run, then the other heights.
-    EXPECT_EQ(order, (std::vector<uint32_t>{1, 0, 0, 1, 2, 3, 1}));
-}
-
 TEST(AdaptiveChoice, WinningCullingStillRemeasuresThePurePass) {
     AdaptiveChoice choice(2, 8);
     runArms(choice, 4, {10.0, 8.0});
+    ASSERT_EQ(choice.best(), 1u);
     std::vector<int> counts(2, 0);
     runArms(choice, 90, {10.0, 8.0}, &counts);
     EXPECT_EQ(choice.probeInterval(0), 9u); // 0.25 / 0.03
@@ -143,22 +197,22 @@ TEST(AdaptiveChoice, WinningCullingStillRemeasuresThePurePass) {
 
 TEST(AdaptiveChoice, OneSlowPurePassDoesNotSwitchToCulling) {
     AdaptiveChoice choice(2, 8);
-    run(choice, 5, 13.0, 10.0); // the pure pass measured at 10 three times, no probe due yet
-    ASSERT_FALSE(choice.shouldCull());
-    choice.tracedFull(40.0); // slowed down by another process
-    EXPECT_FALSE(choice.shouldCull());
-    EXPECT_DOUBLE_EQ(choice.fullTimes().estimate(), 10.0);
+    runArms(choice, 6, {10.0, 13.0}); // the pure pass measured at 10 several times
+    ASSERT_EQ(choice.best(), AdaptiveChoice::kPureArm);
+    choice.report(0, 40.0, true); // slowed down by another process
+    EXPECT_EQ(choice.best(), AdaptiveChoice::kPureArm);
+    EXPECT_DOUBLE_EQ(choice.pureTimes().estimate(), 10.0);
 }
 
 TEST(AdaptiveChoice, FollowsAViewWhereCullingStartsToPay) {
     AdaptiveChoice choice(2, 8);
-    run(choice, 40, 13.0, 10.0);
-    run(choice, 80, 5.0, 10.0); // the next probe wins; two more measurements move the median
+    runArms(choice, 40, {10.0, 13.0});
+    runArms(choice, 80, {10.0, 5.0}); // the next probe wins, is confirmed at once and takes over
     // Culling at half the pure time: the pure pass is re-measured every 1.0 / 0.03 = 34 traces.
     EXPECT_EQ(choice.best(), 1u);
     EXPECT_EQ(choice.probeInterval(AdaptiveChoice::kPureArm), 34u);
     std::vector<int> counts(2, 0);
-    runArms(choice, 68, {10.0, 5.0}, &counts);
+    runArms(choice, 70, {10.0, 5.0}, &counts);
     EXPECT_EQ(counts[0], 2);
 }
 

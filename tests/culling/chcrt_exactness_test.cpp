@@ -210,10 +210,11 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
         return std::find(sequence.begin(), sequence.end(), kind) != sequence.end();
     };
     if (c.adaptive) {
-        // The adaptive choice measures every arm first: per ray kind the configured culling, the pure pass twice,
-        // then each further height, so both branches are compared above. With the fixed times the pure pass then
-        // wins for a stretch; with the configured height alone culling is re-probed, wins from frame 2 on, and
-        // resumes from fronts several frames old (e.g. primary 8 8 F F F F F F F 8 8 8).
+        // The adaptive choice measures the pure pass first (on each sample index before culling is measured there),
+        // then the configured culling, so both branches are compared above. With the fixed times the pure pass wins
+        // until frame 2; from then on culling wins, is confirmed, and the further heights are explored once culling
+        // comes close to the pure pass (e.g. ao F F F 12 F 12 6 10 F 12 12 12); culling resumes from fronts several
+        // frames old.
         EXPECT_GE(total.fallbackTraces, 2u * 4u);
         EXPECT_GE(total.traces - total.fallbackTraces, (1u + c.adaptiveHeights.size()) * 4u);
         for (const auto& [type, sequence] : kinds) {
