@@ -410,6 +410,10 @@ std::vector<Parameter> describeChcrt() {
             .minusOneUnsets()
             .slider("bounds pieces", 1, 8)
             .integer<int>(FIELD(chcrt.bounds.pieces), 1),
+        Describe(Area::Chcrt, "--chcrt-bounds-frustum", "chcrtBoundsFrustum",
+                 "CHC+RT: also test each cell's ray interval (origins, directions, segment range) against a box")
+            .checkbox("bounds frustum")
+            .onOff(FIELD(chcrt.bounds.frustum)),
         Describe(Area::Chcrt, "--chcrt-cell-list-limit", "chcrtCellListLimit",
                  "CHC+RT bounds-only: cells with more subtrees traverse the whole BVH (0 = never)")
             .minusOneUnsets()

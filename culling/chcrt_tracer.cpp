@@ -165,6 +165,9 @@ ChcrtStats& ChcrtStats::operator+=(const ChcrtStats& o) {
     cellsDrawn += o.cellsDrawn;
     cellEntries += o.cellEntries;
     cellsWholeTree += o.cellsWholeTree;
+    boundsCulledPieces += o.boundsCulledPieces;
+    boundsCulledFrustum += o.boundsCulledFrustum;
+    boundsReached += o.boundsReached;
     boundsMs += o.boundsMs;
     decideMs += o.decideMs;
     cellListMs += o.cellListMs;
@@ -742,11 +745,20 @@ bool ChcrtTracer::traceOwn(const TraceRequest& request, const RayTextures& rays,
                            int height) {
     last_ = ChcrtStats{};
     ++tracesRun_;
+    if (rayExtent_) rayExtent_->resetDecisions();
+    bool warm = false;
     switch (options_.queries) {
-    case ChcrtQueries::BoundsOnly: return traceBounded(request, rays, hits, width, height);
-    case ChcrtQueries::BoundsGpu: return traceBoundedGpu(request, rays, hits, width, height);
-    default: return traceCulled(request, rays, hits, width, height);
+    case ChcrtQueries::BoundsOnly: warm = traceBounded(request, rays, hits, width, height); break;
+    case ChcrtQueries::BoundsGpu: warm = traceBoundedGpu(request, rays, hits, width, height); break;
+    default: warm = traceCulled(request, rays, hits, width, height); break;
     }
+    if (rayExtent_) {
+        const RayBoundsGrid::ShapeDecisions& d = rayExtent_->decisions();
+        last_.boundsCulledPieces = d.pieces;
+        last_.boundsCulledFrustum = d.frustum;
+        last_.boundsReached = d.reached;
+    }
+    return warm;
 }
 
 bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width,

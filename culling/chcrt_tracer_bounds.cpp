@@ -84,7 +84,8 @@ bool ChcrtTracer::traceBoundedGpu(const TraceRequest& request, const RayTextures
     const auto listStart = Clock::now();
     const int cell = rayExtent_->options().cellSize;
     const int cellsX = (width + cell - 1) / cell, cellsY = (height + cell - 1) / cell;
-    gpuLists_->build(rayExtent_->buffer(), cellsX, cellsY, options_.cellListLimit, options_.bounds.relativePad);
+    gpuLists_->build(rayExtent_->buffer(), cellsX, cellsY, options_.cellListLimit, options_.bounds.relativePad,
+                     options_.bounds.frustum);
     last_.cellListMs += millisecondsSince(listStart);
     last_.phase1Ms = millisecondsSince(start);
 

@@ -64,7 +64,8 @@ void GpuCellLists::ensureCapacity(size_t cells) {
     capacity_ = cells;
 }
 
-void GpuCellLists::build(GLuint boundsBuffer, int cellsX, int cellsY, uint32_t listLimit, float relativePad) {
+void GpuCellLists::build(GLuint boundsBuffer, int cellsX, int cellsY, uint32_t listLimit, float relativePad,
+                         bool frustum) {
     const size_t cells = size_t(cellsX) * size_t(cellsY);
     ensureCapacity(cells);
     // Fresh indirect commands (no cells yet: a draw of one instance, a dispatch of one row) and zero counters.
@@ -75,6 +76,7 @@ void GpuCellLists::build(GLuint boundsBuffer, int cellsX, int cellsY, uint32_t l
     program_.set("cellCount", uint32_t(cells));
     program_.set("listLimit", limit);
     program_.set("relativePad", relativePad);
+    program_.set("frustum", int(frustum));
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, CHCRT_CULLING_BOUNDS_BUFFER, boundsBuffer);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, CHCRT_CULLING_GPU_HEADERS_BUFFER, headers_.buffer.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, CHCRT_CULLING_GPU_ROOTS_BUFFER, roots_.buffer.id());

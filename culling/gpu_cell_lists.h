@@ -23,10 +23,10 @@ public:
 
     // Decides the lists of a cellsX × cellsY grid from the reduction in `boundsBuffer`: a cell with more than
     // `listLimit` subtrees (at most CHCRT_CULLING_GPU_LIST_MAX; 0 = that maximum) traverses the whole tree.
-    // `relativePad`: RayBoundsOptions::relativePad. Leaves the lists bound for the cell pass (texture units
+    // `relativePad`, `frustum`: RayBoundsOptions'. Leaves the lists bound for the cell pass (texture units
     // CHCRT_UNIT_CULLING_CELL_*) and the draw buffer bound to GL_DRAW_INDIRECT_BUFFER and GL_DISPATCH_INDIRECT_BUFFER
     // (the dispatch command at CHCRT_CULLING_GPU_DISPATCH_OFFSET).
-    void build(GLuint boundsBuffer, int cellsX, int cellsY, uint32_t listLimit, float relativePad);
+    void build(GLuint boundsBuffer, int cellsX, int cellsY, uint32_t listLimit, float relativePad, bool frustum);
 
     struct Counters {
         uint32_t cellsDrawn = 0, entries = 0, wholeTreeCells = 0, nodesTested = 0;

@@ -33,7 +33,7 @@ void RayBoundsGrid::update(GLuint origins, GLuint directions, GLuint hitImage, b
     reduce(origins, directions, hitImage, anyHit, width, height, sceneMin, sceneMax);
     const int cell = options_.cellSize;
     const size_t values = size_t((width + cell - 1) / cell) * size_t((height + cell - 1) / cell) *
-                          size_t(1 + 2 * (options_.pieces + 2));
+                          size_t(CHCRT_CULLING_BOUNDS_STRIDE(options_.pieces));
     readBack_.resize(values);
     glGetNamedBufferSubData(buffer_.id(), 0, GLsizeiptr(values * sizeof(glm::vec4)), readBack_.data());
     setCells(width, height, readBack_);
@@ -52,7 +52,7 @@ void RayBoundsGrid::reduce(GLuint origins, GLuint directions, GLuint hitImage, b
     }
     const int cell = options_.cellSize, pieces = options_.pieces;
     const int cellsX = (width + cell - 1) / cell, cellsY = (height + cell - 1) / cell;
-    const size_t values = size_t(cellsX) * size_t(cellsY) * size_t(1 + 2 * (pieces + 2));
+    const size_t values = size_t(cellsX) * size_t(cellsY) * size_t(CHCRT_CULLING_BOUNDS_STRIDE(pieces));
     const size_t bytes = values * sizeof(glm::vec4);
     if (bytes > bufferBytes_) {
         buffer_ = createBuffer(bytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -76,7 +76,7 @@ void RayBoundsGrid::setCells(int width, int height, const std::vector<glm::vec4>
     cellsY_ = (height + cell - 1) / cell;
     cells_.assign(size_t(cellsX_) * size_t(cellsY_), CellBoxes{});
     const int points = pieces + 2; // origins, then the pieces' end points
-    const size_t stride = size_t(1 + 2 * points);
+    const size_t stride = size_t(CHCRT_CULLING_BOUNDS_STRIDE(pieces));
     for (size_t i = 0; i < cells_.size() && (i + 1) * stride <= buffer.size(); ++i) {
         CellBoxes& out = cells_[i];
         const glm::vec4* in = &buffer[i * stride];
@@ -104,7 +104,23 @@ void RayBoundsGrid::setCells(int width, int height, const std::vector<glm::vec4>
         }
         out.originLower = glm::vec3(in[1]) - pad;
         out.originUpper = glm::vec3(in[2]) + pad;
+        out.pad = pad.x;
         out.directionLength = in[0].z * (1.0f + 1.0f / 1024.0f);
+        const glm::vec4 directionLower = in[1 + 2 * points], directionUpper = in[2 + 2 * points];
+        out.directionLower = glm::vec3(directionLower);
+        out.directionUpper = glm::vec3(directionUpper);
+        // Rounded outwards with a wide margin: the traversal computes its own entry and exit distances.
+        out.segmentStart = directionLower.w * (1.0f - 1.0f / 1024.0f);
+        out.segmentEnd = directionUpper.w * (1.0f + 1.0f / 1024.0f);
+        const glm::vec3 spread = out.directionUpper - out.directionLower;
+        const bool intervalValid = glm::all(glm::lessThanEqual(out.directionLower, out.directionUpper)) &&
+                                   out.segmentStart <= out.segmentEnd && std::isfinite(out.segmentEnd) &&
+                                   std::max({spread.x, spread.y, spread.z}) <= float(CHCRT_CULLING_FRUSTUM_MAX_SPREAD);
+        if (!intervalValid) { // no frustum test for this cell
+            out.directionLower = glm::vec3(-2.0f);
+            out.directionUpper = glm::vec3(2.0f);
+            out.segmentStart = -1.0f;
+        }
         out.state = 1;
     }
     buildCoarse();
@@ -129,6 +145,8 @@ void RayBoundsGrid::buildCoarse() {
     for (CellBoxes& c : coarse_) {
         c.lower.fill(glm::vec3(3.0e38f));
         c.upper.fill(glm::vec3(-3.0e38f));
+        c.originLower = glm::vec3(1.0f); // empty until the first bounded fine cell
+        c.originUpper = glm::vec3(0.0f);
     }
     for (int cy = 0; cy < cellsY_; ++cy) {
         for (int cx = 0; cx < cellsX_; ++cx) {
@@ -142,18 +160,49 @@ void RayBoundsGrid::buildCoarse() {
                 c.lower[size_t(k)] = glm::min(c.lower[size_t(k)], fine.lower[size_t(k)]);
                 c.upper[size_t(k)] = glm::max(c.upper[size_t(k)], fine.upper[size_t(k)]);
             }
+            // The union of the fine cells' intervals holds every ray of the coarse cell.
+            const bool first = c.originLower.x > c.originUpper.x;
+            c.originLower = first ? fine.originLower : glm::min(c.originLower, fine.originLower);
+            c.originUpper = first ? fine.originUpper : glm::max(c.originUpper, fine.originUpper);
+            c.directionLower = first ? fine.directionLower : glm::min(c.directionLower, fine.directionLower);
+            c.directionUpper = first ? fine.directionUpper : glm::max(c.directionUpper, fine.directionUpper);
+            c.segmentStart = first ? fine.segmentStart : std::min(c.segmentStart, fine.segmentStart);
+            c.segmentEnd = first ? fine.segmentEnd : std::max(c.segmentEnd, fine.segmentEnd);
+            c.pad = std::max(c.pad, fine.pad);
         }
     }
+}
+
+bool RayBoundsGrid::piecesOverlap(const CellBoxes& c, const glm::vec3& lower, const glm::vec3& upper) const {
+    for (int k = 0; k < options_.pieces; ++k) {
+        if (boxesOverlap(c.lower[size_t(k)], c.upper[size_t(k)], lower, upper)) return true;
+    }
+    return false;
+}
+
+bool RayBoundsGrid::frustumOverlaps(const CellBoxes& c, const glm::vec3& lower, const glm::vec3& upper) const {
+    // The box padded as the pieces are (their pad is in them already: the difference of a piece's and the origins'
+    // padded bounds is the pad, which covers the rounding of the divisions as well).
+    const glm::vec3 pad(c.pad);
+    return gpu::rayIntervalMayHit(c.originLower, c.originUpper, c.directionLower, c.directionUpper, c.segmentStart,
+                                  c.segmentEnd, lower - pad, upper + pad);
 }
 
 bool RayBoundsGrid::overlaps(const CellBoxes& c, const glm::vec3* lower, const glm::vec3* upper, int count) const {
     if (c.state == 0) return false;
     if (c.state == 2) return true;
-    for (int k = 0; k < options_.pieces; ++k) {
-        for (int i = 0; i < count; ++i) {
-            if (boxesOverlap(c.lower[size_t(k)], c.upper[size_t(k)], lower[i], upper[i])) return true;
+    // A box is reached when a piece meets it and the frustum does; the frustum is tested only where a piece met the
+    // box (the pieces are the cheaper test). Counted by the shape that decided: the pieces, else the frustum.
+    bool pieces = false;
+    for (int i = 0; i < count; ++i) {
+        if (!piecesOverlap(c, lower[i], upper[i])) continue;
+        pieces = true;
+        if (!options_.frustum || frustumOverlaps(c, lower[i], upper[i])) {
+            ++decisions_.reached;
+            return true;
         }
     }
+    ++(pieces ? decisions_.frustum : decisions_.pieces);
     return false;
 }
 

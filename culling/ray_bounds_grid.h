@@ -34,6 +34,9 @@ struct RayBoundsOptions {
     // covers the float rounding of the end points and of accepted hits with a wide margin (0.7 m at 3 km). Tests
     // shrink boxes with a negative value to show that the exactness comparisons catch a bound that is too small.
     float relativePad = 1.0f / 4096.0f;
+    // Also test the cell's ray interval ("frustum": origin box, direction box, segment range; rayIntervalMayHit in
+    // shaders/shared/culling_layout.h): a box must meet a piece and the interval.
+    bool frustum = true;
 };
 
 class RayBoundsGrid {
@@ -81,7 +84,21 @@ public:
         std::array<glm::vec3, kMaxPieces> lower{}, upper{}; // per piece
         glm::vec3 originLower{0.0f}, originUpper{0.0f};
         float directionLength = 0.0f; // the longest direction of the cell's rays
+        // The ray interval: direction components and segment range of the cell's rays (the frustum shape).
+        glm::vec3 directionLower{0.0f}, directionUpper{0.0f};
+        float segmentStart = 0.0f, segmentEnd = 0.0f;
+        float pad = 0.0f; // the rounding margin every box of the cell carries
     };
+    // Which shape decided the tests of cells against boxes (statistics, "how many pairs each shape decides"); tiles
+    // test their coarse cells first, then their cells, and every such test counts. The pieces are tested first.
+    struct ShapeDecisions {
+        uint64_t pieces = 0;  // culled: no piece met a box
+        uint64_t frustum = 0; // culled: pieces met a box, the frustum met none of those
+        uint64_t reached = 0; // not culled
+    };
+    // The counts of mayReach/cellMayReach calls so far (reset with resetDecisions).
+    const ShapeDecisions& decisions() const { return decisions_; }
+    void resetDecisions() { decisions_ = {}; }
     const CellBoxes& cell(int cx, int cy) const { return cells_[size_t(cy) * size_t(cellsX_) + size_t(cx)]; }
 
     // The CPU side alone, for tests: cells from a read-back buffer (CHCRT_CULLING_BOUNDS_* layout).
@@ -89,6 +106,8 @@ public:
 
 private:
     bool overlaps(const CellBoxes& cell, const glm::vec3* lower, const glm::vec3* upper, int count) const;
+    bool piecesOverlap(const CellBoxes& cell, const glm::vec3& lower, const glm::vec3& upper) const;
+    bool frustumOverlaps(const CellBoxes& cell, const glm::vec3& lower, const glm::vec3& upper) const;
     void buildCoarse();
 
     RayBoundsOptions options_;
@@ -100,6 +119,7 @@ private:
     std::vector<CellBoxes> cells_;  // row-major, cell row 0 = pixel rows 0..cellSize-1 (GL orientation)
     std::vector<CellBoxes> coarse_; // unions of coarseCells² cells
     std::vector<glm::vec4> readBack_;
+    mutable ShapeDecisions decisions_;
 };
 
 } // namespace chcrt

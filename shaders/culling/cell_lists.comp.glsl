@@ -14,7 +14,7 @@
 #include "shared/culling_layout.h"
 
 #define POINTS (CHCRT_BOUNDS_PIECES + 2) // in the bounds buffer: the origins, then p_0 .. p_P
-#define STRIDE (1 + 2 * POINTS)
+#define STRIDE CHCRT_CULLING_BOUNDS_STRIDE(CHCRT_BOUNDS_PIECES)
 
 layout(local_size_x = 64) in;
 
@@ -38,21 +38,29 @@ layout(binding = CHCRT_UNIT_CULLING_HIERARCHY) uniform samplerBuffer hierarchy;
 uniform uint cellCount;
 uniform uint listLimit;      // at most CHCRT_CULLING_GPU_LIST_MAX
 uniform float relativePad;   // RayBoundsOptions::relativePad
+uniform bool frustum;        // RayBoundsOptions::frustum
 
 vec3 pieceLower[CHCRT_BOUNDS_PIECES];
 vec3 pieceUpper[CHCRT_BOUNDS_PIECES];
+vec3 originLower, originUpper, directionLower, directionUpper;
+float segmentStart, segmentEnd;
+vec3 pad;
 
 bool boxesOverlap(vec3 aLo, vec3 aHi, vec3 bLo, vec3 bHi) {
     return all(lessThanEqual(aLo, bHi)) && all(lessThanEqual(bLo, aHi));
 }
 
+// As RayBoundsGrid::overlaps: a piece meets the box, and so does the cell's ray interval.
 bool reachesBox(vec3 lo, vec3 hi) {
+    bool piece = false;
     for (int k = 0; k < CHCRT_BOUNDS_PIECES; ++k) {
-        if (boxesOverlap(pieceLower[k], pieceUpper[k], lo, hi)) {
-            return true;
-        }
+        piece = piece || boxesOverlap(pieceLower[k], pieceUpper[k], lo, hi);
     }
-    return false;
+    if (!piece || !frustum) {
+        return piece;
+    }
+    return rayIntervalMayHit(originLower, originUpper, directionLower, directionUpper, segmentStart, segmentEnd,
+                             lo - pad, hi + pad);
 }
 
 void writeWholeTree(uint cell) {
@@ -88,16 +96,28 @@ void main() {
         writeWholeTree(cell);
         return;
     }
-    vec3 pad = vec3(magnitude * relativePad);
+    pad = vec3(magnitude * relativePad);
     for (int k = 0; k < CHCRT_BOUNDS_PIECES; ++k) {
         // Piece k of every ray lies between its points k and k + 1.
         uint a = base + 3u + 2u * uint(k), b = a + 2u;
         pieceLower[k] = min(cellBounds[a].xyz, cellBounds[b].xyz) - pad;
         pieceUpper[k] = max(cellBounds[a + 1u].xyz, cellBounds[b + 1u].xyz) + pad;
     }
-    vec3 originLower = cellBounds[base + 1u].xyz - pad;
-    vec3 originUpper = cellBounds[base + 2u].xyz + pad;
+    originLower = cellBounds[base + 1u].xyz - pad;
+    originUpper = cellBounds[base + 2u].xyz + pad;
     float directionLength = header.z * (1.0f + 1.0f / 1024.0f);
+    // The ray interval, rounded outwards as on the CPU; a cell whose interval is not valid gets no frustum test.
+    vec4 intervalLower = cellBounds[base + uint(1 + 2 * POINTS)];
+    vec4 intervalUpper = cellBounds[base + uint(2 + 2 * POINTS)];
+    directionLower = intervalLower.xyz;
+    directionUpper = intervalUpper.xyz;
+    segmentStart = intervalLower.w * (1.0f - 1.0f / 1024.0f);
+    segmentEnd = intervalUpper.w * (1.0f + 1.0f / 1024.0f);
+    vec3 spread = directionUpper - directionLower;
+    if (!(all(lessThanEqual(directionLower, directionUpper)) && segmentStart <= segmentEnd && !isinf(segmentEnd) &&
+          max(max(spread.x, spread.y), spread.z) <= float(CHCRT_CULLING_FRUSTUM_MAX_SPREAD))) {
+        segmentStart = -1.0f; // rayIntervalMayHit: always true
+    }
 
     uint listRoot[CHCRT_CULLING_GPU_LIST_MAX];
     float listBound[CHCRT_CULLING_GPU_LIST_MAX];

@@ -5,8 +5,10 @@
 // p_{k+1}); or it marks the cell empty or unbounded. t0 = tmin and t1 = tmax, clipped to the scene's box (nothing
 // outside it can be hit); with CHCRT_BOUNDS_WITH_HITS the segments end at the hits found so far: closest-hit rays
 // at their hit t (only nearer hits can still change the result), any-hit rays that hit are finished and left out.
-// One invocation per cell, looping over its pixels: a reduction in shared memory with barriers (one invocation per
-// pixel) measured 40x slower on llvmpipe, whose work groups switch coroutines at every barrier.
+// With them, the cell's ray interval (smallest and largest direction components, segment range) for the frustum test
+// (rayIntervalMayHit in shared/culling_layout.h). One invocation per cell, looping over its pixels: a reduction in
+// shared memory with barriers (one invocation per pixel) measured 40x slower on llvmpipe, whose work groups switch
+// coroutines at every barrier.
 // Host defines: CHCRT_BOUNDS_WITH_HITS (0 | 1), TRACE_ANY_HIT (0 | 1), CHCRT_BOUNDS_CELL (1..32, a power of two),
 // CHCRT_BOUNDS_PIECES (1 .. CHCRT_CULLING_BOUNDS_MAX_PIECES).
 #include "shared/render_layout.h"
@@ -51,6 +53,11 @@ void main() {
     float state = CHCRT_CULLING_CELL_EMPTY;
     float extent = 0.0f;
     float directionLength = 0.0f;
+    // The cell's ray interval: directions and segment range.
+    vec3 directionLower = vec3(big);
+    vec3 directionUpper = vec3(-big);
+    float segmentStart = big;
+    float segmentEnd = -big;
     ivec2 first = cell * CHCRT_BOUNDS_CELL;
     ivec2 end = min(first + CHCRT_BOUNDS_CELL, raySize);
     // At most 32² iterations, far below llvmpipe's 65,535-iteration loop cap.
@@ -89,6 +96,10 @@ void main() {
             }
             extent = max(extent, maxComponent(abs(o)) + maxComponent(abs(d)) * max(abs(t0), abs(t1)));
             directionLength = max(directionLength, length(d));
+            directionLower = min(directionLower, d);
+            directionUpper = max(directionUpper, d);
+            segmentStart = min(segmentStart, t0);
+            segmentEnd = max(segmentEnd, t1);
             lower[0] = min(lower[0], o);
             upper[0] = max(upper[0], o);
             for (int j = 0; j <= CHCRT_BOUNDS_PIECES; ++j) {
@@ -100,10 +111,12 @@ void main() {
             state = max(state, CHCRT_CULLING_CELL_BOUNDED);
         }
     }
-    int base = (cell.y * cellCount.x + cell.x) * (1 + 2 * POINTS);
+    int base = (cell.y * cellCount.x + cell.x) * CHCRT_CULLING_BOUNDS_STRIDE(CHCRT_BOUNDS_PIECES);
     cellBounds[base] = vec4(state, extent, directionLength, 0.0f);
     for (int j = 0; j < POINTS; ++j) {
         cellBounds[base + 1 + 2 * j] = vec4(lower[j], 0.0f);
         cellBounds[base + 2 + 2 * j] = vec4(upper[j], 0.0f);
     }
+    cellBounds[base + 1 + 2 * POINTS] = vec4(directionLower, segmentStart);
+    cellBounds[base + 2 + 2 * POINTS] = vec4(directionUpper, segmentEnd);
 }

@@ -25,8 +25,14 @@
 // its hit, clipped to the scene's box. Buffer layout per cell (std430 vec4s): a header (state, extent, largest
 // direction length, 0), then (lower.xyz, 0) and (upper.xyz, 0) of the ray origins and of each of the pieces + 1
 // points that split every segment into equal pieces. `extent` bounds the magnitude of every coordinate the points
-// were computed from (the CPU pads the boxes by a fraction of it for float rounding).
+// were computed from (the CPU pads the boxes by a fraction of it for float rounding). Then the cell's ray interval
+// (the "frustum" shape, rayIntervalMayHit below): (smallest direction components, smallest segment start t0) and
+// (largest direction components, largest segment end t1). CHCRT_CULLING_BOUNDS_STRIDE vec4s per cell.
 #define CHCRT_CULLING_BOUNDS_MAX_PIECES 8
+#define CHCRT_CULLING_BOUNDS_STRIDE(pieces) (1 + 2 * ((pieces) + 2) + 2)
+// A cell whose direction components spread wider than this gets no frustum test: its rays fan out (AO, diffuse), the
+// test then culls almost nothing and only costs (city near, 256², AO: 322 of 36,000 tests per frame decided by it).
+#define CHCRT_CULLING_FRUSTUM_MAX_SPREAD 0.5
 #define CHCRT_CULLING_CELL_EMPTY 0.0     // no active ray (or every one finished / outside the scene's box)
 #define CHCRT_CULLING_CELL_BOUNDED 1.0   // every active ray's segment is inside the union of the piece boxes
 #define CHCRT_CULLING_CELL_UNBOUNDED 2.0 // some active ray has a NaN or infinite value: nothing is assumed
@@ -80,16 +86,47 @@
 
 #ifdef __cplusplus
 #define CHCRT_INLINE inline
+#define CHCRT_INOUT_FLOAT float&
 using glm::max;
 using glm::min;
 #else
 #define CHCRT_INLINE
+#define CHCRT_INOUT_FLOAT inout float
 #endif
 
 CHCRT_INLINE float depthFromDistance(float t) {
     return min(max(t * float(CHCRT_CULLING_DEPTH_SCALE), 0.0f), 1.0f);
 }
 
+// The "frustum" shape of a cell's rays (interval arithmetic, as packet tracers test a packet against a box): every ray
+// o + t·d of the cell has o in [oLo, oHi], d in [dLo, dHi] and t in [tLo, tHi], tLo >= 0. Per axis, some ray may be
+// inside the box's slab at t only if oLo + t·dLo <= bHi and oHi + t·dHi >= bLo (the smallest and largest coordinate
+// any ray of the intervals reaches at t >= 0); false when the axes' t intervals and [tLo, tHi] have nothing in
+// common: no ray of the cell meets the box. Each axis may pick another ray, so this is conservative; a cell of one
+// origin and a narrow bundle of directions (primary rays, shadow rays seen from the light) gets a tight test. The
+// callers pad the box and the origins against float rounding (as the pieces' boxes).
+CHCRT_INLINE bool rayIntervalAxis(float oLo, float oHi, float dLo, float dHi, float bLo, float bHi,
+                                  CHCRT_INOUT_FLOAT lo, CHCRT_INOUT_FLOAT hi) {
+    if (dLo > 0.0f) hi = min(hi, (bHi - oLo) / dLo);
+    else if (dLo < 0.0f) lo = max(lo, (bHi - oLo) / dLo);
+    else if (oLo > bHi) return false;
+    if (dHi < 0.0f) hi = min(hi, (bLo - oHi) / dHi);
+    else if (dHi > 0.0f) lo = max(lo, (bLo - oHi) / dHi);
+    else if (oHi < bLo) return false;
+    return true;
+}
+
+CHCRT_INLINE bool rayIntervalMayHit(vec3 oLo, vec3 oHi, vec3 dLo, vec3 dHi, float tLo, float tHi, vec3 bLo, vec3 bHi) {
+    if (!(tLo >= 0.0f)) return true; // the test assumes t >= 0
+    float lo = tLo;
+    float hi = tHi;
+    if (!rayIntervalAxis(oLo.x, oHi.x, dLo.x, dHi.x, bLo.x, bHi.x, lo, hi)) return false;
+    if (!rayIntervalAxis(oLo.y, oHi.y, dLo.y, dHi.y, bLo.y, bHi.y, lo, hi)) return false;
+    if (!rayIntervalAxis(oLo.z, oHi.z, dLo.z, dHi.z, bLo.z, bHi.z, lo, hi)) return false;
+    return lo <= hi;
+}
+
 #undef CHCRT_INLINE
+#undef CHCRT_INOUT_FLOAT
 #include "shared_end.h"
 #endif

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
 
 namespace chcrt {
 namespace {
@@ -16,14 +17,26 @@ constexpr float kBounded = float(CHCRT_CULLING_CELL_BOUNDED);
 constexpr float kUnbounded = float(CHCRT_CULLING_CELL_UNBOUNDED);
 
 // A 64×32 ray set in cells of 16² pixels (4×2 cells), all empty but the ones set, in the read-back layout: per cell
-// a header, the origins' box and the boxes of the pieces + 1 points that split the segments.
+// a header, the origins' box and the boxes of the pieces + 1 points that split the segments, then the ray interval
+// (direction components and segment range; by default directions spread too wide for the frustum test, so the
+// pieces alone decide).
 struct Cells {
     int pieces;
     std::vector<glm::vec4> buffer;
     explicit Cells(int pieceCount) : pieces(pieceCount), buffer(size_t(8 * stride()), glm::vec4(0.0f)) {
-        for (int c = 0; c < 8; ++c) buffer[size_t(c * stride())] = glm::vec4(kEmpty, 0.0f, 0.0f, 0.0f);
+        for (int cy = 0; cy < 2; ++cy) {
+            for (int cx = 0; cx < 4; ++cx) {
+                header(cx, cy, kEmpty, 0.0f, 0.0f);
+                interval(cx, cy, glm::vec3(-1.0f), glm::vec3(1.0f), 0.0f, 1.0e3f);
+            }
+        }
     }
-    int stride() const { return 1 + 2 * (pieces + 2); }
+    int stride() const { return CHCRT_CULLING_BOUNDS_STRIDE(pieces); }
+    void interval(int cx, int cy, glm::vec3 directionLo, glm::vec3 directionHi, float t0, float t1) {
+        const size_t base = size_t((cy * 4 + cx) * stride()) + size_t(1 + 2 * (pieces + 2));
+        buffer[base] = glm::vec4(directionLo, t0);
+        buffer[base + 1] = glm::vec4(directionHi, t1);
+    }
     void header(int cx, int cy, float state, float extent, float directionLength = 1.0f) {
         buffer[size_t((cy * 4 + cx) * stride())] = glm::vec4(state, extent, directionLength, 0.0f);
     }
@@ -90,6 +103,61 @@ TEST(RayBoundsGrid, PiecesFollowADiagonalSegment) {
     EXPECT_TRUE(reach(grid, tile, glm::vec3(7.5f, 7.5f, -1.0f), glm::vec3(9.0f, 9.0f, 1.0f)));
     // The coarse level (every piece's union) must not lose the segment either.
     EXPECT_TRUE(reach(grid, Tile{0, 0, 64, 32}, glm::vec3(3.0f, 3.0f, -1.0f), glm::vec3(3.5f, 3.5f, 1.0f)));
+}
+
+TEST(RayBoundsGrid, TheFrustumCullsBoxesInsideAPieceThatNoRayMeets) {
+    // Rays from the origin along +x, directions x in [0.99, 1], y and z in [0, 0.05], t in [0, 10]: one piece holds
+    // the whole segment bundle (a box up to y = z = 0.5), the frustum only y, z <= 0.05 t.
+    Cells cells(1);
+    cells.header(0, 0, kBounded, 10.0f);
+    cells.box(0, 0, 0, glm::vec3(0.0f), glm::vec3(0.0f));
+    cells.box(0, 0, 1, glm::vec3(0.0f), glm::vec3(0.0f));
+    cells.box(0, 0, 2, glm::vec3(9.9f, 0.0f, 0.0f), glm::vec3(10.0f, 0.5f, 0.5f));
+    cells.interval(0, 0, glm::vec3(0.99f, 0.0f, 0.0f), glm::vec3(1.0f, 0.05f, 0.05f), 0.0f, 10.0f);
+    const Tile tile{0, 0, 16, 16};
+    RayBoundsGrid grid = makeGrid(cells);
+    const glm::vec3 besideLo(5.0f, 0.4f, 0.0f), besideHi(5.1f, 0.45f, 0.1f); // in the piece, y far above 0.05 t
+    const glm::vec3 onLo(5.0f, 0.1f, 0.0f), onHi(5.1f, 0.2f, 0.1f);          // rays of y/x in [0.02, 0.04] meet it
+    const glm::vec3 behindLo(-2.0f, 0.0f, 0.0f), behindHi(-1.0f, 0.1f, 0.1f); // t < 0: behind the origins
+    EXPECT_FALSE(reach(grid, tile, besideLo, besideHi));
+    EXPECT_TRUE(reach(grid, tile, onLo, onHi));
+    EXPECT_FALSE(reach(grid, tile, behindLo, behindHi));
+    EXPECT_TRUE(grid.cellMayReach(0, 0, &onLo, &onHi, 1));
+    // Counted by the shape that decided: the beside box and the box behind passed a piece? Only the first did.
+    grid.resetDecisions();
+    EXPECT_FALSE(grid.cellMayReach(0, 0, &besideLo, &besideHi, 1));
+    EXPECT_FALSE(grid.cellMayReach(0, 0, &behindLo, &behindHi, 1));
+    EXPECT_TRUE(grid.cellMayReach(0, 0, &onLo, &onHi, 1));
+    EXPECT_EQ(grid.decisions().frustum, 1u);
+    EXPECT_EQ(grid.decisions().pieces, 1u);
+    EXPECT_EQ(grid.decisions().reached, 1u);
+    // Without the frustum the pieces alone decide; a cell whose directions fan out wider than
+    // CHCRT_CULLING_FRUSTUM_MAX_SPREAD gets no frustum test either.
+    RayBoundsGrid noFrustum(RayBoundsOptions{16, 1, 2, 1.0f / 4096.0f, false});
+    noFrustum.setCells(64, 32, cells.buffer);
+    EXPECT_TRUE(reach(noFrustum, tile, besideLo, besideHi));
+    cells.interval(0, 0, glm::vec3(0.3f, 0.0f, 0.0f), glm::vec3(1.0f, 0.05f, 0.05f), 0.0f, 10.0f);
+    EXPECT_TRUE(reach(makeGrid(cells), tile, besideLo, besideHi));
+}
+
+TEST(RayBoundsGrid, TheFrustumIsConservativeForEveryRayOfItsIntervals) {
+    // Random rays inside one cell's intervals, and boxes around points of those rays: every such box must be reached.
+    std::mt19937 random(3);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    for (int trial = 0; trial < 200; ++trial) {
+        const glm::vec3 oLo(unit(random) * 10.0f, unit(random) * 10.0f, unit(random) * 10.0f);
+        const glm::vec3 oHi = oLo + glm::vec3(unit(random), unit(random), unit(random));
+        glm::vec3 dLo(unit(random) * 2.0f - 1.0f, unit(random) * 2.0f - 1.0f, unit(random) * 2.0f - 1.0f);
+        const glm::vec3 dHi = dLo + glm::vec3(unit(random), unit(random), unit(random)) * 0.4f;
+        const float t0 = unit(random) * 2.0f, t1 = t0 + unit(random) * 20.0f;
+        for (int ray = 0; ray < 20; ++ray) {
+            const glm::vec3 o = oLo + (oHi - oLo) * glm::vec3(unit(random), unit(random), unit(random));
+            const glm::vec3 d = dLo + (dHi - dLo) * glm::vec3(unit(random), unit(random), unit(random));
+            const glm::vec3 p = o + d * (t0 + (t1 - t0) * unit(random));
+            const glm::vec3 lo = p - 0.01f, hi = p + 0.01f;
+            EXPECT_TRUE(gpu::rayIntervalMayHit(oLo, oHi, dLo, dHi, t0, t1, lo, hi)) << trial << " " << ray;
+        }
+    }
 }
 
 TEST(RayBoundsGrid, BoxesArePaddedByTheExtentAndUnboundedCellsReachEverything) {
