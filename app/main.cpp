@@ -40,8 +40,8 @@ void addRenderOwnOptions(CLI::App& c, RenderOptions& render) {
     c.add_option("--method", render.method, "Tracing method: " + methodNames(false) + " (chcrt methods)")
         ->capture_default_str();
     c.add_option("--debug-image", render.debugImage,
-                 "CHC+RT debug image instead of the shaded frame: overdraw, subtrees, batches or cost (chcrt methods "
-                 "only)");
+                 "CHC+RT debug image instead of the shaded frame: overdraw, subtrees, batches, cost or bounds "
+                 "(chcrt methods only)");
     c.add_option("--records", render.records,
                  "Append a JSON line per finished frame (frame, image checksum, flags digest, commit, statistics; "
                  "docs/farm.md)");

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <tuple>
@@ -19,6 +20,9 @@ namespace chcrt {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// The bounds debug image's value of an unbounded cell (NaN bits: no t of a bounded cell has them).
+constexpr uint32_t kUnboundedCell = 0xFFFFFFFFu;
 
 ShaderProgram makeProgram(const char* fragment, bool anyHit, std::vector<ShaderDefine> defines = {}) {
     defines.push_back({"TRACE_ANY_HIT", anyHit ? "1" : "0"});
@@ -109,12 +113,46 @@ ChcrtDebugImage parseChcrtDebugImage(const std::string& name) {
     if (name == "subtrees") return ChcrtDebugImage::Subtrees;
     if (name == "batches") return ChcrtDebugImage::Batches;
     if (name == "cost") return ChcrtDebugImage::Cost;
-    throw InputError("unknown debug image '" + name + "' (available: overdraw, subtrees, batches, cost)");
+    if (name == "bounds") return ChcrtDebugImage::Bounds;
+    throw InputError("unknown debug image '" + name + "' (available: overdraw, subtrees, batches, cost, bounds)");
 }
+
+namespace {
+
+// The bounds image: t of bounded cells on a log ramp between the image's extremes, magenta for unbounded cells.
+std::vector<float> colorizeBoundsImage(const std::vector<uint32_t>& values, int width, int height) {
+    std::vector<float> rgb(size_t(width) * height * 3, 0.0f);
+    float lo = 3.0e38f, hi = 0.0f;
+    for (uint32_t v : values) {
+        if (v == 0 || v == kUnboundedCell) continue;
+        lo = std::min(lo, std::bit_cast<float>(v));
+        hi = std::max(hi, std::bit_cast<float>(v));
+    }
+    const float range = hi > lo ? std::log(hi / lo) : 1.0f;
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            const uint32_t v = values[size_t(height - 1 - y) * width + x]; // GL rows are bottom to top
+            float* out = &rgb[(size_t(y) * width + x) * 3];
+            if (v == 0) continue;
+            if (v == kUnboundedCell) {
+                out[0] = out[2] = 1.0f;
+                continue;
+            }
+            const float s = hi > lo ? std::log(std::bit_cast<float>(v) / lo) / range : 1.0f;
+            out[0] = std::clamp(2.0f * s - 0.5f, 0.0f, 1.0f);
+            out[1] = std::clamp(2.0f * s, 0.0f, 1.0f) * (s < 0.75f ? 1.0f : 4.0f * (1.0f - s));
+            out[2] = std::clamp(1.0f - 2.0f * s, 0.0f, 1.0f);
+        }
+    }
+    return rgb;
+}
+
+} // namespace
 
 std::vector<float> colorizeChcrtDebugImage(ChcrtDebugImage kind, const std::vector<uint32_t>& values, int width,
                                            int height) {
     std::vector<float> rgb(size_t(width) * height * 3, 0.0f);
+    if (kind == ChcrtDebugImage::Bounds) return colorizeBoundsImage(values, width, height);
     const bool cost = kind == ChcrtDebugImage::Cost;
     uint32_t maxValue = 0;
     for (uint32_t v : values) maxValue = std::max(maxValue, cost ? v & CHCRT_TRACE_STEPS_COUNT : v);
@@ -888,6 +926,24 @@ void ChcrtTracer::endTrace(VisibilityState& state, int width, int height) {
     finishTrace(width, height);
 }
 
+void ChcrtTracer::writeBoundsImage(int width, int height) {
+    std::vector<uint32_t> image(size_t(width) * size_t(height), 0u);
+    if (rayExtent_ && rayExtent_->known()) {
+        const int cell = rayExtent_->options().cellSize;
+        for (int y = 0; y < height; ++y) {
+            for (int x = 0; x < width; ++x) {
+                const RayBoundsGrid::CellBoxes& c = rayExtent_->cell(x / cell, y / cell);
+                image[size_t(y) * size_t(width) + size_t(x)] =
+                    c.state == 0 ? 0u
+                    : c.state == 2 || !std::isfinite(c.segmentEnd)
+                        ? kUnboundedCell
+                        : std::bit_cast<uint32_t>(std::max(c.segmentEnd, 1.0e-30f));
+            }
+        }
+    }
+    glTextureSubImage2D(debugTexture_.id(), 0, 0, 0, width, height, GL_RED_INTEGER, GL_UNSIGNED_INT, image.data());
+}
+
 void ChcrtTracer::finishTrace(int width, int height) {
     // Hand the hits to texture fetches and read-backs of the renderer; leave GL state as the pure tracer does.
     glMemoryBarrier(GL_ALL_BARRIER_BITS);
@@ -898,6 +954,7 @@ void ChcrtTracer::finishTrace(int width, int height) {
     glViewport(0, 0, width, height);
     glFinish();
     readPassTimers();
+    if (debugKind_ == ChcrtDebugImage::Bounds) writeBoundsImage(width, height);
     mode_ = Mode::None;
 }
 

@@ -173,12 +173,18 @@ enum class ChcrtDebugImage : uint8_t {
     // them) summed over every subtree pass of the trace, in the steps word of shaders/shared/render_layout.h:
     // CHCRT_TRACE_STEPS_CAPPED = a pass reached the loop cap, the count (CHCRT_TRACE_STEPS_COUNT) saturates.
     Cost,
+    // The ray bounds grid of the last trace, per cell (every pixel of a cell holds its value): the bits of the largest
+    // segment end t of the cell's rays after the trace's last reduction — their t_best extent once hits bound them —,
+    // 0 for a cell without a ray to trace, 0xFFFFFFFF for an unbounded one (culling/README.md, "The ray bounds grid").
+    // Each trace overwrites it. Not drawn by a shader: written from the grid the tracer read back.
+    Bounds,
 };
-// "overdraw" | "subtrees" | "batches" | "cost" (InputError otherwise).
+// "overdraw" | "subtrees" | "batches" | "cost" | "bounds" (InputError otherwise).
 ChcrtDebugImage parseChcrtDebugImage(const std::string& name);
 // Colours a debug image (R32UI values, rows bottom to top as GL stores them) as display RGB in [0, 1], rows top to
 // bottom: counts as a heat ramp scaled to the maximum, subtree ids as hashed colours; 0 is black. Cost: a log heat
 // ramp of the steps (costs span orders of magnitude) scaled to the image's maximum, magenta where a pass was capped.
+// Bounds: a log heat ramp of t between the image's smallest and largest cell extent, magenta for unbounded cells.
 std::vector<float> colorizeChcrtDebugImage(ChcrtDebugImage kind, const std::vector<uint32_t>& values, int width,
                                            int height);
 
@@ -297,6 +303,8 @@ private:
     GLuint hintImageFor(const TraceRequest& request, int width, int height);
     std::string debugDefineOfKind() const;
     void ensureDebugTexture(int width, int height);
+    // ChcrtDebugImage::Bounds: the grid's cells of the last reduction into the debug texture.
+    void writeBoundsImage(int width, int height);
     // The culling tracer of adaptive arm `arm` (>= 1): this one for arm 1, else one at adaptiveHeights[arm - 2].
     ChcrtTracer& armTracer(uint32_t arm);
     bool traceOwn(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width, int height);

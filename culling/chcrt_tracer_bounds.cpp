@@ -78,7 +78,11 @@ bool ChcrtTracer::traceBoundedGpu(const TraceRequest& request, const RayTextures
     // the CPU's, submitting them; the cell pass's GPU time is subtreePassMs).
     const auto boundsStart = Clock::now();
     const CullingHierarchy::Node& root = hierarchy_.nodes[0];
-    rayExtent_->reduce(rays.origin.id(), rays.direction.id(), 0, anyHit, width, height, root.boxMin, root.boxMax);
+    if (debugKind_ == ChcrtDebugImage::Bounds) { // the bounds image needs the grid on the CPU
+        rayExtent_->update(rays.origin.id(), rays.direction.id(), 0, anyHit, width, height, root.boxMin, root.boxMax);
+    } else {
+        rayExtent_->reduce(rays.origin.id(), rays.direction.id(), 0, anyHit, width, height, root.boxMin, root.boxMax);
+    }
     ++last_.boundsUpdates;
     last_.boundsMs += millisecondsSince(boundsStart);
     const auto listStart = Clock::now();

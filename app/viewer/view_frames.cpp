@@ -11,6 +11,7 @@ ChcrtDebugImage chcrtDebugImageOf(ViewMode mode) {
     case ViewMode::Overdraw: return ChcrtDebugImage::Overdraw;
     case ViewMode::Subtrees: return ChcrtDebugImage::Subtrees;
     case ViewMode::Batches: return ChcrtDebugImage::Batches;
+    case ViewMode::Bounds: return ChcrtDebugImage::Bounds;
     case ViewMode::Cost: return ChcrtDebugImage::Cost;
     default: return ChcrtDebugImage::None;
     }

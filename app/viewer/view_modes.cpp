@@ -8,7 +8,8 @@ const std::vector<ViewMode>& allViewModes() {
     static const std::vector<ViewMode> modes = {ViewMode::Shaded, ViewMode::Position, ViewMode::Normal,
                                                 ViewMode::Albedo, ViewMode::TriangleId, ViewMode::Depth,
                                                 ViewMode::Cost, ViewMode::Overdraw, ViewMode::Subtrees,
-                                                ViewMode::Batches, ViewMode::Shafts, ViewMode::Residency};
+                                                ViewMode::Batches, ViewMode::Bounds, ViewMode::Shafts,
+                                                ViewMode::Residency};
     return modes;
 }
 
@@ -24,6 +25,7 @@ const char* toString(ViewMode mode) {
     case ViewMode::Overdraw: return "overdraw";
     case ViewMode::Subtrees: return "subtrees";
     case ViewMode::Batches: return "batches";
+    case ViewMode::Bounds: return "bounds";
     case ViewMode::Shafts: return "shafts";
     case ViewMode::Residency: return "residency";
     }
@@ -44,6 +46,9 @@ const char* describe(ViewMode mode) {
     case ViewMode::Overdraw: return "CHC+RT: occlusion-query fragments per pixel, heat map (paper Figure 4)";
     case ViewMode::Subtrees: return "CHC+RT: termination subtree that produced each hit, hashed colour (Figure 5)";
     case ViewMode::Batches: return "CHC+RT: subtrees traversed per pixel over all batches, heat map (Figure 5)";
+    case ViewMode::Bounds:
+        return "CHC+RT: the ray bounds grid's cells, coloured by the t extent of their rays' segments (their t_best "
+               "once hits bound them), log heat map; magenta = unbounded";
     case ViewMode::Shafts:
         return "Line Space of the picked node (click): green = the pixel's ray lies in an empty shaft, red = filled";
     case ViewMode::Residency:
@@ -68,7 +73,8 @@ bool isGBufferMode(ViewMode mode) {
 }
 
 bool isChcrtDebugMode(ViewMode mode) {
-    return mode == ViewMode::Overdraw || mode == ViewMode::Subtrees || mode == ViewMode::Batches;
+    return mode == ViewMode::Overdraw || mode == ViewMode::Subtrees || mode == ViewMode::Batches ||
+           mode == ViewMode::Bounds;
 }
 
 } // namespace chcrt::app

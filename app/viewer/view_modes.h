@@ -10,7 +10,7 @@
 namespace chcrt::app {
 
 enum class ViewMode { Shaded, Position, Normal, Albedo, TriangleId, Depth, Cost, Overdraw, Subtrees, Batches,
-                      Shafts, Residency };
+                      Bounds, Shafts, Residency };
 
 const std::vector<ViewMode>& allViewModes();
 const char* toString(ViewMode mode);            // "shaded", "position", ..., "cost"

@@ -12,6 +12,7 @@
 #include "shaders/shared/render_layout.h"
 
 #include <algorithm>
+#include <bit>
 #include <cstring>
 
 namespace chcrt::test {
@@ -280,6 +281,64 @@ TEST_F(ChcrtCostImageTest, CappedPassesSetTheFlagAndTheCountStaysBelowIt) {
             }
         }
     }
+}
+
+// The bounds image (ChcrtDebugImage::Bounds): one value per grid cell, 0 exactly where no ray is active, the largest
+// segment end of the cell's rays otherwise, and the same whether the CPU (bounds-only) or the GPU (bounds-gpu) decides
+// the lists: both read the same reduction.
+TEST_F(ChcrtCostImageTest, TheBoundsImageHoldsEachCellsExtentInEitherBoundsMode) {
+    RenderSettings settings;
+    settings.width = 64;
+    settings.height = 48;
+    Renderer& renderer = makeProceduralRenderer("city:30k", settings);
+    const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
+    FrameStats stats;
+    renderer.renderGBuffer(camera, stats);
+    renderer.generateRayPass(camera, RayType::Shadow, 0, stats);
+    const std::vector<Ray> rays = renderer.readRays(0);
+    std::vector<std::vector<uint32_t>> images;
+    for (ChcrtQueries queries : {ChcrtQueries::BoundsOnly, ChcrtQueries::BoundsGpu}) {
+        ChcrtOptions options;
+        options.partition.maxSubtreeHeight = 8;
+        options.adaptive = false;
+        options.queries = queries;
+        ChcrtTracer chcrt(bvh_, options);
+        chcrt.setDebugImage(ChcrtDebugImage::Bounds);
+        renderer.useTracer(&chcrt);
+        renderer.traceRayPass(camera, RayType::Shadow, 0, stats);
+        renderer.useTracer(nullptr);
+        images.push_back(chcrt.readDebugImage());
+    }
+    ASSERT_EQ(images[0].size(), rays.size());
+    EXPECT_EQ(images[0], images[1]);
+    const int cell = RayBoundsOptions{}.cellSize;
+    size_t bounded = 0;
+    for (int y = 0; y < settings.height; ++y) {
+        for (int x = 0; x < settings.width; ++x) {
+            const uint32_t v = images[0][size_t(y) * size_t(settings.width) + size_t(x)];
+            EXPECT_EQ(v, images[0][size_t(y / cell * cell) * size_t(settings.width) + size_t(x / cell * cell)]);
+            bool anyActive = false; // in this pixel's cell
+            float longest = 0.0f;   // the largest tmax of the cell's active rays
+            for (int cy = y / cell * cell; cy < std::min(settings.height, (y / cell + 1) * cell); ++cy) {
+                for (int cx = x / cell * cell; cx < std::min(settings.width, (x / cell + 1) * cell); ++cx) {
+                    const Ray& ray = rays[size_t(cy) * size_t(settings.width) + size_t(cx)];
+                    anyActive = anyActive || isActive(ray);
+                    if (isActive(ray)) longest = std::max(longest, ray.tmax);
+                }
+            }
+            if (!anyActive) {
+                EXPECT_EQ(v, 0u) << x << ", " << y;
+                continue;
+            }
+            ASSERT_NE(v, 0u) << x << ", " << y;
+            if (v == 0xFFFFFFFFu) continue;
+            ++bounded;
+            // A shadow segment ends at the light or where it leaves the scene: never beyond its tmax (the value is
+            // rounded up by 2^-10).
+            EXPECT_LE(std::bit_cast<float>(v), longest * 1.01f) << x << ", " << y;
+        }
+    }
+    EXPECT_GT(bounded, rays.size() / 4);
 }
 
 } // namespace

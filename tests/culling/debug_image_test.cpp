@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
+
 namespace chcrt::test {
 namespace {
 
@@ -21,6 +23,7 @@ TEST(ChcrtDebugImageTest, ParsesEveryKindAndRefusesOthers) {
     EXPECT_EQ(parseChcrtDebugImage("subtrees"), ChcrtDebugImage::Subtrees);
     EXPECT_EQ(parseChcrtDebugImage("batches"), ChcrtDebugImage::Batches);
     EXPECT_EQ(parseChcrtDebugImage("cost"), ChcrtDebugImage::Cost);
+    EXPECT_EQ(parseChcrtDebugImage("bounds"), ChcrtDebugImage::Bounds);
     EXPECT_THROW(parseChcrtDebugImage("Cost"), InputError);
     EXPECT_THROW(parseChcrtDebugImage("costs"), InputError);
     EXPECT_THROW(parseChcrtDebugImage(""), InputError);
@@ -51,6 +54,24 @@ TEST(ChcrtDebugImageTest, CostColoursMaskTheCappedBitAndUseALogRamp) {
     // One step is not black, and looks different from 30.
     EXPECT_GT(brightness(colourAt(rgb, width, 1, 1)), 0.0f);
     EXPECT_NE(colourAt(rgb, width, 1, 1), colourAt(rgb, width, 2, 1));
+}
+
+TEST(ChcrtDebugImageTest, BoundsColoursTheCellExtentOnALogRampBetweenTheImagesExtremes) {
+    const uint32_t unbounded = 0xFFFFFFFFu;
+    const auto bits = [](float t) { return std::bit_cast<uint32_t>(t); };
+    // Bottom row: no ray, t = 1, t = 10, t = 100; top row: unbounded, t = 100, 1, 1.
+    const std::vector<uint32_t> values = {0u, bits(1.0f), bits(10.0f), bits(100.0f),
+                                          unbounded, bits(100.0f), bits(1.0f), bits(1.0f)};
+    const std::vector<float> rgb = colorizeChcrtDebugImage(ChcrtDebugImage::Bounds, values, 4, 2);
+    EXPECT_EQ(colourAt(rgb, 4, 0, 1), glm::vec3(0.0f));             // no ray: black
+    EXPECT_EQ(colourAt(rgb, 4, 0, 0), glm::vec3(1.0f, 0.0f, 1.0f)); // unbounded: magenta
+    EXPECT_EQ(colourAt(rgb, 4, 1, 1), glm::vec3(0.0f, 0.0f, 1.0f)); // the smallest extent: the ramp's blue end
+    EXPECT_EQ(colourAt(rgb, 4, 3, 1), glm::vec3(1.0f, 0.0f, 0.0f)); // the largest: its red end
+    // 10 lies halfway between 1 and 100 on the log ramp: the middle of the ramp, neither end.
+    const glm::vec3 middle = colourAt(rgb, 4, 2, 1);
+    EXPECT_NE(middle, colourAt(rgb, 4, 1, 1));
+    EXPECT_NE(middle, colourAt(rgb, 4, 3, 1));
+    EXPECT_GT(middle.g, 0.5f);
 }
 
 TEST(ChcrtDebugImageTest, OtherCountsKeepTheirLinearRampAndUseBit31AsACount) {
