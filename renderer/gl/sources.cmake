@@ -9,4 +9,6 @@ chcrt_add_library(chcrt_gl
   ${CHCRT_GL_LOADER_SOURCES}
 )
 target_include_directories(chcrt_gl PUBLIC ${CHCRT_GL_LOADER_INCLUDE_DIR})
-target_link_libraries(chcrt_gl PUBLIC chcrt_core chcrt_shaders_embedded PRIVATE PkgConfig::EGL PkgConfig::OSMESA ${CMAKE_DL_LIBS})
+target_include_directories(chcrt_gl PRIVATE ${OSMESA_INCLUDE_DIR})
+# No OSMesa library: context_osmesa.cpp opens it with dlopen when `--gl osmesa` asks for it.
+target_link_libraries(chcrt_gl PUBLIC chcrt_core chcrt_shaders_embedded PRIVATE PkgConfig::EGL ${CMAKE_DL_LIBS})

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <cstdlib>
@@ -211,7 +212,8 @@ TEST_F(CliTest, BenchStepsOfOneSubtreeChcrtEqualPureBvhSteps) {
 }
 
 // The viewer is a program of its own (build/bin/chcrt-view, which `chcrt view` runs): the CLI links no GLFW and no
-// Dear ImGui. (libX11 still comes in through OpenImageIO's dependencies on Debian.)
+// Dear ImGui, and no OSMesa (opened with dlopen for --gl osmesa). (libX11 still comes in through OpenImageIO's
+// dependencies on Debian.)
 TEST_F(CliTest, TheCliLinksNoWindowSystemAndListsItsMethods) {
     FILE* pipe = ::popen("ldd '" CHCRT_BINARY "' 2>&1", "r");
     ASSERT_NE(pipe, nullptr);
@@ -222,6 +224,7 @@ TEST_F(CliTest, TheCliLinksNoWindowSystemAndListsItsMethods) {
     ASSERT_NE(libraries.find("libEGL"), std::string::npos) << libraries;
     EXPECT_EQ(libraries.find("libglfw"), std::string::npos) << libraries;
     EXPECT_EQ(libraries.find("imgui"), std::string::npos) << libraries;
+    EXPECT_EQ(libraries.find("libOSMesa"), std::string::npos) << libraries;
     const Result methods = run("methods --markdown");
     ASSERT_EQ(methods.exitCode, 0) << methods.output;
     for (const char* row : {"| bvh | pure BVH", "| bvh+ls | BVH + Line Space", "| reference (CPU) |", "| approximate |"}) {
@@ -241,6 +244,19 @@ TEST_F(CliTest, InfoReportsGlAndScene) {
     const Result osmesa = run("info --no-scene --gl osmesa -q");
     EXPECT_EQ(osmesa.exitCode, 0) << osmesa.output;
     EXPECT_EQ(run("info --no-scene --gl vulkan -q").exitCode, 2);
+}
+
+// OSMesa is loaded only when --gl osmesa asks for it: without the library that flag fails with one line naming it
+// (exit 3, a context that cannot be made), and EGL is unaffected.
+TEST_F(CliTest, AMissingOsMesaLibraryFailsOnlyGlOsMesaWithOneLine) {
+    const std::string missing = "CHCRT_OSMESA_LIBRARY=" + (dir_ / "no" / "libOSMesa.so.8").string();
+    const Result osmesa = run("info --no-scene --gl osmesa -q", missing);
+    EXPECT_EQ(osmesa.exitCode, 3) << osmesa.output;
+    EXPECT_NE(osmesa.output.find("--gl osmesa: cannot load OSMesa"), std::string::npos) << osmesa.output;
+    EXPECT_NE(osmesa.output.find("libosmesa6"), std::string::npos) << osmesa.output;
+    EXPECT_EQ(std::count(osmesa.output.begin(), osmesa.output.end(), '\n'), 1) << osmesa.output;
+    const Result egl = run("info --no-scene -q", missing);
+    EXPECT_EQ(egl.exitCode, 0) << egl.output;
 }
 
 } // namespace
