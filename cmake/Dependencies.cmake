@@ -4,20 +4,26 @@ find_package(glm REQUIRED)
 find_package(nlohmann_json 3.10 REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(embree 3.13 REQUIRED)
-find_package(OpenImageIO REQUIRED)
 find_package(PkgConfig REQUIRED)
 # libEGL (glvnd) is the one GL library the headless commands link; OSMesa is opened with dlopen for `--gl osmesa`
 # (renderer/gl/context_osmesa.cpp), so only its header is needed here.
 pkg_check_modules(EGL REQUIRED IMPORTED_TARGET egl)
 find_path(OSMESA_INCLUDE_DIR GL/osmesa.h REQUIRED)
 
-# Debian 12's OpenImageIO target lists /usr/include/opencv4, which does not exist without OpenCV's dev
-# package; drop it so configuration does not fail.
-get_target_property(_oiio_includes OpenImageIO::OpenImageIO INTERFACE_INCLUDE_DIRECTORIES)
-if(_oiio_includes)
-  list(FILTER _oiio_includes EXCLUDE REGEX "opencv4")
-  set_target_properties(OpenImageIO::OpenImageIO PROPERTIES INTERFACE_INCLUDE_DIRECTORIES "${_oiio_includes}")
+# Image files: OpenImageIO when CHCRT_WITH_OIIO is on (the default), else the built-in codec alone. The built-in
+# codec (stb for PNG/JPEG/HDR, tinyexr for EXR; renderer/core/image_codec.h) is compiled in both builds.
+if(CHCRT_WITH_OIIO)
+  find_package(OpenImageIO REQUIRED)
+  # Debian 12's OpenImageIO target lists /usr/include/opencv4, which does not exist without OpenCV's dev
+  # package; drop it so configuration does not fail.
+  get_target_property(_oiio_includes OpenImageIO::OpenImageIO INTERFACE_INCLUDE_DIRECTORIES)
+  if(_oiio_includes)
+    list(FILTER _oiio_includes EXCLUDE REGEX "opencv4")
+    set_target_properties(OpenImageIO::OpenImageIO PROPERTIES INTERFACE_INCLUDE_DIRECTORIES "${_oiio_includes}")
+  endif()
 endif()
+pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb) # Debian's libstb-dev (libstb.so.0, which tinygltf links too)
+find_package(tinyexr REQUIRED)                      # Debian's libtinyexr-dev
 
 # tinygltf: Debian ships libtinygltf.so with its json and stb inside.
 find_path(TINYGLTF_INCLUDE_DIR tiny_gltf.h REQUIRED)

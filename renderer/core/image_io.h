@@ -1,6 +1,8 @@
 #pragma once
-// Image files through OpenImageIO. Writes are atomic: the image goes to "<name>.tmp<ext>" next to the target
-// and is renamed into place, so an error never leaves a partial output file.
+// Image files through OpenImageIO, or, in a build without it (CMake option CHCRT_WITH_OIIO=OFF), through the
+// built-in codec (stb for PNG/JPEG/HDR, tinyexr for EXR; renderer/core/image_codec.h). Both write the same pixel
+// values. Writes are atomic: the image goes to "<name>.tmp<pid><ext>" next to the target and is renamed into place,
+// so an error never leaves a partial output file.
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -18,15 +20,19 @@ struct ImageRgba32f {
     const float* at(int x, int y) const { return &pixels[(size_t(y) * width + x) * 4]; }
 };
 
+// "OpenImageIO" or "built-in (stb, tinyexr)": the codec this build reads and writes image files with.
+const char* imageCodecName();
+
 // Writes PNG/JPEG (8-bit sRGB-encoded from linear, alpha dropped for JPEG) or EXR/HDR/TIFF (float, linear)
-// chosen by extension. `alreadyDisplayEncoded` skips the sRGB encode (for tone-mapped or debug images whose
+// chosen by extension; TIFF only with OpenImageIO. `alreadyDisplayEncoded` skips the sRGB encode (for tone-mapped or debug images whose
 // values are display values). Throws InputError for an unsupported extension or an unwritable path.
 void writeImage(const std::filesystem::path& file, const ImageRgba32f& image, bool alreadyDisplayEncoded = false);
 // Throws InputError when writeImage could not write `file` (unknown extension, missing or unwritable directory),
 // so that commands refuse before rendering.
 void checkImageOutputPath(const std::filesystem::path& file);
 
-// Reads any format OpenImageIO reads into linear float RGBA (8-bit sources are sRGB-decoded).
+// Reads an image file into linear float RGBA (8- and 16-bit sources are sRGB-decoded): any format OpenImageIO
+// reads, or without it PNG, JPEG, HDR, EXR (and the other formats stb_image reads).
 ImageRgba32f readImage(const std::filesystem::path& file);
 
 // Image comparison used by bench/verify and image tests: RGB only (alpha is ignored), values compared after
