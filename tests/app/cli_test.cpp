@@ -213,7 +213,7 @@ TEST_F(CliTest, BenchStepsOfOneSubtreeChcrtEqualPureBvhSteps) {
 
 // The viewer is a program of its own (build/bin/chcrt-view, which `chcrt view` runs): the CLI links no GLFW and no
 // Dear ImGui, and no OSMesa (opened with dlopen for --gl osmesa). (libX11 still comes in through OpenImageIO's
-// dependencies on Debian.)
+// dependencies on Debian; a build with CHCRT_WITH_OIIO=OFF has neither, docs/gpu.md.)
 TEST_F(CliTest, TheCliLinksNoWindowSystemAndListsItsMethods) {
     FILE* pipe = ::popen("ldd '" CHCRT_BINARY "' 2>&1", "r");
     ASSERT_NE(pipe, nullptr);
