@@ -8,7 +8,8 @@ namespace chcrt {
 
 // Returns the selected frames in order of appearance with duplicates removed (the first occurrence keeps
 // its place: "5,1-6" -> 5,1,2,3,4,6); the result is never empty. Spaces around items are allowed. Throws
-// InputError for malformed text, negative numbers, reversed ranges, a zero step or more than 10^7 frames.
+// InputError for malformed text, negative numbers, reversed ranges, a zero step, frame numbers of 10^7 or more
+// (past the end of the longest walkthrough) or more than 10^7 frames (repeats counted).
 std::vector<int> parseFrameRange(const std::string& text);
 
 // Replaces the last run of '#' in `pattern` with the zero-padded frame number ("out_####.png" + 7 ->

@@ -38,6 +38,8 @@ TEST(FrameRange, DuplicatesRemovedFirstOccurrenceWins) {
     EXPECT_EQ(parseFrameRange("5,1-6"), Frames({5, 1, 2, 3, 4, 6}));
     EXPECT_EQ(parseFrameRange("2,2,2"), Frames({2}));
     EXPECT_EQ(parseFrameRange("1-4,3-6"), Frames({1, 2, 3, 4, 5, 6}));
+    // Few frames spread wide (sorted with their positions rather than marked in a bitmap over their span).
+    EXPECT_EQ(parseFrameRange("9999999,3,0-2,9999999,1"), Frames({9999999, 3, 0, 1, 2}));
 }
 
 TEST(FrameRange, MalformedInputThrowsWithTheText) {
@@ -50,6 +52,22 @@ TEST(FrameRange, MalformedInputThrowsWithTheText) {
             EXPECT_NE(std::string(e.what()).find("\"" + std::string(text) + "\""), std::string::npos)
                 << e.what();
         }
+    }
+}
+
+// Frame numbers stop at the longest walkthrough's last frame and selections at 10^7 frames, repeats counted,
+// checked before anything is expanded; at the limits the list is made once and stays fast (tests/fuzz/).
+TEST(FrameRange, LimitsHoldBeforeAnythingIsExpanded) {
+    EXPECT_EQ(parseFrameRange("9999999"), Frames({9999999}));
+    const Frames all = parseFrameRange("0-9999999");
+    ASSERT_EQ(all.size(), 10'000'000u);
+    EXPECT_EQ(all.back(), 9999999);
+    const Frames interleaved = parseFrameRange("1-9999999:2,0-9999998:2");
+    ASSERT_EQ(interleaved.size(), 10'000'000u);
+    EXPECT_EQ(interleaved[4'999'999], 9999999);
+    EXPECT_EQ(interleaved[5'000'000], 0);
+    for (const char* text : {"10000000", "5-10000000", "0-9999999,0", "0-4999999,0-4999999,7"}) {
+        EXPECT_THROW(parseFrameRange(text), InputError) << text;
     }
 }
 
@@ -66,6 +84,10 @@ TEST(FrameRange, MessagesSayWhatIsWrong) {
     EXPECT_NE(message("1-10:0").find("zero step"), std::string::npos);
     EXPECT_NE(message("1,,2").find("empty item"), std::string::npos);
     EXPECT_NE(message("-1").find("non-negative"), std::string::npos);
+    EXPECT_NE(message("3-12345678").find("has 12345678 as its last frame, past the last frame a walkthrough may "
+                                         "have (9999999)"),
+              std::string::npos);
+    EXPECT_NE(message("0-9999999,0").find("selects more than 10000000 frames"), std::string::npos);
 }
 
 TEST(FramePath, ReplacesLastRunOfHashes) {
