@@ -57,6 +57,37 @@ PlyType parseType(const std::string& name) {
 
 bool isIntegerType(PlyType type) { return type != PlyType::Float32 && type != PlyType::Float64 && type != PlyType::Invalid; }
 
+size_t typeBytes(PlyType type) {
+    switch (type) {
+    case PlyType::Int8: case PlyType::UInt8: return 1;
+    case PlyType::Int16: case PlyType::UInt16: return 2;
+    case PlyType::Float64: return 8;
+    default: return 4;
+    }
+}
+
+// The counts are untrusted: an element whose items could not fit in the data that follows the header (each
+// binary property takes its type's size, or its count's for a list; each ASCII value at least one character)
+// is rejected before any item is read, and so is an element with items but no properties, whose items take no
+// bytes and whose count alone would decide how long the loop runs.
+void checkElementCounts(const PlyHeader& header, uint64_t dataBytes, const std::filesystem::path& file) {
+    uint64_t needed = 0;
+    for (const PlyElement& element : header.elements) {
+        if (element.count == 0) continue;
+        if (element.properties.empty())
+            throwFileError(file, "PLY element '" + element.name + "' has " + std::to_string(element.count) +
+                                     " items but no properties");
+        uint64_t itemBytes = 0;
+        for (const PlyProperty& property : element.properties)
+            itemBytes += header.format == PlyFormat::Ascii ? 1 : typeBytes(property.isList ? property.countType : property.type);
+        if (element.count > (dataBytes - std::min(needed, dataBytes)) / itemBytes)
+            throwFileError(file, "truncated data in element '" + element.name + "' (it declares " +
+                                     std::to_string(element.count) + " items, more than the " +
+                                     std::to_string(dataBytes) + " bytes after the header can hold)");
+        needed += element.count * itemBytes;
+    }
+}
+
 // Parses the header line by line; `bytes` is the whole file.
 PlyHeader parseHeader(const std::string& bytes, const std::filesystem::path& file) {
     PlyHeader header;
@@ -126,6 +157,7 @@ PlyHeader parseHeader(const std::string& bytes, const std::filesystem::path& fil
     }
     if (!sawFormat) throwFileError(file, "PLY header has no format line");
     header.dataOffset = pos;
+    checkElementCounts(header, bytes.size() - pos, file);
     return header;
 }
 

@@ -242,6 +242,11 @@ TEST(PlyLoader, MalformedHeadersAndValues) {
         {"ply\nformat ascii 1.0\nelement vertex 0\n", "no end_header"},
         // A hostile count must end in a truncation error, not in a multi-gigabyte allocation.
         {replaced("element vertex 5", "element vertex 4000000000"), "truncated data in element 'vertex'"},
+        // Rejected from the header alone: more items than the data after it can hold, and items that take no
+        // bytes at all (a count of 2^64 - 1 would otherwise be a loop of that length).
+        {replaced("element vertex 5", "element vertex 4000000000"), "declares 4000000000 items, more than the"},
+        {replaced("end_header\n", "element junk 18446744073709551615\nend_header\n"),
+         "element 'junk' has 18446744073709551615 items but no properties"},
     };
     for (const auto& [text, fragment] : cases) {
         const std::filesystem::path file = writePly(dir, "bad.ply", text);
