@@ -60,9 +60,18 @@ void ChsFile::validate() {
     const uint64_t metaExpected = uint64_t(h.upperNodeCount) * sizeof(ChsUpperNode) +
                                   uint64_t(h.subtreeCount) * sizeof(ChsSubtreeRecord) +
                                   uint64_t(h.materialCount) * sizeof(ChsMaterialRecord) + h.sourceBytes;
-    if (h.metaBytes != metaExpected || h.metaOffset < sizeof(ChsHeader) || h.metaOffset + h.metaBytes != size ||
+    if (h.metaBytes != metaExpected || h.metaOffset < sizeof(ChsHeader) || h.metaOffset > size || h.metaOffset + h.metaBytes != size ||
         h.subtreeCount == 0 || h.upperNodeCount == 0) {
         throw InputError(name + ": corrupted prepared scene (inconsistent sizes in the header)");
+    }
+    // Counts the header claims beyond what the subtree area could hold (every triangle takes at least its record
+    // and normals, every node its record) are refused before anything is sized by them.
+    const uint64_t subtreeArea = h.metaOffset - sizeof(ChsHeader);
+    if (h.triangleCount > subtreeArea / (sizeof(TriangleGpu) + 36) || h.nodeCount > subtreeArea / sizeof(BvhNodeGpu) ||
+        h.maxSubtreeTriangles > subtreeArea / (sizeof(TriangleGpu) + 36) || h.maxSubtreeNodes > subtreeArea / sizeof(BvhNodeGpu)) {
+        throw InputError(name + ": corrupted prepared scene (the header claims " + std::to_string(h.triangleCount) +
+                         " triangles and " + std::to_string(h.nodeCount) + " nodes, more than its " +
+                         std::to_string(subtreeArea) + " bytes of subtrees can hold)");
     }
     upper_.resize(h.upperNodeCount);
     subtrees_.resize(h.subtreeCount);
@@ -95,7 +104,7 @@ void ChsFile::validate() {
         const ChsSubtreeRecord& r = subtrees_[i];
         if (r.nodeCount == 0 || r.nodeCount > h.maxSubtreeNodes || r.triangleCount > h.maxSubtreeTriangles ||
             r.bytes != chsSubtreeBytes(r.nodeCount, r.triangleCount, uv) || r.offset < sizeof(ChsHeader) ||
-            r.offset + r.bytes > h.metaOffset || r.upperNode >= h.upperNodeCount) {
+            r.offset > h.metaOffset || r.bytes > h.metaOffset - r.offset || r.upperNode >= h.upperNodeCount) {
             throw InputError(name + ": corrupted prepared scene (subtree record " + std::to_string(i) + ")");
         }
     }

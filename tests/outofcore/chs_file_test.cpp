@@ -160,6 +160,30 @@ TEST(ChsFile, VersionMismatchIsRefusedWithClearMessage) {
     }
 }
 
+TEST(ChsFile, CountsBeyondTheFileAreRefusedBeforeAllocating) {
+    test::ScratchDir dir;
+    const auto file = dir.file("box.chs");
+    test::prepareSmall("closed-box", file);
+    const std::vector<char> good = test::readBytes(file);
+    // 10^9 triangles would pass the in-core limit and size ~50 GB of vectors; 10^12 the reader's own arithmetic.
+    for (uint64_t triangles : {uint64_t(1'000'000'000), uint64_t(1'000'000'000'000)}) {
+        std::vector<char> bytes = good;
+        ChsHeader h;
+        std::memcpy(&h, bytes.data(), sizeof(h));
+        h.triangleCount = triangles;
+        h.headerChecksum = outofcore::chsChecksum(&h, offsetof(ChsHeader, headerChecksum));
+        std::memcpy(bytes.data(), &h, sizeof(h));
+        test::writeBytes(file, bytes);
+        try {
+            outofcore::loadPreparedScene(file);
+            FAIL() << "accepted a header claiming " << triangles << " triangles";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("claims " + std::to_string(triangles) + " triangles"), std::string::npos)
+                << e.what();
+        }
+    }
+}
+
 TEST(ChsFile, MissingAndForeignFilesAreRefused) {
     test::ScratchDir dir;
     EXPECT_THROW(ChsFile(dir.file("missing.chs")), InputError);
