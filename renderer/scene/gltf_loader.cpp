@@ -118,23 +118,30 @@ NamedCamera cameraFromNode(const tinygltf::Model& model, const tinygltf::Node& n
     return named;
 }
 
-// Walks the hierarchy from the roots, collecting mesh instances and perspective cameras.
+// Walks the hierarchy from the roots, collecting mesh instances and perspective cameras. glTF's node hierarchy
+// is a set of disjoint trees (§3.5.2: no cycles, at most one parent), so each node is reached once: a node
+// reached again is refused, which also stops a few kilobytes of nodes that list one child many times over
+// from multiplying into 4^23 instances.
 std::vector<MeshInstance> collectInstances(const tinygltf::Model& model, Scene& scene) {
     std::vector<MeshInstance> instances;
     struct Pending {
         int node;
         glm::dmat4 parentWorld;
-        size_t depth;
     };
     std::vector<Pending> stack;
-    for (int root : rootNodes(model)) stack.push_back({root, glm::dmat4(1.0), 0});
+    std::vector<bool> reached(model.nodes.size(), false);
+    for (int root : rootNodes(model)) stack.push_back({root, glm::dmat4(1.0)});
     while (!stack.empty()) {
         const Pending item = stack.back();
         stack.pop_back();
         if (item.node < 0 || static_cast<size_t>(item.node) >= model.nodes.size())
             throw InputError("reference to missing node " + std::to_string(item.node));
-        // A tree of N nodes is at most N deep; deeper means a cycle, which glTF forbids (§3.5.2).
-        if (item.depth > model.nodes.size()) throw InputError("node hierarchy has a cycle");
+        if (reached[item.node]) {
+            throw InputError("node " + std::to_string(item.node) +
+                             " is reached twice: the node hierarchy has a cycle or a node with two parents (glTF 2.0 "
+                             "allows neither, §3.5.2)");
+        }
+        reached[item.node] = true;
         const tinygltf::Node& node = model.nodes[item.node];
         const glm::dmat4 world = item.parentWorld * localTransform(node);
         if (node.mesh >= 0) {
@@ -145,8 +152,7 @@ std::vector<MeshInstance> collectInstances(const tinygltf::Model& model, Scene& 
         if (node.camera >= 0 && static_cast<size_t>(node.camera) < model.cameras.size() &&
             model.cameras[node.camera].type == "perspective")
             scene.cameras.push_back(cameraFromNode(model, node, world));
-        for (auto it = node.children.rbegin(); it != node.children.rend(); ++it)
-            stack.push_back({*it, world, item.depth + 1});
+        for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) stack.push_back({*it, world});
     }
     return instances;
 }

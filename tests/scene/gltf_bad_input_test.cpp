@@ -186,6 +186,23 @@ TEST(GltfErrors, NodeCycles) {
     expectLoadError(gltf.writeGlb(dir / "cycle.glb"), "cycle");
 }
 
+// Each node has at most one parent (glTF 2.0 §3.5.2): a node listed twice as a child, or both as a root and as a
+// child, is refused; 24 nodes each listing the next four times over would otherwise be 4^23 instances.
+TEST(GltfErrors, NodesReachedTwiceAreRefused) {
+    TempDir dir;
+    GltfBuilder twice = triangleScene();
+    twice.setSceneRoots({twice.addNode({{"children", {0, 0}}})});
+    expectLoadError(twice.writeGlb(dir / "twice.glb"), "node 0 is reached twice");
+    GltfBuilder rootAndChild = triangleScene();
+    rootAndChild.setSceneRoots({0, rootAndChild.addNode({{"children", {0}}})});
+    expectLoadError(rootAndChild.writeGlb(dir / "root.glb"), "node 0 is reached twice");
+    GltfBuilder fanout = triangleScene();
+    int next = 0;
+    for (int level = 0; level < 23; ++level) next = fanout.addNode({{"children", {next, next, next, next}}});
+    fanout.setSceneRoots({next});
+    expectLoadError(fanout.writeGlb(dir / "fanout.glb"), "is reached twice");
+}
+
 } // namespace
 } // namespace chcrt
 
