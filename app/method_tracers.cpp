@@ -29,9 +29,20 @@ void reportCache(const char* what, const std::string& method, ls::CacheOutcome o
                  details.empty() ? "" : ": ", details.c_str());
 }
 
-// Line Spaces of the session's BVH with `params`: from the cache directory, or built (and cached).
+// Line Spaces of the session's BVH with `params`: from the cache directory, or built (and cached). Their dense
+// part (the binary bitsets, and the candidate Line Spaces' bitsets and offsets), held on the host and again on the
+// GPU, is checked against the memory budget with the session's first: the cut's node count times N^4 grows
+// quickly with --ls-n and --ls-depth.
 ls::LineSpaces loadLineSpaces(const SceneSession& session, const CommonOptions& o, const ls::LineSpaceParams& params,
                               ls::CacheOutcome& outcome) {
+    const uint64_t spaces = ls::selectLineSpaceNodes(session.bvh, params.depth, params.triangleThreshold).size();
+    const auto words = [](uint64_t shafts) { return (shafts + 31) / 32; };
+    const uint64_t n = params.n;
+    const uint64_t n4 = n * n * n * n;
+    const uint64_t perSpace = 4 * (words(15 * n4) + (params.candidates ? 2 * words(30 * n4) : 0));
+    MemoryParts parts = sessionMemory(session);
+    parts.emplace_back(std::to_string(spaces) + " Line Spaces (" + params.toString() + ")", 2 * spaces * perSpace);
+    checkMemoryBudget(parts);
     return ls::loadOrBuildLineSpaces(session.bvh, params, o.lineSpaceTracing.cacheDirectory, *session.progress, &outcome);
 }
 

@@ -54,6 +54,7 @@ struct CommonOptions {
     bool strict = false;            // --strict: a scene's load warnings (Scene::warnings) are errors
     std::string statsJson;
     bool quiet = false;
+    uint64_t maxMemoryBytes = 0;    // --max-memory-mb; 0: defaultMemoryBudgetBytes() (renderer/core/memory_budget.h)
 
     // Each area's typed home (app/parameters.cpp: the flags that set their fields).
     RenderSettings render;          // samplesPerPixel: the command's default unless --spp is given

@@ -1,6 +1,7 @@
 #include "app/parameters.h"
 
 #include "renderer/core/error.h"
+#include "renderer/core/memory_budget.h"
 
 #include <algorithm>
 #include <cctype>
@@ -302,6 +303,12 @@ std::vector<Parameter> describeSession() {
             .onOff(FIELD(glDebug)),
         Describe(Area::Session, "--stats-json", "", "Write per-frame statistics as JSON to this file").text(FIELD(statsJson)),
         Describe(Area::Session, "--quiet", "", "No progress bars").names("-q,--quiet").flagWithoutValue().onOff(FIELD(quiet)),
+        Describe(Area::Session, "--max-memory-mb", "",
+                 "Memory in MiB one run may use for its big buffers (scene, BVH, render targets, Line Spaces, "
+                 "out-of-core caches): their estimate is checked before they are allocated")
+            .value("MB")
+            .defaults("4/5 of the physical memory, " + formatMegabytes(defaultMemoryBudgetBytes()) + " here")
+            .sets<uint64_t>(FIELD(maxMemoryBytes), megabyteCodec()),
     };
 }
 

@@ -4,6 +4,7 @@
 #include "renderer/core/frame_range.h"
 #include "renderer/core/output_path.h"
 #include "renderer/outofcore/chs_file.h"
+#include "renderer/render/frame_targets.h"
 #include "renderer/scene/scene_loader.h"
 
 #include <algorithm>
@@ -113,18 +114,50 @@ void warnAboutOutOfCoreFlagsWithoutOutOfCore(const CommonOptions& o) {
     }
 }
 
+// The triangles a scene will have in core, as far as they are known before it is loaded: a generator's count
+// (generators land within 10 % of it) or a prepared scene's header; 0 for scene files (checked once loaded).
+uint64_t trianglesKnownUpFront(const CommonOptions& o, bool prepared, bool inCore) {
+    if (prepared) return inCore ? outofcore::ChsFile(o.scene).header().triangleCount : 0;
+    ProceduralSpec spec;
+    if (!parseProceduralSpec(o.scene, spec)) return 0;
+    const bool analytic = spec.kind == ProceduralKind::PlaneAndBox || spec.kind == ProceduralKind::ClosedBox ||
+                          spec.kind == ProceduralKind::OneTriangle; // a few triangles whatever the count says
+    return analytic ? 0 : spec.targetTriangles / 10 * 11;
+}
+
 } // namespace
+
+MemoryParts sessionMemory(const CommonOptions& o, uint64_t sceneTriangles) {
+    const uint64_t pixels = uint64_t(std::max(o.render.width, 0)) * uint64_t(std::max(o.render.height, 0));
+    MemoryParts parts;
+    // The targets and the image read back from them (RGBA32F).
+    parts.emplace_back("render targets " + std::to_string(o.render.width) + "x" + std::to_string(o.render.height),
+                       pixels * (FrameTargets::kBytesPerPixel + 16));
+    parts.emplace_back("scene and BVH of " + std::to_string(sceneTriangles) + " triangles",
+                       outofcore::estimatedInCoreBytes(sceneTriangles));
+    if (o.outOfCoreScene.enabled) {
+        parts.emplace_back("--gpu-cache-mb", o.outOfCore.gpuCacheBytes);
+        parts.emplace_back("--host-cache-mb", o.outOfCore.hostCacheBytes);
+    }
+    return parts;
+}
+
+MemoryParts sessionMemory(const SceneSession& s) {
+    return sessionMemory(s.options, s.sceneInCore ? s.scene.triangleCount() : 0);
+}
 
 SceneSession openSceneSession(const CommonOptions& o, std::unique_ptr<Progress> progress) {
     warnAboutOutOfCoreFlagsWithoutOutOfCore(o);
+    setMemoryBudgetBytes(o.maxMemoryBytes);
     SceneSession s;
     s.options = o;
     s.progress = progress ? std::move(progress) : makeTerminalProgress(!o.quiet);
     const auto start = Clock::now();
     ProceduralSpec spec;
     const bool prepared = outofcore::isPreparedScenePath(o.scene);
+    if (prepared) s.sceneInCore = loadPreparedInCore(o);
+    checkMemoryBudget(sessionMemory(o, trianglesKnownUpFront(o, prepared, s.sceneInCore)));
     if (prepared) { // a prepared scene loaded in core: its BVH comes from the file (renderer/outofcore/)
-        s.sceneInCore = loadPreparedInCore(o);
         s.progress->begin(std::string(s.sceneInCore ? "Loading " : "Opening (out of core) ") + o.scene, 0);
         outofcore::LoadedPreparedScene loaded = s.sceneInCore ? outofcore::loadPreparedScene(o.scene)
                                                               : outofcore::loadPreparedSceneProxy(o.scene);
@@ -147,6 +180,7 @@ SceneSession openSceneSession(const CommonOptions& o, std::unique_ptr<Progress> 
     validateScene(s.scene);
     s.sceneSeconds = secondsSince(start);
     s.path = resolveCameraPath(o, s);
+    if (!prepared && !s.procedural) checkMemoryBudget(sessionMemory(s)); // a scene file: now its size is known
     if (!prepared) s.bvh = buildBvh(s.scene, o.bvh, *s.progress);
     return s;
 }

@@ -3,6 +3,7 @@
 // when needed a headless GL context with a Renderer. Timings of each step are kept for the summaries.
 #include "app/options.h"
 #include "renderer/bvh/bvh.h"
+#include "renderer/core/memory_budget.h"
 #include "renderer/core/progress.h"
 #include "renderer/gl/context.h"
 #include "renderer/render/renderer.h"
@@ -33,7 +34,16 @@ struct SceneSession {
 
 // Loads/generates the scene, resolves the camera path and builds the BVH (with progress bars on a TTY).
 // `progress`: where the steps report instead (the viewer's panel); it becomes the session's progress.
+// Sets the memory budget from --max-memory-mb and checks sessionMemory's estimate against it before loading
+// (with the triangle count a generator spec or a prepared scene's header gives) and again before building the
+// BVH of a scene file (InputError naming the flag; renderer/core/memory_budget.h).
 SceneSession openSceneSession(const CommonOptions& options, std::unique_ptr<Progress> progress = nullptr);
+
+// The big buffers of a session with `sceneTriangles` triangles in core: render targets at --width x --height,
+// the scene with its BVH and GPU copies (outofcore::estimatedInCoreBytes), and with --out-of-core the two
+// subtree caches' budgets. A tracer adds its own parts (Line Spaces) before checking.
+MemoryParts sessionMemory(const CommonOptions& options, uint64_t sceneTriangles);
+MemoryParts sessionMemory(const SceneSession& session);
 
 // Frames to render: --frames if given, else `defaultFrames` of the path ("all" = every frame, "all:N" = every
 // N-th frame, "spread:N" = N frames evenly spread over the path). Frames past the path's end are an InputError.

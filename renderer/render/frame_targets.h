@@ -4,6 +4,8 @@
 // composed output. Recreated on resize.
 #include "renderer/gl/gl_objects.h"
 
+#include <cstdint>
+
 namespace chcrt {
 
 // One ray per pixel: origin + tmin, direction + tmax (RGBA32F each), CHC+RT §5.3.
@@ -47,6 +49,11 @@ struct FrameTargets {
     GlFramebuffer output;
 
     FrameTargets(int width, int height);
+
+    // Bytes per pixel of the targets above: G-buffer 16 + 16 + 8 + 4 + 4, two ray sets of 16 + 16 + 2, two hit
+    // sets of 16 + 16 + 4, three accumulation targets and two outputs of 16 (what a resolution costs before a
+    // tracer adds per-pixel buffers of its own; the memory estimate of app/session.cpp).
+    static constexpr uint64_t kBytesPerPixel = 48 + 2 * 34 + 2 * 36 + 3 * 16 + 2 * 16;
 };
 
 } // namespace chcrt

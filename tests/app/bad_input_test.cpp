@@ -101,6 +101,39 @@ TEST_F(CliTest, AWalkthroughTooLongForItsFrameListIsRefused) {
     EXPECT_FALSE(exists("a.png"));
 }
 
+// Sizes a run could not allocate are refused before the work that would allocate them (docs/robustness.md, "Sizes
+// from untrusted input"): an image side beyond what a texture may have, and estimates beyond --max-memory-mb.
+TEST_F(CliTest, SizesThatCannotBeAllocatedAreRefusedBeforeTheWork) {
+    expectRefused(run("render --scene city:10k --width 100000 --height 100000 -q -o a.png"),
+                  "image size must be between 1 and 16384 pixels per side");
+    // Render targets and a generator's scene are estimated before anything is generated.
+    const Result targets = run("render --scene city:10k --width 16384 --height 16384 --max-memory-mb 1024 -q -o a.png");
+    expectRefused(targets, "this run needs at least ");
+    EXPECT_NE(targets.output.find("render targets 16384x16384: "), std::string::npos) << targets.output;
+    EXPECT_NE(targets.output.find("more than the 1,024 MiB --max-memory-mb allows"), std::string::npos) << targets.output;
+    expectRefused(run("render --scene city:10m --width 32 --height 24 -q --max-memory-mb 1000 -o a.png"),
+                  "scene and BVH of 11000000 triangles: ");
+    // A scene file once it is loaded, before its BVH is built: 3000 triangles at 400 bytes each exceed 1 MiB.
+    std::string obj;
+    for (int i = 0; i < 3000; ++i) {
+        obj += "v " + std::to_string(i) + " 0 0\nv " + std::to_string(i) + " 1 0\nv " + std::to_string(i) + " 0 1\n";
+        obj += "f " + std::to_string(3 * i + 1) + " " + std::to_string(3 * i + 2) + " " + std::to_string(3 * i + 3) + "\n";
+    }
+    write("many.obj", obj);
+    expectRefused(run("render --scene many.obj --width 32 --height 24 -q --max-memory-mb 1 -o a.png"),
+                  "scene and BVH of 3000 triangles: ");
+    // Line Spaces: the cut's nodes times N^4 bits, on the host and on the GPU.
+    const Result spaces = run(std::string("render ") + kCity +
+                              "--method bvh+ls-exact --ls-n 16 --ls-depth 12 --ls-cache '' --max-memory-mb 64 -o a.png");
+    expectRefused(spaces, "Line Spaces (N=16 D=12 T=8");
+    EXPECT_NE(spaces.output.find("--max-memory-mb allows"), std::string::npos) << spaces.output;
+    expectRefused(run(std::string("render ") + kCity + "--max-memory-mb 0 -o a.png"), "--max-memory-mb must be at least 1");
+    EXPECT_FALSE(exists("a.png"));
+    EXPECT_EQ(fileCount(), 1u); // many.obj
+    // Within the budget the same flags render.
+    EXPECT_EQ(run(std::string("render ") + kCity + "--max-memory-mb 64 -o a.png").exitCode, 0);
+}
+
 } // namespace
 
 // An interrupted prepare leaves no F.chs.tmp: the signal skips the writer's destructor, RemoveOnSignal's handler removes it.
