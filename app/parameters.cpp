@@ -305,7 +305,7 @@ std::vector<Parameter> describeSession() {
         Describe(Area::Session, "--quiet", "", "No progress bars").names("-q,--quiet").flagWithoutValue().onOff(FIELD(quiet)),
         Describe(Area::Session, "--max-memory-mb", "",
                  "Memory in MiB one run may use for its big buffers (scene, BVH, render targets, Line Spaces, "
-                 "out-of-core caches): their estimate is checked before they are allocated")
+                 "out-of-core caches, textures): their estimate is checked before they are allocated")
             .value("MB")
             .defaults("4/5 of the physical memory, " + formatMegabytes(defaultMemoryBudgetBytes()) + " here")
             .sets<uint64_t>(FIELD(maxMemoryBytes), megabyteCodec()),

@@ -25,6 +25,9 @@ endif()
 pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb) # Debian's libstb-dev (libstb.so.0, which tinygltf links too)
 find_package(tinyexr REQUIRED)                      # Debian's libtinyexr-dev
 
+# stb_image's header readers (renderer/scene/image_header.cpp read a texture's dimensions before tinygltf decodes it).
+find_path(STB_INCLUDE_DIR stb/stb_image.h REQUIRED)
+
 # tinygltf: Debian ships libtinygltf.so with its json and stb inside.
 find_path(TINYGLTF_INCLUDE_DIR tiny_gltf.h REQUIRED)
 find_library(TINYGLTF_LIBRARY tinygltf REQUIRED)

@@ -1,10 +1,10 @@
 #pragma once
 // What one run may allocate for its big buffers (`--max-memory-mb`, docs/robustness.md "Sizes from untrusted
-// input"): the scene and its BVH, render targets, Line Spaces and out-of-core caches. Whatever sizes such a
-// buffer from a number it was given (a header's counts, --width, a generator's triangle count) estimates the
-// bytes first and calls checkMemoryBudget, so a size that cannot be satisfied is a one-line InputError naming the
-// flag instead of an out-of-memory kill halfway through the run. Estimates count the big buffers only, so they
-// are lower bounds of what a run allocates.
+// input"): the scene and its BVH, render targets, Line Spaces, out-of-core caches and decoded textures. Whatever
+// sizes such a buffer from a number it was given (a header's counts, an image's dimensions, --width, a generator's
+// triangle count) estimates the bytes first and calls checkMemoryBudget, so a size that cannot be satisfied is a
+// one-line InputError naming the flag instead of an out-of-memory kill halfway through the run. Estimates count
+// the big buffers only, so they are lower bounds of what a run allocates.
 #include <cstdint>
 #include <string>
 #include <utility>

@@ -2,7 +2,9 @@
 // local (glTF 2.0 §3.5.3), each referenced mesh is decoded and cleaned once, then every instance is flattened
 // into world-space triangles. Only the base colour (factor and texture) of a material is kept.
 #include "renderer/core/error.h"
+#include "renderer/core/memory_budget.h"
 #include "renderer/scene/gltf_accessors.h"
+#include "renderer/scene/image_header.h"
 #include "renderer/scene/mesh_utils.h"
 #include "renderer/scene/scene_loader.h"
 
@@ -50,6 +52,44 @@ std::string oneLine(std::string text) {
     return text;
 }
 
+// Textures may have at most this many texels per side: the largest size OpenGL 4.5 guarantees
+// (GL_MAX_TEXTURE_SIZE >= 16384).
+constexpr uint64_t kMaxTextureSide = 16384;
+
+// Why loadImageWithinLimits refused an image (empty: none refused).
+struct ImageLimits {
+    std::string refused;
+};
+
+// tinygltf's image loader (stb_image) behind a size check: an image whose header declares more than
+// kMaxTextureSide texels on a side, or whose decoding (stb's output, tinygltf's copy of it and the RGBA8 texture)
+// would not fit the memory budget, is refused before it is decoded: stb sizes its output from the header alone,
+// so a few bytes could otherwise claim gigabytes.
+bool loadImageWithinLimits(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int reqWidth,
+                           int reqHeight, const unsigned char* bytes, int size, void* user) {
+    ImageLimits& limits = *static_cast<ImageLimits*>(user);
+    detail::ImageHeader header;
+    if (size > 0 && detail::readImageHeader(bytes, size_t(size), header)) {
+        const std::string name = "image " + std::to_string(index) + (image->name.empty() ? "" : " ('" + image->name + "')");
+        const std::string texels = std::to_string(header.width) + " x " + std::to_string(header.height) + " texels";
+        if (header.width > kMaxTextureSide || header.height > kMaxTextureSide) {
+            limits.refused = name + " is " + texels + ", more than the " + std::to_string(kMaxTextureSide) +
+                             " per side a texture may have (refused before decoding)";
+            return false;
+        }
+        const uint64_t decodedTexel = header.sixteenBit ? 8 : 4;
+        try {
+            checkMemoryBudget(header.width * header.height * (2 * decodedTexel + 4), "decoding " + name + ", " + texels);
+        } catch (const InputError& e) {
+            limits.refused = e.what();
+            return false;
+        }
+    }
+    // No user data: tinygltf's loader then takes its default options (channels expanded to RGBA), as when it is
+    // the parser's own loader.
+    return tinygltf::LoadImageData(image, index, err, warn, reqWidth, reqHeight, bytes, size, nullptr);
+}
+
 tinygltf::Model parseModel(const std::filesystem::path& file) {
     const std::string bytes = detail::readWholeFile(file);
     if (bytes.empty()) throwFileError(file, "file is empty");
@@ -60,6 +100,8 @@ tinygltf::Model parseModel(const std::filesystem::path& file) {
     if (baseDir.empty()) baseDir = ".";
 
     tinygltf::TinyGLTF parser;
+    ImageLimits limits;
+    parser.SetImageLoader(loadImageWithinLimits, &limits);
     tinygltf::Model model;
     std::string error, warning;
     bool ok = false;
@@ -72,6 +114,7 @@ tinygltf::Model parseModel(const std::filesystem::path& file) {
     } catch (const std::exception& e) {
         throwFileError(file, std::string("glTF parser failed: ") + e.what());
     }
+    if (!ok && !limits.refused.empty()) throwFileError(file, limits.refused);
     if (!ok) throwFileError(file, "invalid glTF: " + oneLine(error.empty() ? "unknown error" : error));
     return model;
 }
@@ -350,6 +393,15 @@ void buildScene(const tinygltf::Model& model, Scene& scene, Progress& progress, 
         for (const LocalPrimitive& p : it->second.primitives) vertexTotal += p.positions.size();
         triangleTotal += it->second.triangleCount;
     }
+    // Instancing multiplies: a small file can describe more geometry than memory holds, or than 32-bit indices
+    // can address; both are refused before the flattened arrays are sized.
+    if (vertexTotal > std::numeric_limits<uint32_t>::max()) {
+        throw InputError("the scene has " + std::to_string(vertexTotal) +
+                         " vertices after instancing, more than 32-bit indices can address");
+    }
+    checkMemoryBudget(vertexTotal * (2 * sizeof(glm::vec3) + sizeof(glm::vec2)) +
+                          triangleTotal * (sizeof(glm::uvec3) + sizeof(uint32_t)),
+                      "the scene's " + std::to_string(triangleTotal) + " triangles after instancing");
     bool anyTexcoords = false;
     for (const auto& [index, mesh] : meshes) {
         scene.stats.uniqueTriangles += mesh.triangleCount;

@@ -3,6 +3,7 @@ chcrt_add_library(chcrt_scene
   scene/mesh_utils.cpp
   scene/gltf_loader.cpp
   scene/gltf_accessors.cpp
+  scene/image_header.cpp
   scene/ply_loader.cpp
   scene/obj_loader.cpp
   scene/scene_loader.cpp

@@ -1,5 +1,6 @@
 // Bad input through loadSceneFile/loadGltf: every failure is one InputError naming the file, never a crash.
 #include "renderer/core/error.h"
+#include "renderer/core/memory_budget.h"
 #include "renderer/scene/scene_loader.h"
 #include "tests/scene/test_files.h"
 
@@ -123,6 +124,76 @@ TEST(GltfErrors, ZeroTriangles) {
     GltfBuilder empty;
     empty.setSceneRoots({empty.addNode({{"name", "nothing"}})});
     expectLoadError(empty.writeGltf(dir.path(), "empty"), "scene has no triangles");
+}
+
+TEST(GltfErrors, AccessorCountBeyondItsBufferIsRefusedBeforeAllocating) {
+    TempDir dir;
+    for (const bool positions : {true, false}) {
+        GltfBuilder gltf = triangleScene();
+        const nlohmann::json& primitive = gltf.json["meshes"][0]["primitives"][0];
+        const int accessor = positions ? primitive["attributes"]["POSITION"].get<int>() : primitive["indices"].get<int>();
+        // 10^12 elements: reading them would need terabytes; the count is checked against the buffer view first.
+        gltf.json["accessors"][accessor]["count"] = 1'000'000'000'000ull;
+        expectLoadError(gltf.writeGlb(dir / "count.glb"), "with 1000000000000 elements exceeds its buffer view");
+    }
+}
+
+// A textured quad whose image (embedded in the GLB) is `png`.
+GltfBuilder texturedQuad(const std::string& png) {
+    GltfBuilder gltf;
+    const int imageView = gltf.addBufferView(png.data(), png.size());
+    gltf.json["images"] = json::array({{{"bufferView", imageView}, {"mimeType", "image/png"}, {"name", "huge"}}});
+    gltf.json["textures"] = json::array({{{"source", 0}}});
+    gltf.json["materials"] = json::array({{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}});
+    const int positions = gltf.addPositions({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}});
+    const int uvs = gltf.addVec2({{0, 0}, {1, 0}, {1, 1}, {0, 1}});
+    gltf.setSceneRoots({gltf.addNode(
+        {{"mesh", gltf.addMesh({{"POSITION", positions}, {"TEXCOORD_0", uvs}}, gltf.addIndices({0, 1, 2, 0, 2, 3}), 0)}})});
+    return gltf;
+}
+
+// A valid 1 x 1 PNG whose IHDR chunk then claims width x height (stb_image reads no checksum): a few bytes that
+// a decoder sizing its output from the header would turn into width * height * 4 bytes.
+std::string pngClaiming(uint32_t width, uint32_t height) {
+    std::string png = test::encodePngRgba8(1, 1, {1, 2, 3, 4});
+    for (int i = 0; i < 4; ++i) {
+        png[size_t(16 + i)] = char(width >> (24 - 8 * i));
+        png[size_t(20 + i)] = char(height >> (24 - 8 * i));
+    }
+    return png;
+}
+
+// Restores the default memory budget when a test that set one ends.
+struct BudgetScope {
+    explicit BudgetScope(uint64_t bytes) { setMemoryBudgetBytes(bytes); }
+    ~BudgetScope() { setMemoryBudgetBytes(0); }
+};
+
+TEST(GltfErrors, HugeTexturesAreRefusedBeforeDecoding) {
+    TempDir dir;
+    // 10^9 x 10^9 texels (4 * 10^18 bytes decoded), and one texel more than a side may have.
+    expectLoadError(texturedQuad(pngClaiming(1'000'000'000, 1'000'000'000)).writeGlb(dir / "huge.glb"),
+                    "image 0 ('huge') is 1000000000 x 1000000000 texels, more than the 16384 per side a texture may "
+                    "have (refused before decoding)");
+    expectLoadError(texturedQuad(pngClaiming(16385, 1)).writeGlb(dir / "wide.glb"), "is 16385 x 1 texels");
+    // Within the side limit but not within the budget: 16384^2 texels decode to 1 GiB and are copied twice.
+    const BudgetScope budget(uint64_t(256) << 20);
+    expectLoadError(texturedQuad(pngClaiming(16384, 16384)).writeGlb(dir / "big.glb"),
+                    "(decoding image 0 ('huge'), 16384 x 16384 texels: 3,072 MiB), more than the 256 MiB "
+                    "--max-memory-mb allows");
+}
+
+TEST(GltfErrors, InstancingBeyondTheMemoryBudgetIsRefusedBeforeFlattening) {
+    TempDir dir;
+    GltfBuilder gltf = triangleScene();
+    // 16384 instances of the triangle under one parent: 3 vertices of 32 bytes and a triangle of 16 each, 1.75 MiB.
+    nlohmann::json children = nlohmann::json::array();
+    for (int i = 0; i < 16384; ++i) children.push_back(gltf.addNode({{"mesh", 0}}));
+    gltf.setSceneRoots({gltf.addNode({{"children", children}})});
+    const std::filesystem::path file = gltf.writeGlb(dir / "instances.glb");
+    EXPECT_EQ(loadSceneFile(file).triangleCount(), 16384u);
+    const BudgetScope budget(uint64_t(1) << 20);
+    expectLoadError(file, "(the scene's 16384 triangles after instancing: 2 MiB), more than the 1 MiB --max-memory-mb allows");
 }
 
 TEST(GltfErrors, NonFiniteVertices) {
