@@ -1,0 +1,77 @@
+// The prepared-scene (.chs) reader: open (header, sizes, metadata, structure), read every subtree and its root
+// node, summarise, and load the whole scene in core and as a proxy. Checksums would stop nearly every mutation at
+// the first check, so the harness first recomputes each checksum whose range lies inside the input (header,
+// metadata, subtree blobs): the structural validation behind them is what is fuzzed. The checksum checks
+// themselves are covered by the seeds as they are and by tests/outofcore/chs_file_test.cpp.
+#include "renderer/outofcore/chs_file.h"
+#include "tests/fuzz/fuzz_input.h"
+
+#include <cstddef>
+#include <cstring>
+#include <vector>
+
+namespace {
+
+using namespace chcrt;
+using namespace chcrt::outofcore;
+
+bool inside(uint64_t offset, uint64_t bytes, uint64_t size) { return offset <= size && bytes <= size - offset; }
+
+void fixChecksums(std::vector<uint8_t>& b) {
+    if (b.size() < sizeof(ChsHeader)) return;
+    ChsHeader h;
+    std::memcpy(&h, b.data(), sizeof(h));
+    const uint64_t upperBytes = uint64_t(h.upperNodeCount) * sizeof(ChsUpperNode);
+    const uint64_t recordBytes = uint64_t(h.subtreeCount) * sizeof(ChsSubtreeRecord);
+    const uint64_t materialBytes = uint64_t(h.materialCount) * sizeof(ChsMaterialRecord);
+    const uint64_t metaBytes = upperBytes + recordBytes + materialBytes + h.sourceBytes;
+    if (inside(h.metaOffset, metaBytes, b.size())) {
+        const uint8_t* meta = b.data() + h.metaOffset;
+        const bool uv = (h.flags & kChsFlagTexcoords) != 0;
+        for (uint32_t i = 0; i < h.subtreeCount; ++i) {
+            ChsSubtreeRecord r;
+            uint8_t* at = b.data() + h.metaOffset + upperBytes + uint64_t(i) * sizeof(ChsSubtreeRecord);
+            std::memcpy(&r, at, sizeof(r));
+            const uint64_t nodes = uint64_t(r.nodeCount) * sizeof(BvhNodeGpu);
+            const uint64_t tris = uint64_t(r.triangleCount) * sizeof(TriangleGpu);
+            const uint64_t normals = uint64_t(r.triangleCount) * 3 * sizeof(glm::vec3);
+            const uint64_t uvs = uv ? uint64_t(r.triangleCount) * 3 * sizeof(glm::vec2) : 0;
+            if (!inside(r.offset, nodes + tris + normals + uvs, b.size())) continue;
+            const uint8_t* blob = b.data() + r.offset;
+            uint64_t sum = chsChecksum(blob, nodes);
+            sum = chsChecksum(blob + nodes, tris, sum);
+            sum = chsChecksum(blob + nodes + tris, normals, sum);
+            sum = chsChecksum(blob + nodes + tris + normals, uvs, sum);
+            r.checksum = sum;
+            std::memcpy(at, &r, sizeof(r));
+        }
+        uint64_t sum = chsChecksum(meta, upperBytes);
+        sum = chsChecksum(meta + upperBytes, recordBytes, sum);
+        sum = chsChecksum(meta + upperBytes + recordBytes, materialBytes, sum);
+        sum = chsChecksum(meta + upperBytes + recordBytes + materialBytes, h.sourceBytes, sum);
+        h.metaChecksum = sum;
+    }
+    h.headerChecksum = chsChecksum(&h, offsetof(ChsHeader, headerChecksum));
+    std::memcpy(b.data(), &h, sizeof(h));
+}
+
+} // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+    const chcrt::fuzz::CpuTimeLimit limit;
+    std::vector<uint8_t> bytes(data, data + size);
+    fixChecksums(bytes);
+    const auto file = chcrt::fuzz::writeScratchFile(bytes.data(), bytes.size(), ".chs");
+    chcrt::fuzz::expectOnlyInputErrors([&] {
+        const ChsFile chs(file);
+        (void)summarize(chs);
+        (void)chs.light();
+        for (uint32_t i = 0; i < chs.subtrees().size(); ++i) {
+            (void)chs.readSubtreeNode(i, 0);
+            (void)chs.readSubtree(i);
+        }
+    });
+    chcrt::fuzz::expectOnlyInputErrors([&] { (void)loadPreparedSceneProxy(file); });
+    chcrt::fuzz::expectOnlyInputErrors([&] { (void)loadPreparedScene(file); });
+    return 0;
+}
