@@ -3,12 +3,19 @@
 #   1. scripts/setup.sh (packages when missing, configure, build into build/) and ctest over all tests;
 #   2. unless --no-sanitize: a second build (build-asan/) with AddressSanitizer + UndefinedBehaviorSanitizer,
 #      running the unit-labelled tests (the GL tests run inside Mesa's llvmpipe, whose own allocations are not
-#      ours to sanitize).
+#      ours to sanitize);
+#   3. unless --no-fuzz: scripts/fuzz.sh builds the libFuzzer harnesses with clang (build-fuzz/) and runs each for
+#      20 s, two at a time, on its seeds, replaying every seed and regression input under tests/data/fuzz/ first
+#      (tests/fuzz/README.md; what this stage adds to the run: docs/benchmarks.md, "Tests and CI").
 # Viewer tests (label viewer) start their own Xvfb.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 sanitize=1
-[[ ${1:-} == --no-sanitize ]] && sanitize=0
+fuzz=1
+for arg in "$@"; do
+  [[ $arg == --no-sanitize ]] && sanitize=0
+  [[ $arg == --no-fuzz ]] && fuzz=0
+done
 if [[ ${CI:-} == true ]]; then export CHCRT_WERROR=ON; fi
 
 scripts/setup.sh
@@ -21,4 +28,8 @@ if ((sanitize)); then
     CHCRT_BUILD_TARGET=unit_tests CHCRT_CMAKE_ARGS="-DCHCRT_BUILD_VIEWER=OFF" scripts/setup.sh
   ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1 \
     ctest --test-dir build-asan --output-on-failure -j2 -L unit --timeout 600
+fi
+
+if ((fuzz)); then
+  scripts/fuzz.sh 20
 fi
