@@ -97,6 +97,14 @@ Codec<uint64_t> megabyteCodec() {
     return c;
 }
 
+// --max-memory-mb: like megabyteCodec, but 0 (the default, decided from the machine at run time) has no text, so a
+// copied command line leaves the flag out rather than writing a value the flag refuses.
+Codec<uint64_t> memoryBudgetCodec() {
+    Codec<uint64_t> c = megabyteCodec();
+    c.text = [](const uint64_t& bytes) { return bytes == 0 ? std::string() : std::to_string(bytes >> 20); };
+    return c;
+}
+
 // One of named values: "--cache-policy must be round-robin or lru, not 'fifo'".
 template <typename T>
 Codec<T> choiceCodec(std::vector<std::pair<std::string, T>> values) {
@@ -308,7 +316,7 @@ std::vector<Parameter> describeSession() {
                  "out-of-core caches, textures): their estimate is checked before they are allocated")
             .value("MB")
             .defaults("4/5 of the physical memory, " + formatMegabytes(defaultMemoryBudgetBytes()) + " here")
-            .sets<uint64_t>(FIELD(maxMemoryBytes), megabyteCodec()),
+            .sets<uint64_t>(FIELD(maxMemoryBytes), memoryBudgetCodec()),
     };
 }
 
