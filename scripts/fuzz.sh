@@ -3,10 +3,13 @@
 # its corpus; fails when any harness finds a crash, a hang (more than 1 s of CPU time on one input, which the
 # harnesses measure themselves), more than 2 GB of memory or a sanitizer report.
 # Usage: scripts/fuzz.sh [SECONDS (default 20)] [HARNESS...] (default: all of them)
+#        scripts/fuzz.sh --build-only [TARGET...]: configure and build (the harnesses, or the targets named), run nothing
 #   Seeds and regression inputs: tests/data/fuzz/<harness>/ (read, never written).
 #   Inputs found while fuzzing: build-fuzz/corpus/<harness>/; crashes: build-fuzz/artifacts/<harness>/;
 #   each run's log: build-fuzz/logs/<harness>.log.
-# Environment: CHCRT_FUZZ_CXX (default clang++-14, else clang++), CHCRT_FUZZ_JOBS (build jobs, default nproc),
+# Environment: CHCRT_FUZZ_BUILD_DIR (default build-fuzz; scripts/test.sh uses build-asan, where the same build
+#   also holds the sanitizer stage's unit tests), CHCRT_FUZZ_CXX (default clang++-14, else clang++),
+#   CHCRT_FUZZ_JOBS (build jobs, default nproc),
 #   CHCRT_FUZZ_PARALLEL (harnesses run at once, default nproc: SECONDS is each one's time),
 #   CHCRT_FUZZ_MAX_RUNS (stop a harness after this many executions, whichever of the two limits comes first),
 #   CHCRT_FUZZ_TIMEOUT (libFuzzer's -timeout: seconds of wall-clock time one input may take, default 60, a backstop
@@ -14,24 +17,43 @@
 #   than its CPU time, so the 1 s limit is the harnesses' CPU-time limit, tests/fuzz/fuzz_input.h).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-seconds=${1:-20}
-[[ $# -gt 0 ]] && shift
+build_only=0
+if [[ ${1:-} == --build-only ]]; then
+  build_only=1
+  shift
+fi
+seconds=20
+if ((!build_only)) && [[ $# -gt 0 ]]; then
+  seconds=$1
+  shift
+fi
 all=(ply obj gltf camera_path frames scene_spec chs linespace_cache ntree_cache)
-harnesses=("$@")
+harnesses=()
+((build_only)) || harnesses=("$@")
 ((${#harnesses[@]})) || harnesses=("${all[@]}")
 
 cxx=${CHCRT_FUZZ_CXX:-$(command -v clang++-14 || command -v clang++ || true)}
 [[ -n $cxx ]] || { echo "fuzz.sh: clang++ not found (apt-get install clang-14 libclang-rt-14-dev)" >&2; exit 2; }
 cc=${cxx/clang++/clang}
-build=build-fuzz
-if [[ ! -f $build/build.ninja ]]; then
-  # Debug keeps assertions on (bugs assert, error.h); -O1 keeps executions fast and the build short.
+build=${CHCRT_FUZZ_BUILD_DIR:-build-fuzz}
+if ! grep -qs '^CHCRT_FUZZ:BOOL=ON' "$build/CMakeCache.txt"; then
+  # A build directory made otherwise (a GCC sanitizer build from before) is configured afresh: the compiler is set
+  # only when a cache is made.
+  rm -rf "$build/CMakeCache.txt" "$build/CMakeFiles"
+  # Debug keeps assertions on (bugs assert, error.h); -O1 keeps executions fast and the build short; -g1 (line
+  # tables) is enough for the sanitizers' stack traces and links faster than full debug information.
   cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_C_COMPILER="$cc" \
-    -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DCMAKE_C_FLAGS_DEBUG="-O1 -g" -DCHCRT_FUZZ=ON -DCHCRT_BUILD_VIEWER=OFF >/dev/null
+    -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" -DCMAKE_C_FLAGS_DEBUG="-O1 -g1" -DCHCRT_FUZZ=ON -DCHCRT_BUILD_VIEWER=OFF \
+    -DCHCRT_WERROR=OFF >/dev/null
 fi
 targets=()
-for h in "${harnesses[@]}"; do targets+=("fuzz_$h"); done
+if ((build_only)) && (($#)); then
+  targets=("$@")
+else
+  for h in "${harnesses[@]}"; do targets+=("fuzz_$h"); done
+fi
 cmake --build "$build" -j"${CHCRT_FUZZ_JOBS:-$(nproc)}" --target "${targets[@]}"
+((build_only)) && exit 0
 
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
