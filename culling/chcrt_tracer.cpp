@@ -790,7 +790,7 @@ bool ChcrtTracer::traceOwn(const TraceRequest& request, const RayTextures& rays,
     case ChcrtQueries::BoundsGpu: warm = traceBoundedGpu(request, rays, hits, width, height); break;
     default: warm = traceCulled(request, rays, hits, width, height); break;
     }
-    if (rayExtent_) {
+    if (rayExtent_ && options_.queries != ChcrtQueries::BoundsGpu) { // bounds-gpu counts its tests on the GPU
         const RayBoundsGrid::ShapeDecisions& d = rayExtent_->decisions();
         last_.boundsCulledPieces = d.pieces;
         last_.boundsCulledFrustum = d.frustum;

@@ -133,8 +133,9 @@ struct ChcrtStats {
     uint64_t cellsDrawn = 0;           // BoundsOnly: cells drawn by the intersection rounds
     uint64_t cellEntries = 0;          // BoundsOnly: (cell, subtree) list entries traversed
     uint64_t cellsWholeTree = 0;       // BoundsOnly: cells over cellListLimit that traversed the whole BVH
-    // The ray bounds grid's tests of cells against boxes on the CPU (BoundsOnly, Gl with ray extent culling): culled
-    // by the pieces (tested first), culled by the frustum where pieces reached, reached.
+    // The ray bounds grid's tests of cells against boxes (on the CPU in BoundsOnly and Gl with ray extent culling, in
+    // the cell-list compute pass in BoundsGpu): culled by the pieces (tested first), culled by the frustum where
+    // pieces reached, reached.
     uint64_t boundsCulledPieces = 0, boundsCulledFrustum = 0, boundsReached = 0;
     double boundsMs = 0;               // time of the ray bounds reductions (inside the phases' times)
     double decideMs = 0;               // BoundsOnly: CPU time deciding pairs against the grid (inside the phases)

@@ -106,6 +106,9 @@ bool ChcrtTracer::traceBoundedGpu(const TraceRequest& request, const RayTextures
     last_.cellEntries = counters.entries;
     last_.cellsWholeTree = counters.wholeTreeCells;
     last_.pairsDecidedBounds = counters.nodesTested;
+    last_.boundsCulledPieces = counters.culledPieces;
+    last_.boundsCulledFrustum = counters.culledFrustum;
+    last_.boundsReached = counters.reached;
     last_.subtreesScheduled = counters.entries;
     last_.phase3Ms = millisecondsSince(start);
     return warm;

@@ -69,7 +69,7 @@ void GpuCellLists::build(GLuint boundsBuffer, int cellsX, int cellsY, uint32_t l
     const size_t cells = size_t(cellsX) * size_t(cellsY);
     ensureCapacity(cells);
     // Fresh indirect commands (no cells yet: a draw of one instance, a dispatch of one row) and zero counters.
-    const std::array<uint32_t, 11> reset = {0u, 1u, 0u, 0u, 0u, 1u, 1u, 0u, 0u, 0u, 0u};
+    const std::array<uint32_t, 14> reset = {0u, 1u, 0u, 0u, 0u, 1u, 1u, 0u, 0u, 0u, 0u, 0u, 0u, 0u};
     glNamedBufferSubData(draw_.id(), 0, sizeof(reset), reset.data());
     const uint32_t limit = listLimit == 0 ? CHCRT_CULLING_GPU_LIST_MAX : std::min<uint32_t>(listLimit, CHCRT_CULLING_GPU_LIST_MAX);
     program_.use();
@@ -95,9 +95,9 @@ void GpuCellLists::build(GLuint boundsBuffer, int cellsX, int cellsY, uint32_t l
 }
 
 GpuCellLists::Counters GpuCellLists::counters() const {
-    std::array<uint32_t, 11> head{};
+    std::array<uint32_t, 14> head{};
     if (draw_.id() != 0) glGetNamedBufferSubData(draw_.id(), 0, sizeof(head), head.data());
-    return Counters{head[0], head[8], head[9], head[10]};
+    return Counters{head[0], head[8], head[9], head[10], head[11], head[12], head[13]};
 }
 
 } // namespace chcrt

@@ -30,6 +30,9 @@ public:
 
     struct Counters {
         uint32_t cellsDrawn = 0, entries = 0, wholeTreeCells = 0, nodesTested = 0;
+        // Box tests by what decided them (RayBoundsGrid::ShapeDecisions): culled by the pieces, culled by the
+        // cell's ray interval, reached.
+        uint32_t culledPieces = 0, culledFrustum = 0, reached = 0;
     };
     // The counters of the last build (reads them back: call once its trace has finished).
     Counters counters() const;

@@ -50,17 +50,27 @@ bool boxesOverlap(vec3 aLo, vec3 aHi, vec3 bLo, vec3 bHi) {
     return all(lessThanEqual(aLo, bHi)) && all(lessThanEqual(bLo, aHi));
 }
 
+// What decided this cell's box tests, as RayBoundsGrid::ShapeDecisions counts them on the CPU: culled by the
+// pieces, culled by the ray interval where a piece met the box, reached.
+uint culledByPieces = 0u, culledByFrustum = 0u, boxesReached = 0u;
+
 // As RayBoundsGrid::overlaps: a piece meets the box, and so does the cell's ray interval.
 bool reachesBox(vec3 lo, vec3 hi) {
     bool piece = false;
     for (int k = 0; k < CHCRT_BOUNDS_PIECES; ++k) {
         piece = piece || boxesOverlap(pieceLower[k], pieceUpper[k], lo, hi);
     }
-    if (!piece || !frustum) {
-        return piece;
+    if (!piece) {
+        ++culledByPieces;
+        return false;
     }
-    return rayIntervalMayHit(originLower, originUpper, directionLower, directionUpper, segmentStart, segmentEnd,
-                             lo - pad, hi + pad);
+    if (frustum && !rayIntervalMayHit(originLower, originUpper, directionLower, directionUpper, segmentStart,
+                                      segmentEnd, lo - pad, hi + pad)) {
+        ++culledByFrustum;
+        return false;
+    }
+    ++boxesReached;
+    return true;
 }
 
 void writeWholeTree(uint cell) {
@@ -173,6 +183,9 @@ void main() {
         ++count;
     }
     atomicAdd(draw[10], tested);
+    atomicAdd(draw[11], culledByPieces);
+    atomicAdd(draw[12], culledByFrustum);
+    atomicAdd(draw[13], boxesReached);
     if (overflow) {
         writeWholeTree(cell);
         return;

@@ -57,7 +57,8 @@
 // subtree index), (tight box 1 min, 0), (tight box 1 max, 0). Shader storage bindings of the outputs: headers
 // (uvec2 per cell), roots (uvec2 per entry), ids (uint per entry), and the draw buffer: an indirect draw command
 // (count, instances, first, base instance), an indirect dispatch command (count, 1, 1) and a 0, the counters
-// (entries, cells over the list limit, nodes tested), then from CHCRT_CULLING_GPU_DRAW_HEADER on the cells drawn. Entry 0 of the roots is the whole tree; cell c's list starts at 1 + c ·
+// (entries, cells over the list limit, nodes tested, box tests culled by the pieces, by the ray interval, and
+// reached), then from CHCRT_CULLING_GPU_DRAW_HEADER on the cells drawn. Entry 0 of the roots is the whole tree; cell c's list starts at 1 + c ·
 // CHCRT_CULLING_GPU_LIST_MAX, and a cell with more entries than its limit traverses the whole tree instead.
 #define CHCRT_UNIT_CULLING_HIERARCHY 31
 #define CHCRT_CULLING_HIERARCHY_TEXELS 6

@@ -182,6 +182,15 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
             EXPECT_GT(total.pairsDecidedBounds, total.traces);
             EXPECT_GT(total.cellEntries, 0u);
             EXPECT_GT(total.cellsDrawn, 0u);
+            if (gpuLists) {
+                // The compute pass counts what decided each box test: one or two boxes per node it tested, some
+                // culled by the pieces (shadow and AO segments end at the light or the AO radius), some reached.
+                const uint64_t decided = total.boundsCulledPieces + total.boundsCulledFrustum + total.boundsReached;
+                EXPECT_GE(decided, total.pairsDecidedBounds);
+                EXPECT_LE(decided, 2 * total.pairsDecidedBounds);
+                EXPECT_GT(total.boundsCulledPieces, 0u);
+                EXPECT_GT(total.boundsReached, 0u);
+            }
             // A list limit sends some cells through the whole BVH, and not every cell (the GPU's lists hold at most
             // CHCRT_CULLING_GPU_LIST_MAX entries whatever the limit).
             if (c.cellListLimit > 0) {
