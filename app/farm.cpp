@@ -214,4 +214,96 @@ std::vector<TaskOutcome> renderTaskOutcomes(const fs::path& partsDirectory) {
     return outcomes;
 }
 
+bool SlurmTaskState::finished() const {
+    for (const char* active : {"PENDING", "RUNNING", "SUSPENDED", "COMPLETING", "CONFIGURING", "REQUEUED",
+                               "REQUEUE_HOLD", "REQUEUE_FED", "RESIZING", "SIGNALING", "STAGE_OUT", "STOPPED",
+                               "RESV_DEL_HOLD"}) {
+        if (state == active) return false;
+    }
+    return !state.empty();
+}
+
+std::string SlurmTaskState::describe() const {
+    std::string text = state + " (exit " + std::to_string(exitCode);
+    if (signal != 0) text += ", signal " + std::to_string(signal);
+    text += ")";
+    // sacct writes "None assigned" for a task that never ran, scontrol "(null)".
+    if (!node.empty() && node.rfind("None", 0) != 0 && node != "(null)") text += " on " + node;
+    return text;
+}
+
+namespace {
+
+// "3:0" -> exit 3, signal 0.
+void parseExitCode(const std::string& text, SlurmTaskState& s) {
+    const size_t colon = text.find(':');
+    try {
+        s.exitCode = std::stoi(text.substr(0, colon));
+        if (colon != std::string::npos) s.signal = std::stoi(text.substr(colon + 1));
+    } catch (const std::exception&) {
+        s.exitCode = 0;
+        s.signal = 0;
+    }
+}
+
+// The array index of "7_2" for job "7"; -1 for anything else ("7", "7_[3-5]", "8_1", "7_2.batch").
+int arrayIndexOf(const std::string& jobId, const std::string& job) {
+    const std::string prefix = job + "_";
+    if (jobId.rfind(prefix, 0) != 0) return -1;
+    const std::string index = jobId.substr(prefix.size());
+    if (index.empty() || index.find_first_not_of("0123456789") != std::string::npos) return -1;
+    return std::stoi(index);
+}
+
+std::vector<std::string> splitOn(const std::string& text, char separator) {
+    std::vector<std::string> parts;
+    std::string part;
+    std::istringstream in(text);
+    while (std::getline(in, part, separator)) parts.push_back(part);
+    return parts;
+}
+
+} // namespace
+
+std::map<int, SlurmTaskState> parseSacctTasks(const std::string& output, const std::string& job) {
+    std::map<int, SlurmTaskState> tasks;
+    std::istringstream lines(output);
+    for (std::string line; std::getline(lines, line);) {
+        const std::vector<std::string> f = splitOn(line, '|');
+        if (f.size() < 4) continue;
+        const int index = arrayIndexOf(f[0], job);
+        if (index < 0) continue;
+        SlurmTaskState s;
+        s.state = f[1].substr(0, f[1].find(' '));
+        parseExitCode(f[2], s);
+        s.node = f[3];
+        tasks[index] = s;
+    }
+    return tasks;
+}
+
+std::map<int, SlurmTaskState> parseScontrolTasks(const std::string& output, const std::string& job) {
+    std::map<int, SlurmTaskState> tasks;
+    std::istringstream lines(output);
+    for (std::string line; std::getline(lines, line);) {
+        std::map<std::string, std::string> fields;
+        std::istringstream words(line);
+        for (std::string word; words >> word;) {
+            const size_t equals = word.find('=');
+            if (equals != std::string::npos && !fields.count(word.substr(0, equals))) {
+                fields[word.substr(0, equals)] = word.substr(equals + 1);
+            }
+        }
+        if (fields["ArrayJobId"] != job) continue;
+        const std::string index = fields["ArrayTaskId"];
+        if (index.empty() || index.find_first_not_of("0123456789") != std::string::npos) continue; // "3-5": pending
+        SlurmTaskState s;
+        s.state = fields["JobState"];
+        parseExitCode(fields["ExitCode"], s);
+        s.node = fields["NodeList"];
+        tasks[std::stoi(index)] = s;
+    }
+    return tasks;
+}
+
 } // namespace chcrt::app::farm

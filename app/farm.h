@@ -91,4 +91,23 @@ struct TaskOutcome {
 };
 std::vector<TaskOutcome> renderTaskOutcomes(const std::filesystem::path& partsDirectory);
 
+// What Slurm says of one array task of a job: its state (COMPLETED, FAILED, CANCELLED, TIMEOUT, NODE_FAIL,
+// OUT_OF_MEMORY, PENDING, RUNNING, ...), exit code and signal, and node. A task killed with its script (scancel,
+// a time limit, a failed node) never appends its exit line; this is what `farm status` says of it instead.
+struct SlurmTaskState {
+    std::string state; // first word of the state ("CANCELLED by 0" -> "CANCELLED")
+    int exitCode = 0;
+    int signal = 0;
+    std::string node;
+    bool finished() const; // a state a task does not leave (not PENDING, RUNNING, SUSPENDED, ...)
+    std::string describe() const; // "CANCELLED (exit 0, signal 15) on vm"
+};
+// The array tasks of `sacct -X -n -P -j JOB --format=JobID,State,ExitCode,NodeList` output ("7_2|CANCELLED by
+// 0|0:15|vm"); lines of other jobs and pending ranges ("7_[3-5]") are skipped.
+std::map<int, SlurmTaskState> parseSacctTasks(const std::string& output, const std::string& job);
+// The same from `scontrol show job -o JOB` output (one line per task: "... ArrayJobId=7 ArrayTaskId=2
+// JobState=CANCELLED ... ExitCode=0:15 ... NodeList=vm ..."), what the controller remembers of a finished job for
+// MinJobAge seconds when the cluster keeps no accounting.
+std::map<int, SlurmTaskState> parseScontrolTasks(const std::string& output, const std::string& job);
+
 } // namespace chcrt::app::farm

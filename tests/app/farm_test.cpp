@@ -1,6 +1,7 @@
 // The render farm's logic without Slurm (app/farm.h, app/render_records.h): how frames are chunked and selected,
 // which flags decide pixels, what proves a frame done, how records survive a kill, and what the sbatch script
-// runs. The cluster itself is exercised by tests/farm/farm_cluster_test.sh.
+// runs, and what Slurm's sacct and scontrol say of array tasks. The cluster itself is exercised by
+// tests/app/farm_cluster_test.sh.
 #include "app/farm.h"
 #include "app/render_records.h"
 
@@ -223,6 +224,79 @@ TEST(FarmScript, RunsEachChunkWithTheSharedFlagsQuoted) {
 TEST(FarmScript, FarmDirectorySitsBesideTheCollectedOutput) {
     EXPECT_EQ(farm::farmDirectoryOf("out/stats.json"), fs::path("out/stats.farm"));
     EXPECT_EQ(farm::farmDirectoryOf("bench"), fs::path("bench.farm"));
+}
+
+// Slurm 22.05's own output shapes: `sacct -X -n -P -j 12 --format=JobID,State,ExitCode,NodeList` and
+// `scontrol show job -o 12` for an array of four tasks (one completed, one cancelled while running, two pending).
+TEST(FarmSlurm, SacctLinesGiveEachEndedArrayTask) {
+    const std::string output = "12_0|COMPLETED|0:0|localhost\n"
+                               "12_1|CANCELLED by 0|0:15|localhost\n"
+                               "12_[2-3]|PENDING|0:0|None assigned\n"
+                               "12_4|TIMEOUT|0:0|vm\n"
+                               "12_5|NODE_FAIL|0:0|vm\n"
+                               "12_6|FAILED|2:0|vm\n"
+                               "12_6.batch|FAILED|2:0|vm\n"
+                               "120_7|FAILED|1:0|vm\n"
+                               "torn line\n";
+    const auto tasks = farm::parseSacctTasks(output, "12");
+    ASSERT_EQ(tasks.size(), 5u) << "the pending range, the step, the other job (120) and the torn line are skipped";
+    EXPECT_EQ(tasks.at(0).state, "COMPLETED");
+    EXPECT_TRUE(tasks.at(0).finished());
+    EXPECT_EQ(tasks.at(0).exitCode, 0);
+    const farm::SlurmTaskState& cancelled = tasks.at(1);
+    EXPECT_EQ(cancelled.state, "CANCELLED") << "\"CANCELLED by 0\" is reduced to its first word";
+    EXPECT_EQ(cancelled.exitCode, 0);
+    EXPECT_EQ(cancelled.signal, 15);
+    EXPECT_EQ(cancelled.node, "localhost");
+    EXPECT_TRUE(cancelled.finished());
+    EXPECT_EQ(cancelled.describe(), "CANCELLED (exit 0, signal 15) on localhost");
+    EXPECT_EQ(tasks.at(4).describe(), "TIMEOUT (exit 0) on vm");
+    EXPECT_EQ(tasks.at(5).state, "NODE_FAIL");
+    EXPECT_EQ(tasks.at(6).exitCode, 2);
+    EXPECT_FALSE(tasks.count(2) || tasks.count(3) || tasks.count(7));
+    EXPECT_TRUE(farm::parseSacctTasks("", "12").empty());
+    EXPECT_TRUE(farm::parseSacctTasks(output, "1").empty()) << "job 1 is not a prefix match of 12";
+}
+
+TEST(FarmSlurm, ScontrolLinesGiveEachEndedArrayTask) {
+    const std::string output =
+        "JobId=13 ArrayJobId=12 ArrayTaskId=1 JobName=chcrt-test UserId=root(0) GroupId=root(0) MCS_label=N/A "
+        "Priority=4294901758 Nice=0 Account=(null) QOS=(null) JobState=CANCELLED Reason=None Dependency=(null) "
+        "Requeue=1 Restarts=0 BatchFlag=1 Reboot=0 ExitCode=0:15 RunTime=00:00:04 TimeLimit=UNLIMITED "
+        "TimeMin=N/A SubmitTime=2026-12-03T12:30:00 EligibleTime=2026-12-03T12:30:00 Partition=local "
+        "ReqNodeList=(null) ExcNodeList=(null) NodeList=vm BatchHost=vm NumNodes=1 NumCPUs=1 "
+        "Command=/tmp/a b/job-0.sbatch WorkDir=/tmp/a b StdOut=/tmp/a b/logs/12_1.out Power=\n"
+        "JobId=14 ArrayJobId=12 ArrayTaskId=0 JobName=chcrt-test JobState=COMPLETED Reason=None ExitCode=0:0 "
+        "ReqNodeList=(null) ExcNodeList=(null) NodeList=vm BatchHost=vm\n"
+        "JobId=12 ArrayJobId=12 ArrayTaskId=2-3 JobName=chcrt-test JobState=PENDING Reason=Resources "
+        "ExitCode=0:0 ReqNodeList=(null) ExcNodeList=(null) NodeList=(null)\n"
+        "JobId=15 ArrayJobId=12 ArrayTaskId=4 JobState=FAILED Reason=NonZeroExitCode ExitCode=2:0 NodeList=vm\n"
+        "JobId=21 ArrayJobId=20 ArrayTaskId=0 JobState=FAILED ExitCode=1:0 NodeList=vm\n";
+    const auto tasks = farm::parseScontrolTasks(output, "12");
+    ASSERT_EQ(tasks.size(), 3u) << "the pending range and the other job are skipped";
+    EXPECT_EQ(tasks.at(1).state, "CANCELLED");
+    EXPECT_EQ(tasks.at(1).signal, 15);
+    EXPECT_EQ(tasks.at(1).node, "vm") << "NodeList, not ReqNodeList";
+    EXPECT_EQ(tasks.at(1).describe(), "CANCELLED (exit 0, signal 15) on vm");
+    EXPECT_EQ(tasks.at(0).state, "COMPLETED");
+    EXPECT_EQ(tasks.at(4).describe(), "FAILED (exit 2) on vm");
+    EXPECT_TRUE(farm::parseScontrolTasks("slurm_load_jobs error: Invalid job id specified\n", "12").empty());
+}
+
+TEST(FarmSlurm, OnlyStatesATaskDoesNotLeaveCountAsFinished) {
+    for (const char* active : {"PENDING", "RUNNING", "SUSPENDED", "COMPLETING", "CONFIGURING", "REQUEUED"}) {
+        EXPECT_FALSE(farm::SlurmTaskState{active}.finished()) << active;
+    }
+    for (const char* ended : {"COMPLETED", "CANCELLED", "FAILED", "TIMEOUT", "NODE_FAIL", "OUT_OF_MEMORY",
+                              "PREEMPTED", "BOOT_FAIL", "DEADLINE"}) {
+        EXPECT_TRUE(farm::SlurmTaskState{ended}.finished()) << ended;
+    }
+    EXPECT_FALSE(farm::SlurmTaskState{}.finished()) << "no state: nothing is known";
+    farm::SlurmTaskState unassigned{"CANCELLED"};
+    for (const char* none : {"None assigned", "None", "(null)", ""}) {
+        unassigned.node = none;
+        EXPECT_EQ(unassigned.describe(), "CANCELLED (exit 0)") << "no node for \"" << none << "\"";
+    }
 }
 
 } // namespace
