@@ -19,6 +19,7 @@
 #include <cstdio>
 #include <ctime>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <set>
 #include <sys/wait.h>
@@ -103,6 +104,31 @@ std::set<std::string> queuedTasks(const nlohmann::json& manifest) {
     return queued;
 }
 
+// What Slurm says of the array tasks of every submitted job ("<job>_<task>" -> state): `sacct` where the cluster
+// keeps accounting, else `scontrol show job`, which knows a finished job for MinJobAge seconds (300 by default).
+// Empty without Slurm's commands or when neither knows the job any more.
+std::map<std::string, farm::SlurmTaskState> slurmTaskStates(const nlohmann::json& manifest) {
+    std::map<std::string, farm::SlurmTaskState> states;
+    if (!manifest.is_object() || !manifest.contains("submissions")) return states;
+    const bool sacct = haveProgram("sacct"), scontrol = haveProgram("scontrol");
+    for (const nlohmann::json& s : manifest["submissions"]) {
+        const std::string job = s.value("job", "");
+        if (job.empty()) continue;
+        std::map<int, farm::SlurmTaskState> tasks;
+        if (sacct) {
+            const CommandResult r = runCommand("sacct -X -n -P -j " + farm::shellQuote(job) +
+                                               " --format=JobID,State,ExitCode,NodeList 2>/dev/null");
+            if (r.exitCode == 0) tasks = farm::parseSacctTasks(r.output, job);
+        }
+        if (tasks.empty() && scontrol) {
+            const CommandResult r = runCommand("scontrol show job -o " + farm::shellQuote(job) + " 2>/dev/null");
+            if (r.exitCode == 0) tasks = farm::parseScontrolTasks(r.output, job);
+        }
+        for (const auto& [index, state] : tasks) states[job + "_" + std::to_string(index)] = state;
+    }
+    return states;
+}
+
 // Refuses to submit over a submission that is still running: its tasks would render the same frames twice.
 void refuseWhileQueued(const nlohmann::json& manifest, const fs::path& dir) {
     const std::set<std::string> queued = queuedTasks(manifest);
@@ -128,7 +154,14 @@ int submitPlan(const farm::Plan& plan, nlohmann::json manifest, const FarmOption
     const fs::path script = plan.directory / ("job-" + std::to_string(number) + ".sbatch");
     writeTextFileAtomically(script, farm::sbatchScript(plan));
     fs::permissions(script, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
-    nlohmann::json submission = {{"script", script.string()}, {"tasks", plan.tasks.size()}, {"submitted", timestamp()}};
+    nlohmann::json labels = nlohmann::json::array();
+    for (const farm::Task& t : plan.tasks) labels.push_back(t.label);
+    // task_labels: what each array index covers, so that status can name the frames or row of a task that Slurm
+    // ended before its script could append an exit line.
+    nlohmann::json submission = {{"script", script.string()},
+                                 {"tasks", plan.tasks.size()},
+                                 {"task_labels", labels},
+                                 {"submitted", timestamp()}};
     if (f.print) {
         std::ifstream in(script);
         std::printf("%s", std::string(std::istreambuf_iterator<char>(in), {}).c_str());
@@ -403,6 +436,7 @@ struct RenderState {
     std::map<int, farm::ProvenFrame> done;
     std::vector<farm::TaskOutcome> tasks;
     std::set<std::string> queued;
+    std::map<std::string, farm::SlurmTaskState> slurm; // "<job>_<task>"
 };
 
 RenderState renderState(const Submission& s) {
@@ -412,7 +446,31 @@ RenderState renderState(const Submission& s) {
                                  s.manifest.value("flags_digest", ""), s.manifest.value("commit", ""));
     st.tasks = farm::renderTaskOutcomes(s.dir / "parts");
     st.queued = queuedTasks(s.manifest);
+    st.slurm = slurmTaskStates(s.manifest);
     return st;
+}
+
+// Every array task of every submitted job: "<job>_<task>" and the label it was submitted with.
+std::vector<std::pair<std::string, std::string>> submittedTasks(const nlohmann::json& manifest) {
+    std::vector<std::pair<std::string, std::string>> tasks;
+    for (const nlohmann::json& s : manifest["submissions"]) {
+        const std::string job = s.value("job", "");
+        if (job.empty() || !s.contains("task_labels")) continue;
+        for (size_t t = 0; t < s["task_labels"].size(); ++t) {
+            tasks.emplace_back(job + "_" + std::to_string(t), s["task_labels"][t].get<std::string>());
+        }
+    }
+    return tasks;
+}
+
+// Why a task that appended no exit line ended, when Slurm says it ended; "" while it may still run or nobody knows.
+std::string endedWithoutExitLine(const std::string& task, const std::map<std::string, farm::SlurmTaskState>& slurm,
+                                 const std::set<std::string>& queued) {
+    if (queued.count(task)) return "";
+    const auto s = slurm.find(task);
+    if (s == slurm.end() || !s->second.finished()) return "";
+    if (s->second.state == "COMPLETED" && s->second.exitCode == 0) return "";
+    return "task " + task + ": Slurm " + s->second.describe() + ", no exit line";
 }
 
 // The frames a task's label ("frames 4-7") covers.
@@ -429,12 +487,23 @@ std::vector<int> framesOfLabel(const std::string& label) {
 int renderStatus(const Submission& s) {
     const RenderState st = renderState(s);
     std::map<int, std::string> failed; // frame -> why
+    std::set<std::string> exited;      // tasks whose exit line the records hold ("<job>_<task>")
     for (const farm::TaskOutcome& t : st.tasks) {
+        if (t.exited) exited.insert(t.part.substr(0, t.part.rfind('.')));
         if (!t.exited || t.exitCode == 0) continue;
         for (int frame : framesOfLabel(t.label)) {
             if (!st.done.count(frame)) {
                 failed[frame] = t.part + " on " + (t.host.empty() ? "?" : t.host) + ": exit " + std::to_string(t.exitCode);
             }
+        }
+    }
+    // Tasks that Slurm ended before their script could append the exit line (scancel, a time limit, a node).
+    for (const auto& [task, label] : submittedTasks(s.manifest)) {
+        if (exited.count(task)) continue;
+        const std::string why = endedWithoutExitLine(task, st.slurm, st.queued);
+        if (why.empty()) continue;
+        for (int frame : framesOfLabel(label)) {
+            if (!st.done.count(frame) && !failed.count(frame)) failed[frame] = why;
         }
     }
     std::vector<int> missing, failedFrames;
@@ -507,6 +576,7 @@ struct BenchState {
     std::vector<std::string> rows;
     std::vector<nlohmann::json> parts; // null when not done
     std::vector<std::optional<TaskExit>> exits;
+    std::vector<std::string> endedBySlurm; // per row: why Slurm ended its task without an exit line, or ""
 };
 
 BenchState benchState(const Submission& s) {
@@ -516,6 +586,17 @@ BenchState benchState(const Submission& s) {
         const fs::path part = s.dir / "parts" / ("row_" + std::to_string(i) + ".json");
         st.parts.push_back(readJsonOrNull(part));
         st.exits.push_back(readRecordsFile(s.dir / "parts" / ("row_" + std::to_string(i) + ".exit.jsonl")).taskExit);
+    }
+    st.endedBySlurm.assign(st.rows.size(), "");
+    const std::set<std::string> queued = queuedTasks(s.manifest);
+    const std::map<std::string, farm::SlurmTaskState> slurm = slurmTaskStates(s.manifest);
+    for (const auto& [task, label] : submittedTasks(s.manifest)) {
+        // Bench task labels are "row <i>: <row>".
+        if (label.rfind("row ", 0) != 0) continue;
+        const size_t row = size_t(std::atoi(label.c_str() + 4));
+        if (row >= st.rows.size() || st.parts[row].is_object() || st.exits[row]) continue;
+        const std::string why = endedWithoutExitLine(task, slurm, queued);
+        if (!why.empty()) st.endedBySlurm[row] = why;
     }
     return st;
 }
@@ -529,6 +610,8 @@ int benchStatus(const Submission& s) {
             ++done;
         } else if (st.exits[i] && st.exits[i]->exitCode != 0) {
             failed.push_back(st.rows[i] + " (exit " + std::to_string(st.exits[i]->exitCode) + ")");
+        } else if (!st.endedBySlurm[i].empty()) {
+            failed.push_back(st.rows[i] + " (" + st.endedBySlurm[i] + ")");
         } else {
             missing.push_back(st.rows[i]);
         }
