@@ -136,11 +136,17 @@ std::map<int, nlohmann::json> framesProvenDone(const RenderOptions& options, con
     return done;
 }
 
-// Test hook for the farm's fault tests (docs/farm.md): CHCRT_FAULT_KILL_AFTER_FRAME=k kills the process with
-// SIGKILL right after frame k's image and record are written, as a scheduler's kill would.
+// Test hooks for the farm's fault tests (docs/farm.md), acting right after frame k's image and record are written:
+// CHCRT_FAULT_KILL_AFTER_FRAME=k kills the process with SIGKILL, as a scheduler's kill would;
+// CHCRT_FAULT_STALL_AFTER_FRAME=k stops there until a signal ends the process (a task for scancel to cancel).
 void killIfFaultInjected(int frame) {
     const char* at = std::getenv("CHCRT_FAULT_KILL_AFTER_FRAME");
     if (at != nullptr && *at != '\0' && std::atoi(at) == frame) std::raise(SIGKILL);
+    const char* stall = std::getenv("CHCRT_FAULT_STALL_AFTER_FRAME");
+    if (stall != nullptr && *stall != '\0' && std::atoi(stall) == frame) {
+        std::fflush(nullptr);
+        for (;;) ::pause();
+    }
 }
 
 RenderedFrames renderFrames(const RenderOptions& options, const SceneSession& session, Renderer& renderer,

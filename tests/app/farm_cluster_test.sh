@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The render farm on a real Slurm cluster (docs/farm.md; .ci/run starts a one-node one with
 # scripts/slurm-local.sh): a 12-frame walkthrough as a 3-task job array is bit-identical to local renders, a task
-# killed midway is made good by a second submission that renders exactly the missing frames, a bad flag submits
+# killed midway (SIGKILL, or scancel of its array index) is made good by a second submission that renders exactly
+# the missing frames, `farm status` names the frames of a cancelled task with Slurm's state, a bad flag submits
 # nothing, and a task that cannot run makes --wait fail and `farm status` name its frames.
 # Usage: farm_cluster_test.sh CHCRT_BINARY. Exit 77 (skipped) when no cluster answers.
 set -uo pipefail
@@ -75,6 +76,42 @@ grep -q "'--frames' '6-7'" fault/stats.farm/job-1.sbatch || fail "the resubmissi
 check "farm collect after the resubmission" "$chcrt" farm collect fault/stats.json
 check "fault run frames equal local frames" identical_to_local fault
 check "fault run stats list every frame once" frames_listed_once fault/stats.json
+
+echo "== fault: the task of frames 4-7 stalls after frame 5 and is cancelled with scancel"
+# CHCRT_FAULT_STALL_AFTER_FRAME=5 stops the render after frame 5's record until a signal ends it; scancel kills the
+# task with its script, so no exit line is appended and status learns from Slurm (sacct, else scontrol) why it ended.
+CHCRT_FAULT_STALL_AFTER_FRAME=5 "$chcrt" farm submit "${scene[@]}" --frames 0-7 --chunk 4 \
+  -o cancel/f_####.png --stats-json cancel/stats.json --job-name chcrt-test > /dev/null
+job=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["submissions"][0]["job"])' \
+  cancel/stats.farm/manifest.json 2> /dev/null)
+[[ $job =~ ^[0-9]+$ ]] || fail "no job id in the manifest (got '$job')"
+has_frame_5() { python3 -c 'import json,sys; sys.exit(not any(json.loads(l).get("frame") == 5 for l in open(sys.argv[1]) if l.strip().startswith("{")))' "cancel/stats.farm/parts/${job}_1.jsonl" 2> /dev/null; }
+for _ in $(seq 600); do has_frame_5 && break; sleep 0.2; done # a bound, not a timing: the task may wait in the queue
+has_frame_5 || fail "task ${job}_1 never recorded frame 5"
+scancel "${job}_1" || fail "scancel ${job}_1"
+for _ in $(seq 600); do [[ -z $(squeue -h -j "$job" 2> /dev/null) ]] && break; sleep 0.2; done
+[[ -z $(squeue -h -j "$job" 2> /dev/null) ]] || fail "job $job still queued after scancel"
+[[ -e cancel/f_0005.png && ! -e cancel/f_0006.png && ! -e cancel/f_0007.png ]] ||
+  fail "the cancelled task wrote frame 5 and nothing after it"
+status=$("$chcrt" farm status cancel/stats.json)
+rc=$?
+echo "$status"
+[[ $rc == 4 ]] || fail "farm status of a cancelled run exits 4 (got $rc)"
+grep -q "failed   2: frames 6-7" <<< "$status" || fail "farm status names frames 6-7 as failed"
+grep -q "task ${job}_1: Slurm CANCELLED" <<< "$status" || fail "farm status names the task and Slurm's state"
+grep -q "missing  0" <<< "$status" || fail "no frame of the cancelled run is just missing"
+check "resubmission after scancel --wait" "$chcrt" farm submit "${scene[@]}" --frames 0-7 --chunk 4 \
+  -o cancel/f_####.png --stats-json cancel/stats.json --job-name chcrt-test --wait
+[[ $(tasks_of cancel/stats.farm/job-1.sbatch) == 1 ]] || fail "the resubmission after scancel is one task"
+grep -q "'--frames' '6-7'" cancel/stats.farm/job-1.sbatch || fail "the resubmission renders exactly frames 6-7"
+check "farm status after the resubmission" "$chcrt" farm status cancel/stats.json
+check "farm collect after scancel and resubmission" "$chcrt" farm collect cancel/stats.json
+for k in $(seq 0 7); do
+  name=$(printf 'f_%04d.png' "$k")
+  cmp -s "local/$name" "cancel/$name" || fail "frame $k of the cancelled run differs from the local render"
+done
+python3 -c 'import json,sys; f=[x["frame"] for x in json.load(open(sys.argv[1]))["frames"]]; sys.exit(f != list(range(8)))' \
+  cancel/stats.json || fail "cancelled run's stats list frames 0-7 once each"
 
 echo "== a bad flag submits nothing"
 jobs_before=$(squeue -h -n chcrt-test | wc -l)
