@@ -1,6 +1,6 @@
 // The farm's command line without a cluster: render --records/--resume, and `chcrt farm submit --print` whose
 // script runs here as Slurm would run each array task (SLURM_ARRAY_TASK_ID set), then status and collect. The
-// same flow on a real one-node cluster is tests/farm/farm_cluster_test.sh.
+// same flow on a real one-node cluster is tests/app/farm_cluster_test.sh.
 #include "tests/app/cli_fixture.h"
 
 #include <nlohmann/json.hpp>
@@ -132,6 +132,12 @@ TEST_F(CliTest, FarmScriptTasksRenderTheSameFramesAsOneLocalRender) {
     const Result again = run("farm submit --frames 0-11 --chunk 4 " + flags, "PATH=/nonexistent");
     EXPECT_EQ(again.exitCode, 0) << again.output;
     EXPECT_NE(again.output.find("all 12 frame(s) are done"), std::string::npos) << again.output;
+    // --force submits every frame again, proven or not.
+    const Result forced = run("farm submit --frames 0-11 --chunk 4 --force --print " + flags, "PATH=/nonexistent");
+    EXPECT_EQ(forced.exitCode, 0) << forced.output;
+    EXPECT_NE(forced.output.find("#SBATCH --array=0-2\n"), std::string::npos) << forced.output;
+    EXPECT_NE(forced.output.find("'--frames' '0-3'"), std::string::npos) << forced.output;
+    EXPECT_NE(forced.output.find("'--frames' '8-11'"), std::string::npos) << forced.output;
 }
 
 // bench rows (scene x ray type x method) as array tasks; a row whose task never ran is the only one resubmitted,
