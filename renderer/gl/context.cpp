@@ -6,6 +6,8 @@
 #include "renderer/gl/gl.h"
 #include "renderer/gl/gl_internal.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <mutex>
 #include <string>
@@ -115,7 +117,9 @@ GlBackend parseGlBackend(const std::string& name) {
 const char* toString(GlBackend backend) { return backend == GlBackend::Egl ? "egl" : "osmesa"; }
 
 std::unique_ptr<GlContext> createHeadlessContext(GlBackend backend, bool debugOutput, int eglDevice) {
-    if (backend != GlBackend::Egl && eglDevice >= 0) throw InputError("--gl-device needs --gl egl (OSMesa has no devices)");
+    if (backend != GlBackend::Egl && eglDevice != kAutoGlDevice) {
+        throw InputError("--gl-device needs --gl egl (OSMesa has no devices)");
+    }
     std::unique_ptr<detail::HeadlessContext> context =
         backend == GlBackend::Egl ? detail::createEglContext(debugOutput, eglDevice) : detail::createOsMesaContext(debugOutput);
     {
@@ -145,10 +149,46 @@ bool hasGlExtension(const std::string& name) {
     return false;
 }
 
+RendererTraits rendererTraits(const std::string& glRenderer) {
+    std::string name = glRenderer;
+    std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    const auto has = [&name](const char* part) { return name.find(part) != std::string::npos; };
+    RendererTraits traits;
+    traits.software = has("llvmpipe") || has("softpipe") || has("swrast") || has("software rasterizer") ||
+                      has("swiftshader");
+    // Mesa's gallivm ends loops after LP_MAX_TGSI_LOOP_ITERATIONS (65,535); of the GL drivers it compiles shaders
+    // for, llvmpipe is the one that runs fragment and compute shaders.
+    traits.loopCap = has("llvmpipe");
+    return traits;
+}
+
+RendererTraits currentRendererTraits() { return rendererTraits(getString(GL_RENDERER)); }
+
+GpuMemoryInfo queryGpuMemory() {
+    // Enums of the two extensions (not in the core 4.5 headers the loader is generated from); values in KiB.
+    constexpr GLenum kNvxTotalAvailableMemory = 0x9048;   // GL_GPU_MEMORY_INFO_TOTAL_AVAILABLE_MEMORY_NVX
+    constexpr GLenum kNvxCurrentAvailableVidmem = 0x9049; // GL_GPU_MEMORY_INFO_CURRENT_AVAILABLE_VIDMEM_NVX
+    constexpr GLenum kAtiTextureFreeMemory = 0x87FC;      // GL_TEXTURE_FREE_MEMORY_ATI: 4 values, [0] = total free
+    GpuMemoryInfo info;
+    if (hasGlExtension("GL_NVX_gpu_memory_info")) {
+        GLint total = 0, available = 0;
+        glGetIntegerv(kNvxTotalAvailableMemory, &total);
+        glGetIntegerv(kNvxCurrentAvailableVidmem, &available);
+        info = {true, uint64_t(std::max(total, 0)) << 10, uint64_t(std::max(available, 0)) << 10, "GL_NVX_gpu_memory_info"};
+    } else if (hasGlExtension("GL_ATI_meminfo")) {
+        GLint free[4] = {0, 0, 0, 0};
+        glGetIntegerv(kAtiTextureFreeMemory, free);
+        info = {true, 0, uint64_t(std::max(free[0], 0)) << 10, "GL_ATI_meminfo"};
+    }
+    if (info.reported && info.availableBytes == 0) info = {}; // listed but answering nothing: not reported
+    return info;
+}
+
 GlInfo queryGlInfo() {
     GlInfo info;
     info.vendor = getString(GL_VENDOR);
     info.renderer = getString(GL_RENDERER);
+    info.softwareRenderer = rendererTraits(info.renderer).software;
     info.version = getString(GL_VERSION);
     info.glslVersion = getString(GL_SHADING_LANGUAGE_VERSION);
     info.maxTextureBufferSize = getInteger(GL_MAX_TEXTURE_BUFFER_SIZE);

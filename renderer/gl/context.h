@@ -2,8 +2,10 @@
 // OpenGL 4.5 core contexts: headless EGL (default: EGL_EXT_platform_device, else the surfaceless Mesa
 // platform), OSMesa, and (in the viewer) a GLFW window. After creation the context is current and the GL
 // function table is loaded.
+#include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace chcrt {
 
@@ -19,14 +21,57 @@ public:
     virtual std::string description() const = 0; // e.g. "EGL (device platform)"
 };
 
+// --gl-device auto: prefer a hardware EGL device, fall back to software ones (createHeadlessContext).
+inline constexpr int kAutoGlDevice = -1;
+
 // Creates a headless 4.5 core context, makes it current, loads GL functions, checks required features and,
 // when `debugOutput` is true, installs the KHR_debug callback. `eglDevice` >= 0 (EGL only) uses that device of
-// the EGL device list and nothing else (a farm task bound to one GPU, docs/farm.md); -1 tries the devices in
-// order, then Mesa's surfaceless platform. Throws GlError with a clear message.
-std::unique_ptr<GlContext> createHeadlessContext(GlBackend backend, bool debugOutput = false, int eglDevice = -1);
+// the EGL device list and nothing else (a farm task bound to one GPU, docs/farm.md); kAutoGlDevice tries the
+// hardware devices in list order, then the software ones (EGL_MESA_device_software), then Mesa's surfaceless
+// platform. Whether the context renders in software is for the caller to say (currentRendererTraits()).
+// Throws GlError with a clear message.
+std::unique_ptr<GlContext> createHeadlessContext(GlBackend backend, bool debugOutput = false,
+                                                 int eglDevice = kAutoGlDevice);
+
+// An EGL device of the device list (EGL_EXT_device_enumeration), as far as the driver describes it.
+struct EglDeviceInfo {
+    int index = 0;
+    bool software = false;  // EGL_MESA_device_software (llvmpipe); NVIDIA's and Mesa's hardware devices lack it
+    std::string renderer;   // EGL_RENDERER_EXT (EGL_EXT_device_query_name), "" where not offered
+    std::string vendor;     // EGL_VENDOR of the device (EGL_EXT_device_query_name)
+    std::string drmDevice;  // EGL_DRM_DEVICE_FILE_EXT (EGL_EXT_device_drm), e.g. /dev/dri/card0
+    std::string extensions; // the device's extension string
+};
+// The EGL devices in list order (the indices --gl-device takes); empty when EGL has no device enumeration.
+// Throws GlError only when libEGL itself is unusable.
+std::vector<EglDeviceInfo> listEglDevices();
+
+// What the shaders and the reports adapt to in a GL renderer, from its GL_RENDERER string (rendererTraits): the one
+// place where chcrt looks at a vendor's name, for facts no capability query reveals.
+struct RendererTraits {
+    // A CPU rasteriser (llvmpipe, softpipe, swrast, SwiftShader): its timings are not GPU timings.
+    bool software = false;
+    // Loops end silently after 65,535 iterations per invocation (llvmpipe, Mesa's gallivm): tracers count their
+    // iterations and flag rays that reach CHCRT_TRACE_ITERATION_CAP (shaders/shared/render_layout.h).
+    bool loopCap = false;
+};
+RendererTraits rendererTraits(const std::string& glRenderer);
+// Of the current context (GL_RENDERER queried on each call).
+RendererTraits currentRendererTraits();
+
+// GPU memory as the driver reports it: GL_NVX_gpu_memory_info (NVIDIA: total and currently available video
+// memory) or GL_ATI_meminfo (AMD: free texture memory, no total). Not reported by llvmpipe.
+struct GpuMemoryInfo {
+    bool reported = false;
+    uint64_t totalBytes = 0;     // 0 where the extension gives no total
+    uint64_t availableBytes = 0;
+    std::string source;          // the extension that reported it
+};
+GpuMemoryInfo queryGpuMemory();
 
 struct GlInfo {
     std::string vendor, renderer, version, glslVersion;
+    bool softwareRenderer = false; // rendererTraits(renderer).software
     int maxTextureBufferSize = 0; // texels
     int maxTextureSize = 0;
     int maxDrawBuffers = 0;

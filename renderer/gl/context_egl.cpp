@@ -3,6 +3,8 @@
 // driver runs headless; Mesa's surfaceless platform is the fallback (both need no display server; plain
 // eglGetDisplay fails without one unless EGL_PLATFORM=surfaceless is set).
 // CHCRT_EGL_PLATFORM=device|surfaceless restricts the search to one platform (tests use it to cover both).
+// Devices: --gl-device N takes device N of the EGL device list and nothing else; auto (the default) takes the first
+// hardware device that makes a context, then software devices (EGL_MESA_device_software), then surfaceless.
 #define EGL_NO_X11 // keep X11's macros (None, Bool, ...) out of this translation unit
 #include "renderer/core/error.h"
 #include "renderer/gl/gl_internal.h"
@@ -10,6 +12,7 @@
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <sstream>
 #include <string>
@@ -143,58 +146,105 @@ std::unique_ptr<HeadlessContext> tryDisplay(EGLDisplay display, bool debugContex
 
 } // namespace
 
+namespace {
+
+// Device-query enums that older eglext.h files lack.
+#ifndef EGL_RENDERER_EXT
+#define EGL_RENDERER_EXT 0x335F // EGL_EXT_device_query_name
+#endif
+#ifndef EGL_DRM_DEVICE_FILE_EXT
+#define EGL_DRM_DEVICE_FILE_EXT 0x3233 // EGL_EXT_device_drm
+#endif
+
+// Client extensions (EGL_NO_DISPLAY) say which platforms exist; entry points of extensions are fetched with
+// eglGetProcAddress, and only after their extension string was seen.
+const char* clientExtensionsOrThrow() {
+    const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+    if (clientExtensions == nullptr || !hasEglExtension(clientExtensions, "EGL_EXT_platform_base")) {
+        throw GlError("EGL: the EGL library lacks EGL_EXT_platform_base, so no headless display can be opened "
+                      "(is libegl1 from glvnd or Mesa installed?)");
+    }
+    return clientExtensions;
+}
+
+bool hasDeviceEnumeration(const char* clientExtensions) {
+    return hasEglExtension(clientExtensions, "EGL_EXT_device_enumeration") ||
+           hasEglExtension(clientExtensions, "EGL_EXT_device_base");
+}
+
+// The EGL devices (empty without device enumeration or when the driver lists none).
+std::vector<EGLDeviceEXT> queryDevices(const char* clientExtensions) {
+    if (!hasDeviceEnumeration(clientExtensions)) return {};
+    auto query = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
+    EGLint count = 0;
+    if (query == nullptr || query(0, nullptr, &count) != EGL_TRUE || count <= 0) return {};
+    std::vector<EGLDeviceEXT> devices(static_cast<size_t>(count));
+    if (query(count, devices.data(), &count) != EGL_TRUE) return {};
+    devices.resize(static_cast<size_t>(std::max(count, 0)));
+    return devices;
+}
+
+EglDeviceInfo describeDevice(EGLDeviceEXT device, int index) {
+    EglDeviceInfo info;
+    info.index = index;
+    auto queryString =
+        reinterpret_cast<PFNEGLQUERYDEVICESTRINGEXTPROC>(eglGetProcAddress("eglQueryDeviceStringEXT"));
+    if (queryString == nullptr) return info;
+    const auto text = [&](EGLint name) {
+        const char* value = queryString(device, name);
+        return std::string(value != nullptr ? value : "");
+    };
+    info.extensions = text(EGL_EXTENSIONS);
+    const char* extensions = info.extensions.c_str();
+    info.software = hasEglExtension(extensions, "EGL_MESA_device_software");
+    if (hasEglExtension(extensions, "EGL_EXT_device_query_name")) {
+        info.renderer = text(EGL_RENDERER_EXT);
+        info.vendor = text(EGL_VENDOR);
+    }
+    if (hasEglExtension(extensions, "EGL_EXT_device_drm")) info.drmDevice = text(EGL_DRM_DEVICE_FILE_EXT);
+    eglGetError(); // a device refusing a query it lists leaves nothing behind
+    return info;
+}
+
+} // namespace
+
 std::unique_ptr<HeadlessContext> createEglContext(bool debugContext, int device) {
     const char* forced = std::getenv("CHCRT_EGL_PLATFORM");
     const std::string only = forced != nullptr ? forced : "";
     if (!only.empty() && only != "device" && only != "surfaceless") {
         throw GlError("EGL: CHCRT_EGL_PLATFORM must be 'device' or 'surfaceless', not '" + only + "'");
     }
-    // Client extensions (EGL_NO_DISPLAY) say which platforms exist; entry points of extensions are fetched with
-    // eglGetProcAddress, and only after their extension string was seen.
-    const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
-    if (clientExtensions == nullptr || !hasEglExtension(clientExtensions, "EGL_EXT_platform_base")) {
-        throw GlError("EGL: the EGL library lacks EGL_EXT_platform_base, so no headless display can be opened "
-                      "(is libegl1 from glvnd or Mesa installed?)");
-    }
+    const char* clientExtensions = clientExtensionsOrThrow();
     auto getPlatformDisplay =
         reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
     std::string why;
 
-    // Step 1: the device platform, first device that yields a 4.5 core context.
-    const bool deviceEnumeration = hasEglExtension(clientExtensions, "EGL_EXT_device_enumeration") ||
-                                   hasEglExtension(clientExtensions, "EGL_EXT_device_base");
+    // Step 1: the device platform: the device asked for, or (auto) the hardware devices, then the software ones.
     if (only != "surfaceless") {
-        if (hasEglExtension(clientExtensions, "EGL_EXT_platform_device") && deviceEnumeration) {
-            auto queryDevices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
-            EGLint deviceCount = 0;
-            std::vector<EGLDeviceEXT> devices;
-            if (queryDevices(0, nullptr, &deviceCount) == EGL_TRUE && deviceCount > 0) {
-                devices.resize(static_cast<size_t>(deviceCount));
-                if (queryDevices(deviceCount, devices.data(), &deviceCount) != EGL_TRUE) {
-                    deviceCount = 0;
-                }
-            }
-            if (deviceCount == 0) {
-                why += "device platform: no devices";
-            }
+        if (hasEglExtension(clientExtensions, "EGL_EXT_platform_device") && hasDeviceEnumeration(clientExtensions)) {
+            const std::vector<EGLDeviceEXT> devices = queryDevices(clientExtensions);
+            const int deviceCount = int(devices.size());
+            if (deviceCount == 0) why += "device platform: no devices";
+            const auto label = [&](int i, bool software) {
+                return "device platform, device " + std::to_string(i) + " of " + std::to_string(deviceCount) +
+                       (software ? ", software" : "");
+            };
             if (device >= 0) { // that device or nothing: a task bound to one GPU must not run on another
                 if (device >= deviceCount) {
                     throw GlError("EGL: --gl-device " + std::to_string(device) + " does not exist (" +
-                                  std::to_string(deviceCount) + " EGL device(s))");
+                                  std::to_string(deviceCount) + " EGL device(s); chcrt info --devices lists them)");
                 }
+                const bool software = describeDevice(devices[size_t(device)], device).software;
                 EGLDisplay display = getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[size_t(device)], nullptr);
-                const std::string label = "device platform, device " + std::to_string(device) + " of " +
-                                          std::to_string(deviceCount);
-                if (auto context = tryDisplay(display, debugContext, label, why)) return context;
+                if (auto context = tryDisplay(display, debugContext, label(device, software), why)) return context;
                 throw GlError("EGL: --gl-device " + std::to_string(device) + " cannot create an OpenGL 4.5 core context (" +
                               why + ")");
             }
-            for (EGLint i = 0; i < deviceCount; ++i) {
-                EGLDisplay display = getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
-                std::string label = "device platform, device " + std::to_string(i) + " of " +
-                                    std::to_string(deviceCount);
-                if (auto context = tryDisplay(display, debugContext, label, why)) {
-                    return context;
+            for (bool software : {false, true}) {
+                for (int i = 0; i < deviceCount; ++i) {
+                    if (describeDevice(devices[size_t(i)], i).software != software) continue;
+                    EGLDisplay display = getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[size_t(i)], nullptr);
+                    if (auto context = tryDisplay(display, debugContext, label(i, software), why)) return context;
                 }
             }
         } else {
@@ -219,3 +269,15 @@ std::unique_ptr<HeadlessContext> createEglContext(bool debugContext, int device)
 }
 
 } // namespace chcrt::detail
+
+namespace chcrt {
+
+std::vector<EglDeviceInfo> listEglDevices() {
+    const char* clientExtensions = detail::clientExtensionsOrThrow();
+    const std::vector<EGLDeviceEXT> devices = detail::queryDevices(clientExtensions);
+    std::vector<EglDeviceInfo> infos;
+    for (size_t i = 0; i < devices.size(); ++i) infos.push_back(detail::describeDevice(devices[i], int(i)));
+    return infos;
+}
+
+} // namespace chcrt

@@ -3,10 +3,16 @@
 #include "renderer/gl/shader.h"
 
 #include "renderer/core/error.h"
+#include "renderer/gl/context.h"
 
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
 
 namespace chcrt {
 namespace {
@@ -41,10 +47,48 @@ std::string programLog(GLuint program) {
     return log;
 }
 
+struct ProcessDefines {
+    std::mutex mutex;
+    std::vector<ShaderDefine> defines;
+};
+ProcessDefines& processDefines() {
+    static ProcessDefines state;
+    return state;
+}
+
+const char* dumpExtension(GLenum type) {
+    switch (type) {
+    case GL_VERTEX_SHADER: return "vert";
+    case GL_FRAGMENT_SHADER: return "frag";
+    case GL_COMPUTE_SHADER: return "comp";
+    case GL_GEOMETRY_SHADER: return "geom";
+    case GL_TESS_CONTROL_SHADER: return "tesc";
+    case GL_TESS_EVALUATION_SHADER: return "tese";
+    default: return "glsl";
+    }
+}
+
+// CHCRT_SHADER_DUMP_DIR (shader.h): the stage's preprocessed text, named by its hash so a variant compiled many
+// times is written once.
+void dumpStage(const ShaderStage& stage, const std::string& text) {
+    const char* dir = std::getenv("CHCRT_SHADER_DUMP_DIR");
+    if (dir == nullptr || *dir == '\0') return;
+    uint64_t hash = 1469598103934665603ull; // FNV-1a
+    for (unsigned char c : text) hash = (hash ^ c) * 1099511628211ull;
+    char name[32];
+    std::snprintf(name, sizeof name, "%016llx.", static_cast<unsigned long long>(hash));
+    const std::filesystem::path file = std::filesystem::path(dir) / (name + std::string(dumpExtension(stage.type)));
+    std::error_code error;
+    if (std::filesystem::exists(file, error)) return;
+    std::ofstream out(file, std::ios::binary);
+    out << "// " << stage.path << "\n" << text;
+}
+
 // Compiles one stage; throws GlError naming the stage's file, the whole program and the mapped log.
 GLuint compileStage(const ShaderStage& stage, const std::vector<ShaderDefine>& defines,
                     const std::string& programName) {
     const PreprocessedShader source = preprocessShader(stage.path, defines);
+    dumpStage(stage, source.text);
     const GLuint shader = glCreateShader(stage.type);
     if (shader == 0) {
         throw GlError("glCreateShader(" + std::string(stageName(stage.type)) + ") failed for " + stage.path);
@@ -65,7 +109,39 @@ GLuint compileStage(const ShaderStage& stage, const std::vector<ShaderDefine>& d
 
 } // namespace
 
-ShaderProgram::ShaderProgram(const std::vector<ShaderStage>& stages, const std::vector<ShaderDefine>& defines) {
+std::vector<ShaderDefine> withImplicitDefines(const std::vector<ShaderDefine>& own) {
+    std::vector<ShaderDefine> all = own;
+    const auto addUnlessNamed = [&all, &own](const ShaderDefine& define) {
+        for (const ShaderDefine& d : own) {
+            if (d.name == define.name) return;
+        }
+        all.push_back(define);
+    };
+    addUnlessNamed({"CHCRT_TRACE_LOOP_CAP", currentRendererTraits().loopCap ? "1" : "0"});
+    ProcessDefines& process = processDefines();
+    std::lock_guard<std::mutex> lock(process.mutex);
+    for (const ShaderDefine& define : process.defines) addUnlessNamed(define);
+    return all;
+}
+
+void setProcessShaderDefine(const std::string& name, const std::string& value) {
+    ProcessDefines& process = processDefines();
+    std::lock_guard<std::mutex> lock(process.mutex);
+    std::erase_if(process.defines, [&name](const ShaderDefine& d) { return d.name == name; });
+    if (!value.empty()) process.defines.push_back({name, value});
+}
+
+std::string processShaderDefine(const std::string& name) {
+    ProcessDefines& process = processDefines();
+    std::lock_guard<std::mutex> lock(process.mutex);
+    for (const ShaderDefine& d : process.defines) {
+        if (d.name == name) return d.value;
+    }
+    return "";
+}
+
+ShaderProgram::ShaderProgram(const std::vector<ShaderStage>& stages, const std::vector<ShaderDefine>& ownDefines) {
+    const std::vector<ShaderDefine> defines = withImplicitDefines(ownDefines);
     std::string programName;
     for (const ShaderStage& stage : stages) {
         programName += (programName.empty() ? "" : " + ") + stage.path;

@@ -40,6 +40,20 @@ PreprocessedShader preprocessShader(const std::string& path, const std::vector<S
 // source-string numbers become file names: "render/trace_bvh.frag.glsl:12(5): error ...".
 std::string mapShaderLog(const std::string& log, const std::vector<std::string>& files);
 
+// The defines every program gets besides its own (its own value wins where it names one), appended after them:
+//   CHCRT_TRACE_LOOP_CAP 0 | 1: whether the current context's renderer needs the loop cap (currentRendererTraits(),
+//     renderer/gl/context.h; shaders/shared/render_layout.h says what it compiles in);
+//   the process-wide ones set with setProcessShaderDefine: CHCRT_TRIANGLE_BUFFERS (renderer/render/scene_gpu.h).
+std::vector<ShaderDefine> withImplicitDefines(const std::vector<ShaderDefine>& own);
+// Sets a define for every program compiled from now on, on any context (an empty value unsets it).
+void setProcessShaderDefine(const std::string& name, const std::string& value);
+// Its value, "" when unset.
+std::string processShaderDefine(const std::string& name);
+
+// CHCRT_SHADER_DUMP_DIR=<dir>: every stage compiled is also written there, preprocessed with all its defines, as
+// <hash>.<vert|frag|comp> (a first comment line names its file): what tests/gl/glslang_test.cpp gives a strict
+// compiler, glslangValidator.
+
 // A linked program. Move-only; deletes the GL object on destruction. Uniform locations are cached.
 class ShaderProgram {
 public:

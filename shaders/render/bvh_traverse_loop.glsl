@@ -52,10 +52,10 @@
 #ifndef TRAVERSE_POP
 #define TRAVERSE_POP(word)
 #endif
-    while (traversing && cost.iterations < CHCRT_TRACE_ITERATION_CAP) {
+    while (traversing && CHCRT_BELOW_ITERATION_CAP(cost)) {
         // Inner loop: descend until a leaf is reached or nothing is left.
-        while (nodeCount == 0u && TRAVERSE_DESCEND_WHILE && cost.iterations < CHCRT_TRACE_ITERATION_CAP) {
-            ++cost.iterations;
+        while (nodeCount == 0u && TRAVERSE_DESCEND_WHILE && CHCRT_BELOW_ITERATION_CAP(cost)) {
+            CHCRT_COUNT_ITERATION(cost);
             ++cost.innerNodes;
             int texel = int(nodeFirst) * CHCRT_BVH_TEXELS_PER_NODE;
             vec4 a0 = texelFetch(bvhNodes, texel);
@@ -108,8 +108,8 @@
 #endif
         // Pop the next node whose entry is not beyond the closest hit found so far.
         traversing = false;
-        while (stackSize > 0 && cost.iterations < CHCRT_TRACE_ITERATION_CAP) {
-            ++cost.iterations;
+        while (stackSize > 0 && CHCRT_BELOW_ITERATION_CAP(cost)) {
+            CHCRT_COUNT_ITERATION(cost);
             --stackSize;
             if (stackEntry[stackSize] <= pruneLimit(best.t)) {
                 TRAVERSE_POP(stackNode[stackSize])

@@ -59,11 +59,29 @@
 #define CHCRT_RAY_DIFFUSE 3
 #define CHCRT_RAY_BOUNCE_SHADOW 4 // shadow rays from the diffuse pass's hit points to the light
 
-// llvmpipe silently ends every loop of a shader invocation after 65,535 iterations in total.
-// The tracer counts all its loop iterations and stops at this cap, flagging the ray in its cost output, so the
-// limit is never reached silently; the renderer counts flagged rays and `verify` fails on any.
+// llvmpipe silently ends every loop of a shader invocation after 65,535 iterations in total. Where the renderer
+// needs it (CHCRT_TRACE_LOOP_CAP 1), the tracers count all their loop iterations and stop at
+// CHCRT_TRACE_ITERATION_CAP, flagging the ray in their cost output, so the limit is never reached silently; the
+// renderer counts flagged rays and `verify` fails on any. CHCRT_TRACE_LOOP_CAP is chosen per GL context from its
+// renderer string (renderer/gl/context.h, rendererTraits: llvmpipe only) and given to every program compiled there
+// (renderer/gl/shader.h); with 0 the counting is compiled out of the shared traversal (CHCRT_COUNT_ITERATION,
+// CHCRT_BELOW_ITERATION_CAP), and loops that count on their own compare against a cap no ray reaches. A host that
+// sets CHCRT_TRACE_ITERATION_CAP (tests lowering the cap) turns the counting on wherever it runs.
+#ifndef CHCRT_TRACE_LOOP_CAP
+#define CHCRT_TRACE_LOOP_CAP 1
+#endif
+#if defined(CHCRT_TRACE_ITERATION_CAP) || CHCRT_TRACE_LOOP_CAP
+#define CHCRT_TRACE_COUNTS_ITERATIONS 1
 #ifndef CHCRT_TRACE_ITERATION_CAP
 #define CHCRT_TRACE_ITERATION_CAP 65000u // tests lower it (BvhTracer's iterationCap) to check the detection
+#endif
+#define CHCRT_COUNT_ITERATION(cost) ++(cost).iterations
+#define CHCRT_BELOW_ITERATION_CAP(cost) ((cost).iterations < CHCRT_TRACE_ITERATION_CAP)
+#else
+#define CHCRT_TRACE_COUNTS_ITERATIONS 0
+#define CHCRT_TRACE_ITERATION_CAP 0xffffffffu
+#define CHCRT_COUNT_ITERATION(cost)
+#define CHCRT_BELOW_ITERATION_CAP(cost) true
 #endif
 // Atomic counter binding: rays that reached CHCRT_TRACE_ITERATION_CAP (read back after each frame).
 #define CHCRT_ATOMIC_BINDING_CAPPED_RAYS 0
