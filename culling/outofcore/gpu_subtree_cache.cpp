@@ -1,6 +1,8 @@
 #include "culling/outofcore/gpu_subtree_cache.h"
 
 #include "renderer/core/error.h"
+#include "renderer/gl/context.h"
+#include "renderer/outofcore/gpu_cache_slots.h"
 #include "shaders/shared/render_layout.h"
 
 namespace chcrt::outofcore {
@@ -19,7 +21,12 @@ GpuSubtreeCache::GpuSubtreeCache(SubtreeStore& store, const GpuCacheOptions& opt
     slotNodes_ = h.maxSubtreeNodes;
     slotTriangles_ = std::max(1u, h.maxSubtreeTriangles);
     const uint64_t slotBytes = uint64_t(slotNodes_) * sizeof(BvhNodeGpu) + uint64_t(slotTriangles_) * sizeof(TriangleGpu);
-    const uint64_t slots = std::min<uint64_t>(options.budgetBytes / slotBytes, h.subtreeCount);
+    // The budget is clamped to what one texture buffer addresses and to the GPU memory the driver reports
+    // (renderer/outofcore/gpu_cache_slots.h), so a budget beyond them allocates what fits instead of failing.
+    GLint maxTexels = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
+    const GpuCacheLimits limits{uint64_t(std::max(maxTexels, 0)), queryGpuMemory().availableBytes};
+    const uint64_t slots = gpuCacheSlots(options.budgetBytes, slotNodes_, slotTriangles_, h.subtreeCount, limits);
     if (slots == 0) {
         throw InputError("--gpu-cache-mb " + std::to_string(options.budgetBytes >> 20) +
                          " is too small to hold one subtree of " + store.file().path().string() + " (needs " +

@@ -6,5 +6,6 @@ chcrt_add_library(chcrt_outofcore
   outofcore/chs_file.cpp
   outofcore/prepare.cpp
   outofcore/subtree_store.cpp
+  outofcore/gpu_cache_slots.cpp
 )
 target_link_libraries(chcrt_outofcore PUBLIC chcrt_bvh chcrt_scene chcrt_procedural chcrt_core)

@@ -1,5 +1,7 @@
 #include "renderer/render/scene_gpu.h"
 
+#include "renderer/core/error.h"
+#include "renderer/gl/shader.h"
 #include "shaders/shared/render_layout.h"
 
 #include <algorithm>
@@ -48,18 +50,77 @@ std::vector<uint8_t> resampleRgba8(const Texture& texture, uint32_t width, uint3
     return out;
 }
 
+uint64_t maxTextureBufferTexels() {
+    GLint texels = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &texels);
+    return uint64_t(std::max(texels, 0));
+}
+
+// A per-triangle array of `count` elements of `texelsPerElement` texels (`elementBytes` bytes each) in as many texture
+// buffers of at most `maxTexels` texels as it needs: every part holds the same whole number of elements but the
+// last, which the shaders' part search relies on (render/triangle_parts.glsl).
+std::vector<TextureBuffer> createParts(const char* what, const void* data, uint64_t count, size_t elementBytes,
+                                       uint64_t texelsPerElement, GLenum format, uint64_t maxTexels) {
+    const uint64_t perPart = std::max<uint64_t>(1, maxTexels / texelsPerElement);
+    const uint64_t parts = std::max<uint64_t>(1, (count + perPart - 1) / perPart);
+    if (parts > CHCRT_MAX_TRIANGLE_BUFFERS) {
+        throw GlError("the scene's " + std::to_string(count) + " " + what + " need " + std::to_string(parts) +
+                      " texture buffers of " + std::to_string(maxTexels) + " texels; chcrt reads at most " +
+                      std::to_string(CHCRT_MAX_TRIANGLE_BUFFERS) + " (" + std::to_string(perPart * CHCRT_MAX_TRIANGLE_BUFFERS) +
+                      " triangles in core; larger scenes render out of core, docs/outofcore.md)");
+    }
+    std::vector<TextureBuffer> buffers;
+    for (uint64_t part = 0; part < parts; ++part) {
+        const uint64_t first = part * perPart, n = std::min(perPart, count - std::min(count, first));
+        buffers.push_back(createTextureBuffer(static_cast<const char*>(data) + first * elementBytes, n * elementBytes, format));
+    }
+    return buffers;
+}
+
+uint64_t bytesOf(const std::vector<TextureBuffer>& parts) {
+    uint64_t bytes = 0;
+    for (const TextureBuffer& part : parts) bytes += part.bytes;
+    return bytes;
+}
+
+// Binds part 0 at `unit`, part k at firstPartUnit + k - 1.
+void bindParts(const std::vector<TextureBuffer>& parts, GLuint unit, GLuint firstPartUnit) {
+    for (size_t part = 0; part < parts.size(); ++part) {
+        glBindTextureUnit(part == 0 ? unit : firstPartUnit + GLuint(part) - 1, parts[part].texture.id());
+    }
+}
+
 } // namespace
 
-SceneGpu::SceneGpu(const Scene& scene, const Bvh& bvh) : triangleCount_(scene.triangleCount()) {
+SceneGpu::SceneGpu(const Scene& scene, const Bvh& bvh, uint64_t maxBufferTexels)
+    : triangleCount_(scene.triangleCount()),
+      maxBufferTexels_(maxBufferTexels != 0 ? std::min(maxBufferTexels, maxTextureBufferTexels()) : maxTextureBufferTexels()) {
+    // The nodes stay in one buffer: CHC+RT's and the Line Space traversals read them directly.
+    if (bvh.nodes.size() * CHCRT_BVH_TEXELS_PER_NODE > maxTextureBufferTexels()) {
+        throw GlError("the scene's BVH has " + std::to_string(bvh.nodes.size()) + " nodes, more than one texture buffer of " +
+                      std::to_string(maxTextureBufferTexels()) + " texels holds (" + std::to_string(CHCRT_BVH_TEXELS_PER_NODE) +
+                      " per node); render it out of core (docs/outofcore.md) or with larger BVH leaves (--bvh-leaf-size)");
+    }
     buildClusters(bvh);
     uploadGeometry(scene, bvh);
     bvhNodes_ = createTextureBuffer(bvh.nodes.data(), bvh.nodes.size() * sizeof(BvhNodeGpu), GL_RGBA32F);
-    bvhTriangles_ =
-        createTextureBuffer(bvh.triangles.data(), bvh.triangles.size() * sizeof(TriangleGpu), GL_RGBA32F);
+    bvhTriangles_ = createParts("triangles", bvh.triangles.data(), bvh.triangles.size(), sizeof(TriangleGpu),
+                                CHCRT_TRI_TEXELS_PER_TRIANGLE, GL_RGBA32F, maxBufferTexels_);
     uploadAttributes(scene);
     uploadMaterials(scene);
-    gpuBytes_ += bvhNodes_.bytes + bvhTriangles_.bytes + triangleAttributes_.bytes + triangleNormals_.bytes +
+    gpuBytes_ += bvhNodes_.bytes + bytesOf(bvhTriangles_) + bytesOf(triangleAttributes_) + bytesOf(triangleNormals_) +
                  materials_.bytes;
+    const int parts = triangleBufferCount();
+    const std::string current = processShaderDefine("CHCRT_TRIANGLE_BUFFERS");
+    if (parts > 1 && parts > (current.empty() ? 1 : std::stoi(current))) {
+        setProcessShaderDefine("CHCRT_TRIANGLE_BUFFERS", std::to_string(parts));
+    }
+}
+
+uint64_t SceneGpu::estimatedBytes(uint64_t triangles, uint64_t vertices, uint64_t nodes) {
+    const uint64_t perTriangle = sizeof(TriangleGpu) + CHCRT_ATTR_TEXELS_PER_TRIANGLE * 16 +
+                                 CHCRT_NORMAL_TEXELS_PER_TRIANGLE * 8 + sizeof(glm::uvec3); // + raster indices
+    return triangles * perTriangle + vertices * sizeof(Vertex) + nodes * sizeof(BvhNodeGpu);
 }
 
 // Clusters for frustum culling: the topmost BVH nodes with at most kClusterTriangles triangles. Each node's
@@ -181,8 +242,12 @@ void SceneGpu::uploadAttributes(const Scene& scene) {
             for (int c = 0; c < 3; ++c) normals[(i * 3 + k) * 4 + c] = toUnorm16(vn[c]);
         }
     }
-    triangleAttributes_ = createTextureBuffer(texels.data(), texels.size() * sizeof(glm::vec4), GL_RGBA32F);
-    triangleNormals_ = createTextureBuffer(normals.data(), normals.size() * sizeof(uint16_t), GL_RGBA16UI);
+    triangleAttributes_ = createParts("triangles' attributes", texels.data(), scene.triangles.size(),
+                                      CHCRT_ATTR_TEXELS_PER_TRIANGLE * sizeof(glm::vec4), CHCRT_ATTR_TEXELS_PER_TRIANGLE,
+                                      GL_RGBA32F, maxBufferTexels_);
+    triangleNormals_ = createParts("triangles' vertex normals", normals.data(), scene.triangles.size(),
+                                   CHCRT_NORMAL_TEXELS_PER_TRIANGLE * 4 * sizeof(uint16_t),
+                                   CHCRT_NORMAL_TEXELS_PER_TRIANGLE, GL_RGBA16UI, maxBufferTexels_);
 }
 
 void SceneGpu::uploadMaterials(const Scene& scene) {
@@ -225,12 +290,12 @@ void SceneGpu::uploadMaterials(const Scene& scene) {
 
 void SceneGpu::bindForTracing() const {
     glBindTextureUnit(CHCRT_UNIT_BVH_NODES, bvhNodes_.texture.id());
-    glBindTextureUnit(CHCRT_UNIT_BVH_TRIANGLES, bvhTriangles_.texture.id());
+    bindParts(bvhTriangles_, CHCRT_UNIT_BVH_TRIANGLES, CHCRT_UNIT_BVH_TRIANGLES_PART1);
 }
 
 void SceneGpu::bindForShading() const {
-    glBindTextureUnit(CHCRT_UNIT_TRI_ATTRIBUTES, triangleAttributes_.texture.id());
-    glBindTextureUnit(CHCRT_UNIT_TRI_NORMALS, triangleNormals_.texture.id());
+    bindParts(triangleAttributes_, CHCRT_UNIT_TRI_ATTRIBUTES, CHCRT_UNIT_TRI_ATTRIBUTES_PART1);
+    bindParts(triangleNormals_, CHCRT_UNIT_TRI_NORMALS, CHCRT_UNIT_TRI_NORMALS_PART1);
     glBindTextureUnit(CHCRT_UNIT_MATERIALS, materials_.texture.id());
     glBindTextureUnit(CHCRT_UNIT_BASE_COLOR, baseColorArray_.id());
 }

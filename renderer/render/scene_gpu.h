@@ -15,8 +15,14 @@ namespace chcrt {
 
 class SceneGpu {
 public:
-    // Requires a current GL context (the drawing one or one sharing its objects). Throws GlError when a buffer exceeds the texture-buffer limit.
-    SceneGpu(const Scene& scene, const Bvh& bvh);
+    // Requires a current GL context (the drawing one or one sharing its objects). Each per-triangle array
+    // (BVH-ordered triangles, attributes, vertex normals) that exceeds one texture buffer is split into parts
+    // (shaders/shared/render_layout.h, "Per-triangle data beyond one texture buffer"), up to
+    // CHCRT_MAX_TRIANGLE_BUFFERS; a split raises the process-wide CHCRT_TRIANGLE_BUFFERS define
+    // (setProcessShaderDefine) so that programs compiled afterwards read every part: make the tracers after the
+    // scene. `maxBufferTexels` (0: GL_MAX_TEXTURE_BUFFER_SIZE) caps a part's size; tests lower it to split small
+    // scenes. Throws GlError when the scene needs more parts, or its BVH nodes more than one buffer.
+    SceneGpu(const Scene& scene, const Bvh& bvh, uint64_t maxBufferTexels = 0);
 
     // Binds the texture buffers and the texture array to their units (shaders/shared/render_layout.h).
     void bindForTracing() const;
@@ -33,6 +39,11 @@ public:
     // Side of the base-colour texture array's level 0 in texels (mip selection of traced hits).
     uint32_t baseColorSide() const { return baseColorSide_; }
     uint64_t gpuBytes() const { return gpuBytes_; }
+    // Texture buffers each per-triangle array takes (1 unless the scene exceeds one buffer).
+    int triangleBufferCount() const { return int(bvhTriangles_.size()); }
+    // GPU bytes a scene of `triangles` triangles, `vertices` vertices and `nodes` BVH nodes takes here (buffers
+    // only; textures and frame targets come on top): what --load-in-core auto weighs against GPU memory.
+    static uint64_t estimatedBytes(uint64_t triangles, uint64_t vertices, uint64_t nodes);
 
 private:
     struct Cluster {
@@ -53,14 +64,16 @@ private:
     GlBuffer indirectBuffer_;     // DrawElementsIndirectCommand per visible cluster
     std::vector<Cluster> clusters_;
     TextureBuffer bvhNodes_;
-    TextureBuffer bvhTriangles_;
-    TextureBuffer triangleAttributes_;
-    TextureBuffer triangleNormals_; // vertex normals per original id (traced G-buffer)
+    // Per-triangle arrays, each in one or more parts (units in shaders/shared/render_layout.h).
+    std::vector<TextureBuffer> bvhTriangles_;
+    std::vector<TextureBuffer> triangleAttributes_;
+    std::vector<TextureBuffer> triangleNormals_; // vertex normals per original id (traced G-buffer)
     TextureBuffer materials_;
     GlTexture baseColorArray_;
     uint64_t triangleCount_ = 0;
     uint32_t baseColorSide_ = 1;
     uint64_t gpuBytes_ = 0;
+    uint64_t maxBufferTexels_ = 0; // a per-triangle buffer part's size limit
 };
 
 } // namespace chcrt

@@ -87,9 +87,9 @@ bool lsCandidateHit(uint space, vec3 origin, vec3 direction, vec3 invDir, vec3 b
     }
     uint triangle = texelFetch(lsCandidateData, int(slot)).x;
     int texel = int(triangle) * CHCRT_TRI_TEXELS_PER_TRIANGLE;
-    vec4 v0 = texelFetch(bvhTriangles, texel);
-    vec3 v1 = texelFetch(bvhTriangles, texel + 1).xyz;
-    vec3 v2 = texelFetch(bvhTriangles, texel + 2).xyz;
+    vec4 v0 = triangleTexel(texel);
+    vec3 v1 = triangleTexel(texel + 1).xyz;
+    vec3 v2 = triangleTexel(texel + 2).xyz;
     vec3 e1 = v1 - v0.xyz;
     vec3 e2 = v2 - v0.xyz;
     vec3 p = cross(direction, e2);

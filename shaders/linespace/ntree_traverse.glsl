@@ -22,7 +22,7 @@
 //   CHCRT_NT_START_EXACT             0 | 1, see above
 //   CHCRT_NT_NEAR                    float: shadow-level nodes entered closer than NEAR node edges to the origin
 //                                    are handled like the start node (default 0.0f = the paper)
-// Needs bvhTriangles, TraceHit, TraceCost and intersectRayTriangle from render/bvh_nodes.glsl (include it first).
+// Needs triangleTexel, TraceHit, TraceCost and intersectRayTriangle from render/bvh_nodes.glsl (include it first).
 #include "shared/linespace_bindings.h"
 #include "shared/ntree_layout.h"
 #include "linespace/shaft_index_fast.glsl"
@@ -63,13 +63,13 @@ bool ntLeafHit(uint leaf, vec3 origin, vec3 direction, float tmin, float tmax, i
                inout TraceCost cost) {
     uvec2 range = texelFetch(ntLeaves, int(leaf)).xy;
     ++cost.leaves;
-    for (uint i = 0u; i < range.y && cost.iterations < CHCRT_TRACE_ITERATION_CAP; ++i) {
-        ++cost.iterations;
+    for (uint i = 0u; i < range.y && CHCRT_BELOW_ITERATION_CAP(cost); ++i) {
+        CHCRT_COUNT_ITERATION(cost);
         ++cost.triangles;
         int texel = int(texelFetch(ntTriangleRefs, int(range.x + i)).x) * CHCRT_TRI_TEXELS_PER_TRIANGLE;
-        vec4 v0 = texelFetch(bvhTriangles, texel);
-        vec4 v1 = texelFetch(bvhTriangles, texel + 1);
-        vec4 v2 = texelFetch(bvhTriangles, texel + 2);
+        vec4 v0 = triangleTexel(texel);
+        vec4 v1 = triangleTexel(texel + 1);
+        vec4 v2 = triangleTexel(texel + 2);
         vec3 tuv = intersectRayTriangle(origin, direction, v0.xyz, v1.xyz, v2.xyz);
         if (tuv.x >= tmin && tuv.x <= tmax) {
             best.t = tuv.x;
@@ -135,8 +135,8 @@ bool ntreeOccluded(vec3 origin, vec3 direction, float tmin, float tmax, inout Tr
                        ivec3(int(CHCRT_NT_N) - 1));
     vec3 exits = ntCellExits(cell, lower, childSize, origin, direction, invDir);
     bool visited = false; // the current cell was looked at (after returning from its node)
-    while (cost.iterations < CHCRT_TRACE_ITERATION_CAP) {
-        ++cost.iterations;
+    while (CHCRT_BELOW_ITERATION_CAP(cost)) {
+        CHCRT_COUNT_ITERATION(cost);
         if (!visited) {
             uint packedCell = uint(cell.x) + CHCRT_NT_N * (uint(cell.y) + CHCRT_NT_N * uint(cell.z));
             uint entry = texelFetch(ntTree, int(node * (CHCRT_NT_N * CHCRT_NT_N * CHCRT_NT_N) + packedCell)).x;

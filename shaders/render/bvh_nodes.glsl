@@ -10,15 +10,16 @@
 // tie in a later subtree is still found, whatever the traversal order. Every tracer of the project (GLSL, CPU,
 // CHC+RT subtrees) applies the same rule.
 //
-// llvmpipe ends all loops of an invocation after 65,535 iterations in total: every traversal loop counts into
-// cost.iterations and stops at CHCRT_TRACE_ITERATION_CAP; the caller reports capped rays.
+// llvmpipe ends all loops of an invocation after 65,535 iterations in total: where the renderer needs it
+// (CHCRT_TRACE_LOOP_CAP, shared/render_layout.h) every traversal loop counts into cost.iterations and stops at
+// CHCRT_TRACE_ITERATION_CAP; the caller reports capped rays.
 #ifndef CHCRT_BVH_NODES_GLSL
 #define CHCRT_BVH_NODES_GLSL
 #include "shared/bvh_layout.h"
 #include "shared/intersect.h"
+#include "render/bvh_triangles.glsl"
 
 layout(binding = CHCRT_UNIT_BVH_NODES) uniform samplerBuffer bvhNodes;
-layout(binding = CHCRT_UNIT_BVH_TRIANGLES) uniform samplerBuffer bvhTriangles;
 
 struct TraceHit {
     float t;
@@ -45,13 +46,13 @@ TraceHit makeMiss(float tmax) {
 // Returns true when an any-hit query can stop.
 bool intersectLeaf(uint first, uint count, vec3 origin, vec3 direction, float tmin, inout TraceHit best,
                    inout TraceCost cost) {
-    for (uint i = 0u; i < count && cost.iterations < CHCRT_TRACE_ITERATION_CAP; ++i) {
-        ++cost.iterations;
+    for (uint i = 0u; i < count && CHCRT_BELOW_ITERATION_CAP(cost); ++i) {
+        CHCRT_COUNT_ITERATION(cost);
         ++cost.triangles;
         int texel = int(first + i) * CHCRT_TRI_TEXELS_PER_TRIANGLE;
-        vec4 v0 = texelFetch(bvhTriangles, texel);
-        vec4 v1 = texelFetch(bvhTriangles, texel + 1);
-        vec4 v2 = texelFetch(bvhTriangles, texel + 2);
+        vec4 v0 = triangleTexel(texel);
+        vec4 v1 = triangleTexel(texel + 1);
+        vec4 v2 = triangleTexel(texel + 2);
         vec3 tuv = intersectRayTriangle(origin, direction, v0.xyz, v1.xyz, v2.xyz);
         uint id = floatBitsToUint(v0.w);
         if (tuv.x >= tmin && tuv.x <= best.t && (tuv.x < best.t || id < best.triangleId)) {

@@ -1,14 +1,13 @@
 #version 450 core
 #include "shared/render_layout.h"
 #include "shared/bvh_layout.h"
+#include "render/bvh_triangles.glsl"
 #include "render/material.glsl"
 
 in vec3 worldPosition;
 in vec3 worldNormal;
 in vec2 texcoord;
 flat in uint clusterFirst;
-
-layout(binding = CHCRT_UNIT_BVH_TRIANGLES) uniform samplerBuffer bvhTriangles;
 
 uniform vec3 cameraPosition;
 uniform vec3 cameraForward;
@@ -22,8 +21,8 @@ void main() {
     // gl_PrimitiveID counts from 0 in each draw of the multi-draw; the BVH triangle buffer maps the BVH-order index
     // back to the original id (texel 0's w, shared/bvh_layout.h).
     uint bvhIndex = clusterFirst + uint(gl_PrimitiveID);
-    uint triangleId = floatBitsToUint(texelFetch(bvhTriangles, int(bvhIndex) * CHCRT_TRI_TEXELS_PER_TRIANGLE).w);
-    vec4 attr0 = texelFetch(triangleAttributes, int(triangleId) * CHCRT_ATTR_TEXELS_PER_TRIANGLE);
+    uint triangleId = floatBitsToUint(triangleTexel(int(bvhIndex) * CHCRT_TRI_TEXELS_PER_TRIANGLE).w);
+    vec4 attr0 = attributeTexel(int(triangleId) * CHCRT_ATTR_TEXELS_PER_TRIANGLE);
     vec3 geometricNormal = attr0.xyz;
     // Shade with the interpolated normal, but orient it (and the geometric one) towards the camera: scenes are
     // not closed and secondary rays leave on the viewer's side.

@@ -7,11 +7,11 @@
 #include "shared/render_layout.h"
 #include "shared/bvh_layout.h"
 #include "render/material.glsl"
+#include "render/vertex_normals.glsl"
 
 layout(binding = CHCRT_UNIT_RAY_ORIGIN) uniform sampler2D rayOrigins;
 layout(binding = CHCRT_UNIT_RAY_DIRECTION) uniform sampler2D rayDirections;
 layout(binding = CHCRT_UNIT_HIT) uniform usampler2D hits;
-layout(binding = CHCRT_UNIT_TRI_NORMALS) uniform usamplerBuffer triangleNormals;
 
 uniform vec3 cameraPosition;
 uniform vec3 cameraForward;
@@ -25,7 +25,7 @@ layout(location = CHCRT_GBUFFER_OUT_ALBEDO) out vec4 outAlbedo;
 layout(location = CHCRT_GBUFFER_OUT_TRIANGLE) out uint outTriangle;
 
 vec3 vertexNormal(uint triangleId, int vertex) {
-    uvec4 texel = texelFetch(triangleNormals, int(triangleId) * CHCRT_NORMAL_TEXELS_PER_TRIANGLE + vertex);
+    uvec4 texel = normalTexel(int(triangleId) * CHCRT_NORMAL_TEXELS_PER_TRIANGLE + vertex);
     return vec3(texel.xyz) * (2.0f / 65535.0f) - 1.0f;
 }
 
@@ -49,9 +49,9 @@ void main() {
     vec3 position = origin + t * direction;
 
     int base = int(triangleId) * CHCRT_ATTR_TEXELS_PER_TRIANGLE;
-    vec4 attr0 = texelFetch(triangleAttributes, base);
-    vec4 attr1 = texelFetch(triangleAttributes, base + 1);
-    vec4 attr2 = texelFetch(triangleAttributes, base + 2);
+    vec4 attr0 = attributeTexel(base);
+    vec4 attr1 = attributeTexel(base + 1);
+    vec4 attr2 = attributeTexel(base + 2);
 
     // Normals exactly as the raster pass orients them: the interpolated vertex normal (barycentric
     // interpolation at the hit = perspective-correct interpolation at the pixel centre), turned to the side of

@@ -1,6 +1,6 @@
 // Material and per-triangle attribute lookups shared by the G-buffer pass and hit shading.
 // Layouts: shaders/shared/render_layout.h (CHCRT_MATERIAL_TEXELS, CHCRT_ATTR_TEXELS_PER_TRIANGLE).
-layout(binding = CHCRT_UNIT_TRI_ATTRIBUTES) uniform samplerBuffer triangleAttributes;
+#include "render/triangle_attributes.glsl"
 layout(binding = CHCRT_UNIT_MATERIALS) uniform samplerBuffer materials;
 layout(binding = CHCRT_UNIT_BASE_COLOR) uniform sampler2DArray baseColorTextures;
 
@@ -22,13 +22,13 @@ vec3 materialAlbedo(uint materialId, vec2 uv, float lod) {
 // Albedo and geometric normal at a traced hit (original triangle id, barycentrics u, v).
 vec3 hitAlbedo(uint triangleId, vec2 barycentrics) {
     int base = int(triangleId) * CHCRT_ATTR_TEXELS_PER_TRIANGLE;
-    vec4 attr0 = texelFetch(triangleAttributes, base);
-    vec4 attr1 = texelFetch(triangleAttributes, base + 1);
-    vec4 attr2 = texelFetch(triangleAttributes, base + 2);
+    vec4 attr0 = attributeTexel(base);
+    vec4 attr1 = attributeTexel(base + 1);
+    vec4 attr2 = attributeTexel(base + 2);
     vec2 uv = (1.0f - barycentrics.x - barycentrics.y) * attr1.xy + barycentrics.x * attr1.zw +
               barycentrics.y * attr2.xy;
     return materialAlbedo(floatBitsToUint(attr0.w), uv, 1.0f);
 }
 vec3 hitGeometricNormal(uint triangleId) {
-    return texelFetch(triangleAttributes, int(triangleId) * CHCRT_ATTR_TEXELS_PER_TRIANGLE).xyz;
+    return attributeTexel(int(triangleId) * CHCRT_ATTR_TEXELS_PER_TRIANGLE).xyz;
 }

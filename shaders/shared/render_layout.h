@@ -24,6 +24,19 @@
 // Units 16-21: Line Space (shaders/shared/linespace_bindings.h).
 #define CHCRT_UNIT_TRI_NORMALS 22    // usamplerBuffer, RGBA16UI ((n * 0.5 + 0.5) * 65535), per original id
 #define CHCRT_UNIT_PIXEL_GEOMETRIC_NORMAL 23 // sampler2D RGBA32F: out of core, the G-buffer pixels' geometric normals
+// Units 24-30: the N-tree and CHC+RT (shared/ntree_layout.h, shared/culling_layout.h). Units 40-48: parts 1-3 of the
+// per-triangle buffers of a scene larger than one texture buffer (below).
+
+// --- Per-triangle data beyond one texture buffer ---------------------------------------------------------
+// GL_MAX_TEXTURE_BUFFER_SIZE (2^27 texels on llvmpipe and NVIDIA) holds 44.7M triangles at 3 texels each. A larger
+// scene splits each per-triangle array (BVH-ordered triangles, attributes and vertex normals by original id) into
+// parts of equal size (the last one shorter, no triangle across two parts): part 0 at the array's own unit, part k
+// at its PART1 unit + k - 1. Shaders compiled with CHCRT_TRIANGLE_BUFFERS = K address K parts
+// (render/triangle_parts.glsl); renderer/render/scene_gpu.h sets it for every program once a scene needs it.
+#define CHCRT_MAX_TRIANGLE_BUFFERS 4
+#define CHCRT_UNIT_BVH_TRIANGLES_PART1 40  // parts 1-3: units 40-42
+#define CHCRT_UNIT_TRI_ATTRIBUTES_PART1 43 // units 43-45
+#define CHCRT_UNIT_TRI_NORMALS_PART1 46    // units 46-48
 
 // --- Per-triangle attributes by original id (for shading hits): 3 texels = 48 bytes ----------------------
 //   texel 0: geometric normal.xyz (unit), material id   texel 1: uv0.xy, uv1.xy

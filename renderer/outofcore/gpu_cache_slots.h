@@ -1,0 +1,23 @@
+#pragma once
+// How many slots the GPU subtree cache (culling/outofcore/gpu_subtree_cache.h) allocates for a budget: pure
+// arithmetic, so that the limits can be tested without a GPU that has them.
+#include <cstdint>
+
+namespace chcrt::outofcore {
+
+struct GpuCacheLimits {
+    // Texels one texture buffer holds (GL_MAX_TEXTURE_BUFFER_SIZE): the cache keeps nodes (2 texels each) and
+    // triangles (3 texels each) in one buffer apiece, so 2^27 texels (NVIDIA, llvmpipe) cap the triangle slots at
+    // 44.7M triangles, about 2.1 GB, whatever --gpu-cache-mb says.
+    uint64_t maxTextureBufferTexels = 0;
+    // GPU memory the driver reports as available (queryGpuMemory); 0 where it reports none.
+    uint64_t availableGpuBytes = 0;
+};
+
+// Slots of `slotNodes` nodes and `slotTriangles` triangles: as many as `budgetBytes` holds, at most one per subtree
+// (`subtrees`), at most what one texture buffer addresses, and, where GPU memory is reported, within three quarters
+// of it (the frame's targets and the driver need the rest). 0 when the budget holds no slot.
+uint64_t gpuCacheSlots(uint64_t budgetBytes, uint64_t slotNodes, uint64_t slotTriangles, uint64_t subtrees,
+                       const GpuCacheLimits& limits);
+
+} // namespace chcrt::outofcore
