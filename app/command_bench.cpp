@@ -411,7 +411,8 @@ nlohmann::json settingsJson(const Bench& b) {
     return {{"width", s.width}, {"height", s.height}, {"spp", s.samplesPerPixel}, {"effects", toString(s.effects)},
             {"seed", s.seed}, {"rotation", s.rotationDegrees}, {"ao_length", s.aoLengthFraction},
             {"exposure", s.exposure}, {"primary", toString(s.primaryVisibility)}, {"runs", b.options.runs},
-            {"warmup", b.options.warmupRuns}, {"steps", b.options.steps}};
+            {"warmup", b.options.warmupRuns}, {"steps", b.options.steps},
+            {"shader_stage", toString(b.gpu.renderer->pureTracerStage())}};
 }
 
 void writeOutputs(const Bench& b, const Table& table, const nlohmann::json& rowsJson) {
@@ -427,15 +428,14 @@ void writeOutputs(const Bench& b, const Table& table, const nlohmann::json& rows
     if (!b.imageErrors.empty()) std::printf("diff_px: pixels whose hits of that ray type differ from pure BVH's; frame PSNR: the whole shaded "
                 "frame (all --effects) against pure BVH's, the same on every ray type's row of a method\n");
     if (!b.options.jsonFile.empty()) {
-        writeJsonFile(b.options.jsonFile, {{"scene", toJson(session.scene)},
-                                           {"bvh", toJson(session.bvh.stats)},
-                                           {"gl_renderer", info.renderer},
-                                           {"gl_vendor", info.vendor},
-                                           {"gl_version", info.version},
-                                           {"machine", machineJson(b.started, finished)},
-                                           {"command_line", processCommandLine()},
-                                           {"settings", settingsJson(b)},
-                                           {"rows", rowsJson}});
+        nlohmann::json json = {{"scene", toJson(session.scene)},
+                               {"bvh", toJson(session.bvh.stats)},
+                               {"machine", machineJson(b.started, finished)},
+                               {"command_line", processCommandLine()},
+                               {"settings", settingsJson(b)},
+                               {"rows", rowsJson}};
+        json.update(glJson(info));
+        writeJsonFile(b.options.jsonFile, json);
     }
     if (!b.options.csvFile.empty()) writeTextFileAtomically(b.options.csvFile, table.toCsv());
     if (!b.options.markdownFile.empty()) writeTextFileAtomically(b.options.markdownFile, table.toMarkdown());

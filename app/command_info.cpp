@@ -30,20 +30,76 @@ std::vector<std::string> checkSubtrees(const outofcore::ChsFile& file) {
     return failures;
 }
 
+// --devices: every EGL device with what its driver says and the OpenGL renderer a context on it reports (or why
+// none could be made). Each device gets a context of its own, made and destroyed here.
+nlohmann::json listDevices(const CommonOptions& o) {
+    const std::vector<EglDeviceInfo> devices = listEglDevices();
+    std::printf("EGL devices: %zu%s\n", devices.size(),
+                devices.empty() ? " (no EGL_EXT_device_enumeration, or no device: auto uses Mesa's surfaceless platform)" : "");
+    nlohmann::json list = nlohmann::json::array();
+    for (const EglDeviceInfo& d : devices) {
+        std::string glRenderer, failure;
+        bool glSoftware = false;
+        try {
+            const auto context = createHeadlessContext(GlBackend::Egl, false, d.index);
+            const GlInfo gl = queryGlInfo();
+            glRenderer = gl.renderer + " (OpenGL " + gl.version + ")";
+            glSoftware = gl.softwareRenderer;
+        } catch (const GlError& e) {
+            failure = e.what();
+        }
+        const auto shown = [](const std::string& text) { return text.empty() ? std::string("-") : text; };
+        std::printf("  device %d  %s  EGL renderer %s, vendor %s, DRM %s\n    OpenGL %s\n", d.index,
+                    d.software || glSoftware ? "software" : "hardware", shown(d.renderer).c_str(), shown(d.vendor).c_str(),
+                    shown(d.drmDevice).c_str(), failure.empty() ? glRenderer.c_str() : ("no 4.5 core context: " + failure).c_str());
+        list.push_back({{"index", d.index}, {"software", d.software || glSoftware}, {"egl_software", d.software},
+                        {"egl_renderer", d.renderer}, {"egl_vendor", d.vendor}, {"drm_device", d.drmDevice},
+                        {"gl_renderer", glRenderer}, {"error", failure}});
+    }
+    std::printf("--gl-device %s picks:\n", o.glDevice == kAutoGlDevice ? "auto" : std::to_string(o.glDevice).c_str());
+    return list;
+}
+
 } // namespace
 
 int runInfo(const InfoOptions& options) {
     const CommonOptions& o = options.common;
+    nlohmann::json devices;
+    if (options.devices) devices = listDevices(o);
     const auto context = createHeadlessContext(o.gl, o.glDebug, o.glDevice);
+    warnIfSoftwareRenderer(o, *context);
     const GlInfo info = queryGlInfo();
-    std::printf("OpenGL\n  context      %s\n  vendor       %s\n  renderer     %s\n  version      %s\n  GLSL         %s\n",
-                context->description().c_str(), info.vendor.c_str(), info.renderer.c_str(), info.version.c_str(),
-                info.glslVersion.c_str());
+    const GpuMemoryInfo memory = queryGpuMemory();
+    std::printf("OpenGL\n  context      %s\n  vendor       %s\n  renderer     %s%s\n  version      %s\n  GLSL         %s\n",
+                context->description().c_str(), info.vendor.c_str(), info.renderer.c_str(),
+                info.softwareRenderer ? " (software)" : "", info.version.c_str(), info.glslVersion.c_str());
     std::printf("  max texture buffer %d texels, max texture %d, draw buffers %d, KHR_debug %s\n",
                 info.maxTextureBufferSize, info.maxTextureSize, info.maxDrawBuffers, info.khrDebug ? "yes" : "no");
+    if (memory.reported) {
+        std::printf("  GPU memory   %.0f MiB available of %s (%s)\n", double(memory.availableBytes) / double(1 << 20),
+                    memory.totalBytes ? (std::to_string(memory.totalBytes >> 20) + " MiB").c_str() : "an unreported total",
+                    memory.source.c_str());
+    } else {
+        std::printf("  GPU memory   not reported (no GL_NVX_gpu_memory_info or GL_ATI_meminfo)\n");
+    }
+    std::printf("  shader stage %s (--shader-stage %s), loop cap %s\n",
+                toString(resolveTraceStage(o.shaderStage)), toString(o.shaderStage),
+                currentRendererTraits().loopCap ? "compiled in (the renderer ends loops after 65,535 iterations)" : "off");
     nlohmann::json j = {{"gl", {{"context", context->description()}, {"vendor", info.vendor},
                                 {"renderer", info.renderer}, {"version", info.version},
+                                {"software_renderer", info.softwareRenderer},
+                                {"shader_stage", toString(resolveTraceStage(o.shaderStage))},
+                                {"loop_cap", currentRendererTraits().loopCap},
+                                {"gpu_memory_reported", memory.reported},
+                                {"gpu_memory_available_bytes", memory.availableBytes},
+                                {"gpu_memory_total_bytes", memory.totalBytes},
                                 {"max_texture_buffer_size", info.maxTextureBufferSize}}}};
+    j.update(glJson(info));
+    if (options.devices) {
+        j["devices"] = devices;
+        if (!o.statsJson.empty()) writeJsonFile(o.statsJson, j);
+        return kExitOk;
+    }
     if (!options.noScene && outofcore::isPreparedScenePath(o.scene)) {
         const outofcore::ChsFile file(o.scene);
         const outofcore::ChsHeader& h = file.header();

@@ -105,7 +105,7 @@ nlohmann::json runJson(const RenderOptions& options, const SceneSession& session
                        const std::string& glRenderer) {
     char host[256] = {};
     ::gethostname(host, sizeof host - 1);
-    return {{"command", options.demo ? "demo" : "render"},
+    nlohmann::json json = {{"command", options.demo ? "demo" : "render"},
             {"scene", toJson(session.scene)},
             {"bvh", toJson(session.bvh.stats)},
             {"path", session.path.name},
@@ -119,7 +119,10 @@ nlohmann::json runJson(const RenderOptions& options, const SceneSession& session
             {"host", host},
             {"commit", buildCommit()},
             {"flags_digest", flagsDigest(options.words)},
-            {"arguments", options.words}};
+            {"arguments", options.words},
+            {"shader_stage", toString(resolveTraceStage(preferredTraceStage()))}};
+    json.update(glJson(queryGlInfo())); // gl_renderer again, with vendor, version and software_renderer
+    return json;
 }
 
 // --resume: the frames whose records prove them done (render_records.h), with their recorded statistics.

@@ -3,6 +3,8 @@
 //     tolerance (renderer/render/hit_comparison.h).
 //   any other GPU method: against pure BVH GLSL tracing, exactly (same triangle id and bit-identical t), as
 //     conservative methods must be.
+//   --reference embree | fragment | compute chooses the oracle instead: Embree, or pure BVH tracing in that shader
+//     stage, exactly (bvh in the compute stage against the fragment stage: the same bits are required).
 // Exit 0 when no pixel differs (or at most --max-diff) and no ray reached the shader loop cap; 4 otherwise.
 #include "app/commands.h"
 #include "app/methods.h"
@@ -11,6 +13,7 @@
 #include "culling/outofcore/out_of_core_tracer.h"
 #include "renderer/core/error.h"
 #include "renderer/reference/embree_tracer.h"
+#include "renderer/render/bvh_tracer.h"
 #include "renderer/render/hit_comparison.h"
 
 #include <cstdio>
@@ -40,13 +43,23 @@ struct VerifyContext {
     Renderer& renderer;
     Tracer* method = nullptr;
     EmbreeTracer* embree = nullptr; // against Embree
+    Tracer* reference = nullptr;    // exact comparisons: this pure tracer, nullptr = the renderer's own
     HitTolerance tolerance;
     int shown = 0;                  // differing pixels printed so far (--show-diff)
 };
 
+// "embree", "bvh-fragment" or "bvh-compute" (JSON "reference").
+std::string referenceName(const VerifyContext& v) {
+    if (v.embree) return "embree";
+    const TraceStage stage = v.reference ? static_cast<const BvhTracer*>(v.reference)->stage() : v.renderer.pureTracerStage();
+    return std::string("bvh-") + toString(stage);
+}
+
 void printHeader(const VerifyContext& v, const RenderSettings& settings, size_t frames) {
-    std::printf("verify: method %s against %s, %s (%s triangles), path %s, %zu frame(s), %dx%d, %d spp\n",
-                v.options.method.c_str(), v.embree ? "Embree" : "pure BVH tracing (exact)",
+    const std::string oracle = v.embree ? std::string("Embree")
+                                        : "pure BVH tracing (exact, " + referenceName(v).substr(4) + " stage)";
+    std::printf("verify: method %s (%s stage) against %s, %s (%s triangles), path %s, %zu frame(s), %dx%d, %d spp\n",
+                v.options.method.c_str(), toString(v.renderer.pureTracerStage()), oracle.c_str(),
                 v.session.scene.name.c_str(), formatCount(v.session.scene.triangleCount()).c_str(),
                 v.session.path.name.c_str(), frames, settings.width, settings.height, settings.samplesPerPixel);
     if (v.embree) {
@@ -74,7 +87,7 @@ HitComparison verifyFrame(VerifyContext& v, RayType type, int frame, FrameStats&
             v.embree->trace(rays, reference, false); // closest hit: same hit/miss as any-hit, and ids
             result.add(compareHits(v.session.scene, rays, hits, reference, isAnyHit(type), v.tolerance, &differing));
         } else {
-            renderer.useTracer(nullptr);
+            renderer.useTracer(v.reference);
             renderer.traceRayPass(camera, type, sample, stats);
             reference = renderer.readHits(0);
             result.add(compareHitsExactly(rays, hits, reference, isAnyHit(type), &differing));
@@ -118,8 +131,13 @@ int runVerify(const VerifyOptions& options) {
     GpuSession gpu = openGpuSession(o, session, settings);
     const std::unique_ptr<Tracer> method = makeTracer(options.method, session, /*alwaysCull=*/true);
     std::unique_ptr<EmbreeTracer> embree;
-    if (options.method == kPureBvhMethod) embree = std::make_unique<EmbreeTracer>(session.scene);
-    VerifyContext v{options, session, *gpu.renderer, method.get(), embree.get()};
+    std::unique_ptr<BvhTracer> reference;
+    if (options.reference == "embree" || (options.reference == "auto" && options.method == kPureBvhMethod)) {
+        embree = std::make_unique<EmbreeTracer>(session.scene);
+    } else if (options.reference != "auto") {
+        reference = std::make_unique<BvhTracer>(parseTraceStage(options.reference));
+    }
+    VerifyContext v{options, session, *gpu.renderer, method.get(), embree.get(), reference.get()};
     v.tolerance.absoluteT *= v.renderer.sceneDiagonal();
     printHeader(v, settings, frames.size());
 
@@ -151,9 +169,13 @@ int runVerify(const VerifyOptions& options) {
     const bool pass = totalDiffering <= options.maxDiffering && totalCapped == 0;
     std::printf("%s: %llu differing pixel(s)\n", pass ? "PASS" : "FAIL", (unsigned long long)totalDiffering);
     if (!o.statsJson.empty()) {
-        writeJsonFile(o.statsJson, {{"command", "verify"}, {"method", options.method}, {"scene", toJson(session.scene)},
-                                    {"path", session.path.name}, {"pass", pass}, {"differing", totalDiffering},
-                                    {"capped_rays", totalCapped}, {"frames", rows}});
+        nlohmann::json json = {{"command", "verify"}, {"method", options.method}, {"scene", toJson(session.scene)},
+                               {"path", session.path.name}, {"pass", pass}, {"differing", totalDiffering},
+                               {"capped_rays", totalCapped}, {"frames", rows},
+                               {"shader_stage", toString(v.renderer.pureTracerStage())},
+                               {"reference", referenceName(v)}};
+        json.update(glJson(queryGlInfo()));
+        writeJsonFile(o.statsJson, json);
     }
     return pass ? kExitOk : kExitCheckFailed;
 }

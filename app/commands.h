@@ -47,6 +47,9 @@ struct VerifyOptions {
     std::string rayTypes = "primary";
     uint64_t maxDiffering = 0;
     int showDifferences = 0; // print this many differing pixels with both hits
+    // What the method is compared with: auto (Embree for bvh, pure BVH tracing otherwise), embree, or pure BVH
+    // tracing in a given shader stage, exactly: fragment | compute (bvh in one stage against the other).
+    std::string reference = "auto";
 };
 int runVerify(const VerifyOptions& options);
 
@@ -54,6 +57,7 @@ struct InfoOptions {
     CommonOptions common;
     bool noScene = false;
     bool check = false; // --check: read every subtree of a prepared scene and verify its checksum (exit 4 if any fails)
+    bool devices = false; // --devices: list the EGL devices (and what auto picks) instead of the scene
 };
 int runInfo(const InfoOptions& options);
 

@@ -101,6 +101,12 @@ CLI::App* addVerify(CLI::App& cli, VerifyOptions& verify) {
         ->capture_default_str();
     c->add_option("--show-diff", verify.showDifferences, "Print up to N differing pixels with their ray and both hits")
         ->check(notNegative());
+    c->add_option("--reference", verify.reference,
+                  "What the hits are compared with: auto (Embree for bvh, pure BVH tracing for the other methods), "
+                  "embree (within the stated tolerance), or pure BVH tracing in the fragment or compute stage, "
+                  "exactly (--method bvh --shader-stage compute --reference fragment: the two stages bit for bit)")
+        ->check(CLI::IsMember({"auto", "embree", "fragment", "compute"}))
+        ->capture_default_str();
     return c;
 }
 
@@ -108,6 +114,9 @@ CLI::App* addInfo(CLI::App& cli, InfoOptions& info) {
     CLI::App* c = cli.add_subcommand("info", "Print the OpenGL renderer, its limits and scene statistics");
     addCommonOptions(*c, info.common, kHeadlessCommands);
     c->add_flag("--no-scene", info.noScene, "Only the OpenGL information");
+    c->add_flag("--devices", info.devices,
+                "List the EGL devices (index for --gl-device, software or hardware, the driver's names, the OpenGL "
+                "renderer each one creates) and the OpenGL information of the device --gl-device picks; no scene");
     c->add_flag("--check", info.check, "Prepared scenes: read every subtree and verify its checksum (exit 4 when one "
                                        "fails; opening checks only the header and metadata)");
     return c;

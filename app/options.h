@@ -14,6 +14,7 @@
 #include "renderer/gl/context.h"
 #include "culling/outofcore/out_of_core_tracer.h"
 #include "renderer/render/render_settings.h"
+#include "renderer/render/trace_stage.h"
 
 #include <CLI/CLI.hpp>
 
@@ -49,7 +50,8 @@ struct CommonOptions {
     float fovY = 60.0f;
     std::string frames;             // --frames; default depends on the command
     GlBackend gl = GlBackend::Egl;
-    int glDevice = -1;              // --gl-device: EGL device index, -1 the first that works
+    int glDevice = kAutoGlDevice;   // --gl-device: EGL device index, or auto (kAutoGlDevice): hardware first
+    TraceStage shaderStage = TraceStage::Auto; // --shader-stage of the pure BVH tracer's passes
     bool glDebug = false;
     bool strict = false;            // --strict: a scene's load warnings (Scene::warnings) are errors
     std::string statsJson;

@@ -132,6 +132,33 @@ Codec<T> choiceCodec(std::vector<std::pair<std::string, T>> values) {
     return c;
 }
 
+// --gl-device: an EGL device index, or auto (kAutoGlDevice).
+Codec<int> glDeviceCodec() {
+    const auto fail = [](const std::string& shown, const std::string& name) -> int {
+        throw InputError(name + " must be auto or an EGL device index (chcrt info --devices lists them), not " + shown);
+    };
+    Codec<int> c;
+    c.parse = [fail](const std::string& text, const std::string& name) {
+        if (text == "auto") return kAutoGlDevice;
+        int value = 0;
+        const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+        if (text.empty() || error != std::errc() || end != text.data() + text.size() || value < 0 || value > 1024) {
+            return fail("'" + text + "'", name);
+        }
+        return value;
+    };
+    c.fromJson = [fail](const nlohmann::json& value, const std::string& name) {
+        if (value.is_string() && value.get<std::string>() == "auto") return kAutoGlDevice;
+        if (!value.is_number_integer() || value.get<long long>() < 0 || value.get<long long>() > 1024) {
+            return fail(value.dump(), name);
+        }
+        return value.get<int>();
+    };
+    c.text = [](const int& v) { return v == kAutoGlDevice ? std::string("auto") : std::to_string(v); };
+    c.json = [](const int& v) { return v == kAutoGlDevice ? nlohmann::json("auto") : nlohmann::json(v); };
+    return c;
+}
+
 // on|off on the command line, true/false as a viewer setting.
 Codec<bool> onOffCodec() {
     Codec<bool> c = choiceCodec<bool>({{"on", true}, {"off", false}});
@@ -297,10 +324,22 @@ std::vector<Parameter> describeSession() {
             .commands(kHeadlessCommands)
             .choice<GlBackend>(FIELD(gl), {{"egl", GlBackend::Egl}, {"osmesa", GlBackend::OsMesa}}),
         Describe(Area::Session, "--gl-device", "",
-                 "EGL device to render on: its index in the EGL device list (no fall-back to another device or "
-                 "platform); -1: the first device that creates a context, else Mesa's surfaceless platform")
+                 "EGL device to render on: its index in the EGL device list (chcrt info --devices; no fall-back to "
+                 "another device or platform), or auto: the first hardware device that creates a context, else a "
+                 "software one or Mesa's surfaceless platform, with a warning")
             .commands(kHeadlessCommands)
-            .integer<int>(FIELD(glDevice), -1, 1024),
+            .value("N|auto")
+            .sets<int>(FIELD(glDevice), glDeviceCodec()),
+        Describe(Area::Session, "--shader-stage", "",
+                 "Shader stage of pure BVH tracing (method bvh, the pure passes inside the other methods, the "
+                 "references of bench and verify): fragment (a full-screen pass), compute (an invocation per ray, "
+                 "8x8 groups; the same hits bit for bit) or auto: fragment on software renderers (llvmpipe, where "
+                 "fragments measured faster), compute on every other; the environment variable CHCRT_SHADER_STAGE "
+                 "overrides auto. Line Space and N-tree shadow passes stay fragment passes")
+            .emit(Emit::IfNotDefault)
+            .choice<TraceStage>(FIELD(shaderStage), {{"auto", TraceStage::Auto},
+                                                     {"fragment", TraceStage::Fragment},
+                                                     {"compute", TraceStage::Compute}}),
         Describe(Area::Session, "--strict", "",
                  "Refuse scenes that load with warnings (a missing texture file, faces of fewer than 3 vertices, a "
                  "file cut short) instead of printing the warnings")

@@ -184,6 +184,13 @@ nlohmann::json machineJson(const MachineSnapshot& before, const MachineSnapshot&
             {"load_after", after.loadAverage}};
 }
 
+nlohmann::json glJson(const GlInfo& info) {
+    return {{"gl_vendor", info.vendor},
+            {"gl_renderer", info.renderer},
+            {"gl_version", info.version},
+            {"software_renderer", info.softwareRenderer}};
+}
+
 std::vector<std::string> processCommandLine() {
     std::ifstream in("/proc/self/cmdline", std::ios::binary);
     std::vector<std::string> words;

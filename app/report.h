@@ -3,6 +3,7 @@
 // never leaves a partial file), statistics as JSON, and fixed-width tables for the terminal.
 #include "culling/chcrt_tracer.h"
 #include "renderer/bvh/bvh.h"
+#include "renderer/gl/context.h"
 #include "renderer/render/renderer.h"
 #include "renderer/scene/scene.h"
 
@@ -42,6 +43,10 @@ struct MachineSnapshot {
 MachineSnapshot takeMachineSnapshot();
 // {cpu, cores, commit, started_utc, finished_utc, load_before, load_after}.
 nlohmann::json machineJson(const MachineSnapshot& before, const MachineSnapshot& after);
+// The GL implementation a measurement ran on, the fields every JSON of bench, render and verify carries at its top
+// level: {gl_vendor, gl_renderer, gl_version, software_renderer (a CPU rasteriser: not GPU timings)}.
+nlohmann::json glJson(const GlInfo& info);
+
 // The process's own command line, word by word (/proc/self/cmdline), so outputs name the exact command.
 std::vector<std::string> processCommandLine();
 

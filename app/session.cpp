@@ -5,6 +5,7 @@
 #include "renderer/core/output_path.h"
 #include "renderer/outofcore/chs_file.h"
 #include "renderer/render/frame_targets.h"
+#include "renderer/render/scene_gpu.h"
 #include "renderer/scene/scene_loader.h"
 
 #include <algorithm>
@@ -74,13 +75,24 @@ int parseFrameCountSuffix(const std::string& text, size_t prefixLength) {
 }
 
 // Whether a prepared scene is loaded in core: always without --out-of-core; with it by --load-in-core (auto: when
-// the estimated footprint is below a quarter of the physical memory).
+// the estimated host footprint is below a quarter of the physical memory and, where the driver reports GPU memory,
+// the scene's GPU buffers take less than half of the available GPU memory; the rest is for the frame's targets,
+// the out-of-core tracer's cache and the driver).
 bool loadPreparedInCore(const CommonOptions& o) {
     if (!o.outOfCoreScene.enabled) return true;
     if (o.outOfCoreScene.loadInCore != LoadInCore::Auto) return o.outOfCoreScene.loadInCore == LoadInCore::On;
-    const uint64_t triangles = outofcore::ChsFile(o.scene).header().triangleCount;
+    const outofcore::ChsHeader header = outofcore::ChsFile(o.scene).header();
     const uint64_t ram = uint64_t(sysconf(_SC_PHYS_PAGES)) * uint64_t(sysconf(_SC_PAGE_SIZE));
-    return outofcore::estimatedInCoreBytes(triangles) < ram / 4;
+    if (outofcore::estimatedInCoreBytes(header.triangleCount) >= ram / 4) return false;
+    // GPU memory is a property of the device the session will render on: asked on a context of its own.
+    const GpuMemoryInfo gpu = [&o] {
+        const auto probe = createHeadlessContext(o.gl, false, o.glDevice);
+        return queryGpuMemory();
+    }();
+    if (!gpu.reported) return true;
+    const uint64_t gpuBytes = SceneGpu::estimatedBytes(header.triangleCount, 3 * header.triangleCount,
+                                                       header.nodeCount + header.upperNodeCount);
+    return gpuBytes < gpu.availableBytes / 2;
 }
 
 // A --scene that is neither a generator nor an existing file: say both, with the generators, rather than "no such
@@ -217,10 +229,24 @@ void checkOutputFiles(const std::vector<std::string>& files) {
     }
 }
 
+void warnIfSoftwareRenderer(const CommonOptions& o, const GlContext& context) {
+    const GlInfo info = queryGlInfo();
+    if (!info.softwareRenderer) return;
+    const bool autoDevice = o.gl == GlBackend::Egl && o.glDevice == kAutoGlDevice;
+    std::fprintf(stderr, "warning: OpenGL renders on the software renderer %s (%s): timings are CPU timings, not GPU "
+                         "timings%s\n",
+                 info.renderer.c_str(), context.description().c_str(),
+                 autoDevice ? "; --gl-device auto found no hardware EGL device that makes an OpenGL 4.5 core context "
+                              "(chcrt info --devices lists them)"
+                            : "");
+}
+
 GpuSession openGpuSession(const CommonOptions& o, const SceneSession& s, const RenderSettings& settings) {
     const auto start = Clock::now();
     GpuSession g;
     g.context = createHeadlessContext(o.gl, o.glDebug, o.glDevice);
+    warnIfSoftwareRenderer(o, *g.context);
+    setPreferredTraceStage(o.shaderStage);
     RenderSettings effective = settings;
     if (!s.sceneInCore) {
         // Not in core (docs/outofcore.md): primary visibility from out-of-core primary rays; the diffuse effect

@@ -56,6 +56,11 @@ struct GpuSession {
     std::unique_ptr<Renderer> renderer;
     double setupSeconds = 0; // context + upload + shader compilation
 };
+// Creates the context (--gl, --gl-device; warns on a software renderer), sets the preferred shader stage
+// (--shader-stage) and makes the renderer.
 GpuSession openGpuSession(const CommonOptions& options, const SceneSession& session, const RenderSettings& settings);
+// The warning line on stderr when the current context renders in software (llvmpipe): its timings are not GPU
+// timings; with --gl-device auto it also says that no hardware EGL device made a context. Nothing otherwise.
+void warnIfSoftwareRenderer(const CommonOptions& options, const GlContext& context);
 
 } // namespace chcrt::app

@@ -323,6 +323,7 @@ void Viewer::installScene(std::unique_ptr<SceneSession> loaded, std::unique_ptr<
     int fbWidth = 1, fbHeight = 1;
     glfwGetFramebufferSize(window_, &fbWidth, &fbHeight);
     internalSize(settings_, std::max(fbWidth, 1), std::max(fbHeight, 1), w, h);
+    setPreferredTraceStage(options_.common.shaderStage); // --shader-stage
     gpu_.renderer = std::make_unique<Renderer>(scene_->scene, scene_->bvh, scene_->light,
                                                toRenderSettings(settings_, w, h, 0), std::move(uploaded));
     methods_.apply(settings_, *scene_, *gpu_.renderer);

@@ -89,6 +89,8 @@ Renderer::Renderer(const Scene& scene, const Bvh& bvh, const AreaLight& light, c
 
 Renderer::~Renderer() = default;
 
+TraceStage Renderer::pureTracerStage() const { return static_cast<const BvhTracer&>(*bvhTracer_).stage(); }
+
 void Renderer::setOutOfCorePrimary(OutOfCorePrimaryResolve resolve) {
     outOfCorePrimary_ = std::move(resolve);
     pixelGeometricNormals_ = 0;

@@ -11,6 +11,7 @@
 #include "renderer/render/frame_targets.h"
 #include "renderer/render/render_settings.h"
 #include "renderer/render/scene_gpu.h"
+#include "renderer/render/trace_stage.h"
 #include "renderer/render/tracer.h"
 
 #include <array>
@@ -47,6 +48,8 @@ public:
     // The tracing method used from now on (not owned; must outlive its use); nullptr = pure BVH tracing.
     void useTracer(Tracer* tracer) { activeTracer_ = tracer ? tracer : bvhTracer_.get(); }
     Tracer& tracer() { return *activeTracer_; }
+    // The shader stage of the renderer's own pure BVH tracer (preferredTraceStage() resolved at construction).
+    TraceStage pureTracerStage() const;
     // Scene data on the GPU, for tracers that bind more than the BVH (CHC+RT subtrees, Line Space).
     const SceneGpu& sceneGpu() const { return *sceneGpu_; }
 

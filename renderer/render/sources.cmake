@@ -4,6 +4,7 @@ chcrt_add_library(chcrt_render
   render/scene_gpu.cpp
   render/frame_targets.cpp
   render/trace_pass.cpp
+  render/trace_stage.cpp
   render/bvh_tracer.cpp
   render/renderer.cpp
   render/hit_comparison.cpp

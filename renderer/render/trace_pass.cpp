@@ -3,6 +3,8 @@
 #include "shaders/shared/bvh_layout.h"
 #include "shaders/shared/render_layout.h"
 
+#include <glm/glm.hpp>
+
 #include <bit>
 
 namespace chcrt {
@@ -28,6 +30,30 @@ void beginTracePass(const RayTextures& rays, HitTargets& hits, int width, int he
     }
     glBindTextureUnit(CHCRT_UNIT_RAY_ORIGIN, rays.origin.id());
     glBindTextureUnit(CHCRT_UNIT_RAY_DIRECTION, rays.direction.id());
+}
+
+void dispatchTracePass(const ShaderProgram& program, const RayTextures& rays, HitTargets& hits, int width, int height) {
+    glm::ivec2 origin(0), size(width, height);
+    if (glIsEnabled(GL_SCISSOR_TEST)) {
+        GLint box[4] = {0, 0, 0, 0};
+        glGetIntegerv(GL_SCISSOR_BOX, box);
+        const glm::ivec2 lower = glm::clamp(glm::ivec2(box[0], box[1]), glm::ivec2(0), size);
+        const glm::ivec2 upper = glm::clamp(glm::ivec2(box[0] + box[2], box[1] + box[3]), lower, size);
+        origin = lower;
+        size = upper - lower;
+    }
+    if (size.x == 0 || size.y == 0) return;
+    glBindTextureUnit(CHCRT_UNIT_RAY_ORIGIN, rays.origin.id());
+    glBindTextureUnit(CHCRT_UNIT_RAY_DIRECTION, rays.direction.id());
+    glBindImageTexture(CHCRT_IMAGE_TRACE_HIT, hits.hit.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32UI);
+    glBindImageTexture(CHCRT_IMAGE_TRACE_COST, hits.cost.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32UI);
+    program.set("regionOrigin", origin);
+    program.set("regionSize", size);
+    program.use();
+    const GLuint group = CHCRT_TRACE_GROUP_SIZE;
+    glDispatchCompute((GLuint(size.x) + group - 1) / group, (GLuint(size.y) + group - 1) / group, 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
+                    GL_FRAMEBUFFER_BARRIER_BIT | GL_ATOMIC_COUNTER_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 
 std::array<GLuint, 4> missHitTexel() {

@@ -7,6 +7,7 @@
 // through the whole traversal code; the early test is the one place where it skips a group
 // (docs/architecture.md, "llvmpipe executes every branch", has the measurements). The shaders declare
 // layout(early_fragment_tests).
+#include "renderer/gl/shader.h"
 #include "renderer/render/frame_targets.h"
 
 #include <array>
@@ -20,6 +21,14 @@ void beginTracePass(const RayTextures& rays, HitTargets& hits, int width, int he
 
 // Restores the depth state beginTracePass changed (test off, writes on).
 void endTracePass();
+
+// The compute form of a tracing pass (render/trace_bvh.comp.glsl and passes like it): binds `rays` for reading and
+// the hit and cost textures of `hits` as images (CHCRT_IMAGE_TRACE_HIT / _COST), dispatches `program` with one
+// invocation per pixel in CHCRT_TRACE_GROUP_SIZE² groups over the scissor box when the scissor test is on (as a
+// fragment pass would be clipped; Renderer::warmUp traces one pixel), else over width × height, and makes the
+// stores visible to every later read (texture fetches, image loads, read-backs, framebuffer use, the capped-ray
+// counter). The program's uniforms regionOrigin, regionSize receive the traced rectangle.
+void dispatchTracePass(const ShaderProgram& program, const RayTextures& rays, HitTargets& hits, int width, int height);
 
 // The hit-target texel (CHCRT_TRACE_OUT_HIT layout) of a ray that is not traced or hits nothing: t =
 // CHCRT_NO_HIT_T, no triangle, zero barycentrics. Tracers clear to it before they trace only some pixels.

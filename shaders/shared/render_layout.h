@@ -99,5 +99,12 @@
 // Atomic counter binding: rays that reached CHCRT_TRACE_ITERATION_CAP (read back after each frame).
 #define CHCRT_ATOMIC_BINDING_CAPPED_RAYS 0
 
+// --- The pure tracer's compute pass (render/trace_bvh.comp.glsl): one invocation per ray in work groups of
+//     CHCRT_TRACE_GROUP_SIZE² pixels, writing the hit and cost targets through these image units (CHC+RT's
+//     passes use units 0-2, shared/culling_layout.h) -----------------------------------------------------------
+#define CHCRT_TRACE_GROUP_SIZE 8
+#define CHCRT_IMAGE_TRACE_HIT 3  // uimage2D RGBA32UI, the CHCRT_TRACE_OUT_HIT layout
+#define CHCRT_IMAGE_TRACE_COST 4 // uimage2D RGBA32UI, the CHCRT_TRACE_OUT_COST layout
+
 #include "shared_end.h"
 #endif

@@ -63,6 +63,21 @@ protected:
     fs::path dir_;
 };
 
+// `output` without the line every GL command prints when it renders on a software renderer (llvmpipe: "warning:
+// OpenGL renders on the software renderer ...", app/session.cpp), for tests that want no other warning.
+inline std::string withoutSoftwareRendererWarning(const std::string& output) {
+    const std::string marker = "warning: OpenGL renders on the software renderer";
+    std::string kept;
+    size_t start = 0;
+    while (start < output.size()) {
+        size_t end = output.find('\n', start);
+        end = end == std::string::npos ? output.size() : end + 1;
+        if (output.compare(start, marker.size(), marker) != 0) kept.append(output, start, end - start);
+        start = end;
+    }
+    return kept;
+}
+
 // Small frames for tests that only need the command to run.
 constexpr const char* kSmall = "--width 48 --height 32 --spp 1 -q";
 

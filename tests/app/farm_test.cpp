@@ -73,7 +73,8 @@ TEST(FarmRecords, DigestIgnoresBookkeepingButNotPixels) {
     const std::string digest = flagsDigest(base);
     // Where a run writes and which frames it renders do not change any frame's pixels.
     EXPECT_EQ(flagsDigest({"--scene", "city:200k", "--spp", "2", "--frames=3", "-o", "elsewhere_####.png",
-                           "--stats-json", "s.json", "--records", "r.jsonl", "--resume", "-q", "--gl-device", "1"}),
+                           "--stats-json", "s.json", "--records", "r.jsonl", "--resume", "-q", "--gl-device", "1",
+                           "--shader-stage", "compute"}),
               digest);
     EXPECT_EQ(pixelDecidingWords(base), (Words{"--scene", "city:200k", "--spp", "2"}));
     // Anything else does, and word boundaries count ("--spp 2" is not "--spp2").

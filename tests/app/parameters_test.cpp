@@ -68,6 +68,20 @@ TEST(ParameterTable, EveryValueReadsBackItsOwnText) {
     }
 }
 
+TEST(ParameterTable, GlDeviceTakesAnIndexOrAutoAndShaderStageAStage) {
+    EXPECT_EQ(parse({}).glDevice, kAutoGlDevice);
+    EXPECT_EQ(parse({"--gl-device", "auto"}).glDevice, kAutoGlDevice);
+    EXPECT_EQ(parse({"--gl-device", "2"}).glDevice, 2);
+    EXPECT_EQ(findParameter("--gl-device")->text(parse({})), "auto");
+    EXPECT_NE(inputError({"--gl-device", "gpu0"}).find("--gl-device must be auto or an EGL device index"),
+              std::string::npos);
+    EXPECT_EQ(parse({}).shaderStage, TraceStage::Auto);
+    EXPECT_EQ(parse({"--shader-stage", "compute"}).shaderStage, TraceStage::Compute);
+    EXPECT_EQ(parse({"--shader-stage", "fragment"}).shaderStage, TraceStage::Fragment);
+    EXPECT_NE(inputError({"--shader-stage", "vertex"}).find("--shader-stage must be auto, fragment or compute, not 'vertex'"),
+              std::string::npos);
+}
+
 TEST(ParameterTable, TheCommandLineSetsTheTypedFields) {
     const CommonOptions o = parse({"--chcrt-min-tile", "16", "--chcrt-leaf-cache", "on", "--ls-depth", "5",
                                    "--ls-ntree", "4:2", "--ls-ntree-start", "exact", "--gpu-cache-mb", "3",

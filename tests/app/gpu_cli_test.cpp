@@ -1,0 +1,101 @@
+// What a GPU run relies on, through build/bin/chcrt: the EGL device list and the device flag (chcrt info --devices,
+// --gl-device N|auto), the software-renderer warning and the GL fields of every JSON the tools write, and the
+// compute stage of pure BVH tracing (--shader-stage), verified bit for bit against the fragment stage.
+#include "tests/app/cli_fixture.h"
+
+namespace chcrt::clitest {
+namespace {
+
+constexpr const char* kScene = "--scene city:10k --width 40 --height 28 --frames 0 -q ";
+constexpr const char* kSoftwareWarning = "warning: OpenGL renders on the software renderer";
+
+// The GL fields every JSON carries (app/report.h glJson); returns whether the renderer is software.
+bool expectGlFields(const nlohmann::json& j, const std::string& what) {
+    for (const char* key : {"gl_vendor", "gl_renderer", "gl_version"}) {
+        EXPECT_TRUE(j.contains(key) && j[key].is_string() && !j[key].get<std::string>().empty()) << what << ": " << key;
+    }
+    EXPECT_TRUE(j.contains("software_renderer") && j["software_renderer"].is_boolean()) << what;
+    return j.value("software_renderer", false);
+}
+
+TEST_F(CliTest, InfoDevicesListsTheEglDevicesAndWhatAutoPicks) {
+    const Result r = run("info --devices --stats-json d.json -q");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("EGL devices: "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("--gl-device auto picks:"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("Scene "), std::string::npos) << "--devices reads no scene\n" << r.output;
+    const nlohmann::json j = readJson("d.json");
+    const bool software = expectGlFields(j, "info");
+    EXPECT_EQ(r.output.find(kSoftwareWarning) != std::string::npos, software) << r.output;
+    ASSERT_TRUE(j["devices"].is_array());
+    for (size_t i = 0; i < j["devices"].size(); ++i) {
+        const nlohmann::json& d = j["devices"][i];
+        EXPECT_EQ(d["index"], i);
+        EXPECT_TRUE(d["software"].is_boolean());
+        EXPECT_NE(r.output.find("  device " + std::to_string(i) + "  "), std::string::npos) << r.output;
+    }
+}
+
+TEST_F(CliTest, GlDeviceValuesAreCheckedAndADeviceOutsideTheListIsRefused) {
+    const Result word = run("info --no-scene --gl-device gpu0 -q");
+    EXPECT_EQ(word.exitCode, 2) << word.output;
+    EXPECT_NE(word.output.find("--gl-device must be auto or an EGL device index"), std::string::npos) << word.output;
+    const Result far = run("info --no-scene --gl-device 1000 -q");
+    EXPECT_EQ(far.exitCode, 3) << far.output; // an OpenGL error: that device does not exist (or no device platform)
+    EXPECT_EQ(run("info --no-scene --gl osmesa --gl-device 0 -q").exitCode, 2);
+    EXPECT_EQ(run("info --no-scene --gl-device auto -q").exitCode, 0);
+    const Result stage = run("info --no-scene --shader-stage vertex -q");
+    EXPECT_EQ(stage.exitCode, 2) << stage.output;
+    EXPECT_NE(stage.output.find("--shader-stage must be auto, fragment or compute"), std::string::npos) << stage.output;
+}
+
+TEST_F(CliTest, EveryJsonCarriesTheGlRendererAndSoftwareIsSaidLoudly) {
+    const Result render = run(std::string("render ") + kScene + "-o a.png --stats-json r.json --shader-stage compute");
+    ASSERT_EQ(render.exitCode, 0) << render.output;
+    const nlohmann::json r = readJson("r.json");
+    const bool software = expectGlFields(r, "render");
+    EXPECT_EQ(r["shader_stage"], "compute");
+    EXPECT_EQ(render.output.find(kSoftwareWarning) != std::string::npos, software) << render.output;
+
+    const Result bench = run(std::string("bench ") + kScene + "--method bvh --ray-type ao --runs 1 --warmup 0 --json b.json");
+    ASSERT_EQ(bench.exitCode, 0) << bench.output;
+    const nlohmann::json b = readJson("b.json");
+    EXPECT_EQ(expectGlFields(b, "bench"), software);
+    EXPECT_TRUE(b["settings"]["shader_stage"] == "fragment" || b["settings"]["shader_stage"] == "compute");
+    EXPECT_EQ(bench.output.find(kSoftwareWarning) != std::string::npos, software) << bench.output;
+
+    const Result verify = run(std::string("verify ") + kScene + "--stats-json v.json");
+    ASSERT_EQ(verify.exitCode, 0) << verify.output;
+    const nlohmann::json v = readJson("v.json");
+    EXPECT_EQ(expectGlFields(v, "verify"), software);
+    EXPECT_EQ(v["reference"], "embree");
+}
+
+// The compute stage traces the fragment stage's hits, bit for bit, for every ray type (verify's exact comparison),
+// and renders the same image file.
+TEST_F(CliTest, ComputeStageEqualsFragmentStageBitForBit) {
+    const Result verify = run(std::string("verify ") + kScene +
+                              "--method bvh --shader-stage compute --reference fragment --ray-type primary,shadow,ao,diffuse "
+                              "--stats-json v.json");
+    ASSERT_EQ(verify.exitCode, 0) << verify.output;
+    EXPECT_NE(verify.output.find("method bvh (compute stage) against pure BVH tracing (exact, fragment stage)"),
+              std::string::npos)
+        << verify.output;
+    const nlohmann::json v = readJson("v.json");
+    EXPECT_EQ(v["shader_stage"], "compute");
+    EXPECT_EQ(v["reference"], "bvh-fragment");
+    EXPECT_EQ(v["differing"], 0);
+    uint64_t active = 0;
+    for (const nlohmann::json& row : v["frames"]) active += row["active_rays"].get<uint64_t>();
+    EXPECT_GT(active, 40u * 28u); // primary rays alone are all active
+
+    for (const char* stage : {"fragment", "compute"}) {
+        const Result r = run(std::string("render ") + kScene + "--spp 2 --primary traced --shader-stage " + stage + " -o " +
+                             stage + ".png");
+        ASSERT_EQ(r.exitCode, 0) << r.output;
+    }
+    EXPECT_EQ(readFile("fragment.png"), readFile("compute.png"));
+}
+
+} // namespace
+} // namespace chcrt::clitest
