@@ -11,7 +11,9 @@
 #include "tests/gl/gl_test_fixture.h"
 #include "tests/linespace/linespace_test_util.h"
 
+#include <cmath>
 #include <cstring>
+#include <utility>
 
 namespace chcrt {
 namespace {
@@ -25,6 +27,12 @@ struct Case {
     vec3 origin, direction, boxMin, boxMax;
     uint32_t n, word, offset, shaft;
 };
+
+uint32_t floatBitsToUint(float f) {
+    uint32_t u;
+    std::memcpy(&u, &f, sizeof(u));
+    return u;
+}
 
 float bitsToFloat(uint32_t u) {
     float f;
@@ -73,6 +81,43 @@ std::vector<Case> makeCases() {
     return cases;
 }
 
+// GLSL 4.50 (§4.7.1) gives division and its reciprocal 2.5 ULP of error, where the C++ twin divides correctly
+// rounded: a float within 2.5 ULP of the exact quotient lies within 3 steps of the correctly rounded one. The twin's
+// divisions are the inverse direction (safeInverseDirection) and the patch coordinate ((x - lo) / extent), so a GLSL
+// result that differs from the C++ one is tolerated only when the same C++ code gives it for inputs moved by at most
+// kUlps float steps: every combination for the inverse direction's components, one corner component at a time for
+// the box (moving the extent and the offset by as much as the division may err). llvmpipe divides correctly
+// rounded and needs none of it; the tolerance exists for drivers that use approximate reciprocals.
+constexpr int kUlps = 3;
+
+float stepped(float value, int steps) {
+    for (int i = 0; i < std::abs(steps); ++i) value = std::nextafter(value, steps > 0 ? INFINITY : -INFINITY);
+    return value;
+}
+
+// Whether `result(origin, direction or invDir, boxMin, boxMax)` (the C++ twin) gives `gpu` for inputs within the
+// bound above. `vector` is perturbed in every combination, the box one component at a time.
+template <typename T, typename F>
+bool explainedByDivisionError(const T& gpu, const vec3& vector, const vec3& boxMin, const vec3& boxMax, F result) {
+    for (int x = -kUlps; x <= kUlps; ++x) {
+        for (int y = -kUlps; y <= kUlps; ++y) {
+            for (int z = -kUlps; z <= kUlps; ++z) {
+                const vec3 moved(stepped(vector.x, x), stepped(vector.y, y), stepped(vector.z, z));
+                if (result(moved, boxMin, boxMax) == gpu) return true;
+            }
+        }
+    }
+    for (int corner = 0; corner < 6; ++corner) {
+        for (int steps = -kUlps; steps <= kUlps; ++steps) {
+            vec3 lo = boxMin, hi = boxMax;
+            vec3& moved = corner < 3 ? lo : hi;
+            moved[corner % 3] = stepped(moved[corner % 3], steps);
+            if (result(vector, lo, hi) == gpu) return true;
+        }
+    }
+    return false;
+}
+
 std::vector<glm::uvec4> readTextureRgba32ui(GLuint texture, int width, int height) {
     std::vector<glm::uvec4> texels(static_cast<size_t>(width) * static_cast<size_t>(height));
     glGetTextureImage(texture, 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
@@ -110,21 +155,33 @@ void checkShaftIndexTwin(const std::vector<ShaderDefine>& defines) {
     const std::vector<glm::uvec4> gpuPatches = readTextureRgba32ui(patchesOut.id(), kWidth, kHeight);
     const std::vector<glm::uvec4> gpuShafts = readTextureRgba32ui(shaftsOut.id(), kWidth, kHeight);
 
-    int hits = 0, misses = 0, mismatches = 0, slotsFilled = 0;
+    int hits = 0, misses = 0, mismatches = 0, tolerated = 0, slotsFilled = 0;
     for (int i = 0; i < kCases; ++i) {
         const Case& c = cases[static_cast<size_t>(i)];
+        // Both outputs of the C++ twin for an inverse direction and a box (the divisions' inputs, see kUlps);
+        // patches of a miss compare by their miss mark alone.
+        const auto twin = [&c](const vec3& invDir, const vec3& boxMin, const vec3& boxMax) {
+            glm::uvec4 patches = gpu::lsEntryExitPatches(c.origin, c.direction, invDir, boxMin, boxMax, c.n);
+            if (patches.x == CHCRT_LS_NO_SHAFT) patches = glm::uvec4(CHCRT_LS_NO_SHAFT, 0u, 0u, 0u);
+            const glm::uvec4 shafts(gpu::lsShaftIndex(c.origin, c.direction, invDir, boxMin, boxMax, c.n, false),
+                                    gpu::lsShaftIndex(c.origin, c.direction, invDir, boxMin, boxMax, c.n, true),
+                                    gpu::lsSparseSlot(c.word, c.offset, c.shaft), 0u);
+            return std::make_pair(patches, shafts);
+        };
         const vec3 invDir = gpu::safeInverseDirection(c.direction);
-        const glm::uvec4 patches = gpu::lsEntryExitPatches(c.origin, c.direction, invDir, c.boxMin, c.boxMax, c.n);
-        const glm::uvec4 shafts(gpu::lsShaftIndex(c.origin, c.direction, invDir, c.boxMin, c.boxMax, c.n, false),
-                                gpu::lsShaftIndex(c.origin, c.direction, invDir, c.boxMin, c.boxMax, c.n, true),
-                                gpu::lsSparseSlot(c.word, c.offset, c.shaft), 0u);
+        const auto [patches, shafts] = twin(invDir, c.boxMin, c.boxMax);
         (patches.x == CHCRT_LS_NO_SHAFT ? misses : hits)++;
         slotsFilled += shafts.z != CHCRT_LS_EMPTY_SLOT ? 1 : 0;
-        // Every operation is a correctly rounded IEEE operation (the products are `precise` in GLSL), so the
-        // builds must agree exactly, including at edges, corners and patch boundaries.
-        const glm::uvec4 g = gpuPatches[static_cast<size_t>(i)];
-        const bool samePatches = patches.x == CHCRT_LS_NO_SHAFT ? g.x == CHCRT_LS_NO_SHAFT : g == patches;
-        if (!samePatches || gpuShafts[static_cast<size_t>(i)] != shafts) {
+        // Every other operation is a correctly rounded IEEE operation (the products are `precise` in GLSL), so the
+        // builds agree exactly, including at edges, corners and patch boundaries, up to the divisions' bound.
+        glm::uvec4 g = gpuPatches[static_cast<size_t>(i)];
+        if (g.x == CHCRT_LS_NO_SHAFT) g = glm::uvec4(CHCRT_LS_NO_SHAFT, 0u, 0u, 0u);
+        const std::pair<glm::uvec4, glm::uvec4> gpuResult(g, gpuShafts[static_cast<size_t>(i)]);
+        if (gpuResult != std::make_pair(patches, shafts)) {
+            if (explainedByDivisionError(gpuResult, invDir, c.boxMin, c.boxMax, twin)) {
+                ++tolerated;
+                continue;
+            }
             if (++mismatches <= 5) {
                 const glm::uvec4 gs = gpuShafts[static_cast<size_t>(i)];
                 ADD_FAILURE() << "case " << i << ": GLSL patches (" << g.x << ", " << g.y << ", " << g.z << ", " << g.w
@@ -134,8 +191,9 @@ void checkShaftIndexTwin(const std::vector<ShaderDefine>& defines) {
             }
         }
     }
-    std::printf("[ twin     ] %d cases: %d hit the box, %d miss; %d filled sparse slots; %d mismatches\n", kCases, hits,
-                misses, slotsFilled, mismatches);
+    std::printf("[ twin     ] %d cases: %d hit the box, %d miss; %d filled sparse slots; %d mismatches, %d within "
+                "GLSL's division bound\n", kCases, hits, misses, slotsFilled, mismatches, tolerated);
+    EXPECT_LE(tolerated, kCases / 100); // rounding at boundaries, not a different classification
     EXPECT_GT(hits, kCases / 2);
     EXPECT_GT(misses, kCases / 20);
     EXPECT_GT(slotsFilled, kCases / 8);
@@ -143,6 +201,26 @@ void checkShaftIndexTwin(const std::vector<ShaderDefine>& defines) {
 }
 
 TEST_F(GlTest, ShaftIndexGlslMatchesCppTwin) { checkShaftIndexTwin({}); }
+
+// The tolerance accepts what a division error within the bound gives, and nothing else.
+TEST(ShaftIndexTwinTolerance, AcceptsOnlyResultsWithinTheDivisionBound) {
+    int boundaryCases = 0;
+    for (const Case& c : makeCases()) {
+        const auto twin = [&c](const vec3& invDir, const vec3& boxMin, const vec3& boxMax) {
+            return gpu::lsShaftIndex(c.origin, c.direction, invDir, boxMin, boxMax, c.n, false);
+        };
+        const vec3 invDir = gpu::safeInverseDirection(c.direction);
+        const uint32_t exact = twin(invDir, c.boxMin, c.boxMax);
+        if (exact == CHCRT_LS_NO_SHAFT) continue;
+        EXPECT_FALSE(explainedByDivisionError(exact + 7919u, invDir, c.boxMin, c.boxMax, twin));
+        const vec3 off(stepped(invDir.x, 2), stepped(invDir.y, -2), stepped(invDir.z, 1));
+        const uint32_t rounded = twin(off, c.boxMin, c.boxMax);
+        if (rounded == exact) continue;
+        ++boundaryCases; // a ray on a patch boundary: 2 ulps of 1/d move it to the neighbour shaft
+        EXPECT_TRUE(explainedByDivisionError(rounded, invDir, c.boxMin, c.boxMax, twin));
+    }
+    EXPECT_GT(boundaryCases, 0); // the cases on patch boundaries exercise it
+}
 
 // The traversal's shaft index (linespace/shaft_index_fast.glsl) is the same function, bit for bit.
 TEST_F(GlTest, FastShaftIndexGlslMatchesCppTwin) { checkShaftIndexTwin({{"CHCRT_LS_TWIN_FAST", ""}}); }
@@ -200,18 +278,35 @@ TEST_F(GlTest, LineSpaceLookupGlslMatchesCpp) {
     drawFullscreenTriangle();
     checkGlErrors("lookup twin draw");
     const std::vector<glm::uvec4> gpu = readTextureRgba32ui(output.id(), kWidth, kHeight);
-    int filled = 0, withCandidate = 0, mismatches = 0;
+    int filled = 0, withCandidate = 0, mismatches = 0, tolerated = 0;
     for (int i = 0; i < kCases; ++i) {
         const glm::uvec2 g(gpu[static_cast<size_t>(i)]);
         filled += expected[static_cast<size_t>(i)].x != 0u ? 1 : 0;
         withCandidate += expected[static_cast<size_t>(i)].y != CHCRT_LS_EMPTY_SLOT ? 1 : 0;
-        if (g != expected[static_cast<size_t>(i)] && ++mismatches <= 5) {
+        if (g == expected[static_cast<size_t>(i)]) continue;
+        // Up to GLSL's division bound (kUlps): the lookups of the shafts the C++ classification gives for a
+        // direction (hence inverse direction) and box moved by a few float steps.
+        const uint32_t space = floatBitsToUint(texels[size_t(i) * 2].w);
+        const vec3 origin(texels[size_t(i) * 2]), direction(texels[size_t(i) * 2 + 1]);
+        const auto lookup = [&](const vec3& dir, const vec3& lo, const vec3& hi) {
+            const Aabb box{lo, hi};
+            const uint32_t symmetric = ls::shaftIndexForRay(box, params.n, true, origin, dir);
+            const uint32_t shaft = ls::shaftIndexForRay(box, params.n, false, origin, dir);
+            return glm::uvec2(symmetric != CHCRT_LS_NO_SHAFT && spaces.binaryFilled(space, symmetric) ? 1u : 0u,
+                              shaft == CHCRT_LS_NO_SHAFT ? CHCRT_LS_EMPTY_SLOT : spaces.candidates.lookup(space, shaft));
+        };
+        if (explainedByDivisionError(g, direction, nodes[space].boundsMin, nodes[space].boundsMax, lookup)) {
+            ++tolerated;
+            continue;
+        }
+        if (++mismatches <= 5) {
             ADD_FAILURE() << "case " << i << ": GLSL (" << g.x << ", " << g.y << ") vs C++ ("
                           << expected[static_cast<size_t>(i)].x << ", " << expected[static_cast<size_t>(i)].y << ")";
         }
     }
-    std::printf("[ twin     ] %d lookups: %d in filled shafts, %d with a candidate; %d mismatches\n", kCases, filled,
-                withCandidate, mismatches);
+    std::printf("[ twin     ] %d lookups: %d in filled shafts, %d with a candidate; %d mismatches, %d within GLSL's "
+                "division bound\n", kCases, filled, withCandidate, mismatches, tolerated);
+    EXPECT_LE(tolerated, kCases / 100);
     EXPECT_GT(filled, kCases / 4);
     EXPECT_LT(filled, kCases * 19 / 20);
     EXPECT_GT(withCandidate, kCases / 4);
