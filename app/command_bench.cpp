@@ -312,6 +312,7 @@ nlohmann::json chcrtOptionsJson(const ChcrtOptions& o) {
             {"adaptive", o.adaptive},
             {"adaptive_heights", o.adaptiveHeights},
             {"queries", toString(o.queries)},
+            {"cell_pass", o.computeCellPass ? "compute" : "fragment"},
             {"min_tile", o.pairs.minTileSize}};
 }
 

@@ -8,6 +8,7 @@
 #include "linespace/ntree_tracer.h"
 #include "renderer/core/error.h"
 #include "renderer/outofcore/chs_file.h"
+#include "renderer/render/trace_stage.h"
 #include "culling/outofcore/out_of_core_tracer.h"
 
 #include <cstdio>
@@ -100,10 +101,23 @@ ls::LineSpaceParams lineSpaceBuildParams(const MethodInfo& method, const CommonO
     return params;
 }
 
+// The part of a CHC+RT configuration that depends on the GL renderer, decided here because the methods' defaults are
+// resolved before there is a context. The cell passes run in the stage --shader-stage names (auto: autoTraceStage,
+// compute on GPUs, fragment on software rasterisers, or CHCRT_SHADER_STAGE); methods that start from the recommended
+// configuration in core take its list decisions for this renderer (recommendedChcrtOptions(traits): bounds-gpu on
+// GPUs, bounds-only on llvmpipe) unless --chcrt-queries is given. Same hits whatever is chosen.
+void applyRendererChoices(const MethodInfo& method, const CommonOptions& o, ChcrtOptions& options) {
+    if (method.recommendedChcrt && !o.outOfCoreScene.enabled && !o.isGiven("--chcrt-queries")) {
+        options.queries = recommendedChcrtOptions(currentRendererTraits()).queries;
+    }
+    options.computeCellPass = resolveTraceStage(o.shaderStage) == TraceStage::Compute;
+}
+
 std::unique_ptr<Tracer> makeChcrtTracer(const MethodInfo& method, const SceneSession& session, const CommonOptions& o,
                                         bool alwaysCull) {
     ChcrtOptions options = o.chcrt;
     if (alwaysCull) options.adaptive = false;
+    applyRendererChoices(method, o, options);
     if (!method.reads(ParameterArea::ChcrtVisibility) && options.visibleThreshold > 0) {
         throw InputError("--chcrt-threshold > 0 makes culling approximate: use --method chcrt-aggressive");
     }

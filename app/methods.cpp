@@ -21,6 +21,8 @@ void aggressiveDefaults(CommonOptions& d, const CommonOptions&, uint64_t) {
 
 // chcrt in core: the recommended configuration (recommendedChcrtOptions, culling/README.md "Adaptive choice"); out
 // of core the prepared file's cut with the paper's GL queries. A forced --chcrt-height leaves no other height to try.
+// The renderer is not known yet: these are the software renderer's choices, and the tracer's factory takes the
+// renderer's list decisions once its context is current (MethodInfo::recommendedChcrt, app/method_tracers.cpp).
 void recommendedChcrtDefaults(CommonOptions& d, const CommonOptions& user, uint64_t) {
     if (user.outOfCoreScene.enabled) return;
     d.chcrt = recommendedChcrtOptions();
@@ -75,7 +77,8 @@ std::vector<MethodInfo> registerMethods() {
         {.name = kPureBvhMethod, .description = "pure BVH traversal in GLSL (the baseline)"},
         {.name = "chcrt",
          .description = "CHC+RT: occlusion-query culling of BVH subtrees per screen tile (conservative, exact)",
-         .areas = chcrt, .outOfCoreForm = true, .chcrtDebugImages = true, .setDefaults = recommendedChcrtDefaults,
+         .areas = chcrt, .outOfCoreForm = true, .chcrtDebugImages = true, .recommendedChcrt = true,
+         .setDefaults = recommendedChcrtDefaults,
          .makeTracer = makeChcrtTracer},
         {.name = "chcrt-aggressive", .exact = false,
          .description = "CHC+RT culling pairs whose query passes <= 20 rays (approximate)",
@@ -83,7 +86,8 @@ std::vector<MethodInfo> registerMethods() {
          .setDefaults = aggressiveDefaults, .makeTracer = makeChcrtTracer},
         {.name = "chcrt-noadapt",
          .description = "CHC+RT without the adaptive fallback to a pure pass (always culls; exact)",
-         .areas = chcrt, .outOfCoreForm = true, .chcrtDebugImages = true, .setDefaults = noAdaptDefaults,
+         .areas = chcrt, .outOfCoreForm = true, .chcrtDebugImages = true, .recommendedChcrt = true,
+         .setDefaults = noAdaptDefaults,
          .makeTracer = makeChcrtTracer},
         {.name = "bvh+ls-exact",
          .description = "BVH with exact empty-space skipping at binary Line Space nodes (pure BVH where more than "

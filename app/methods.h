@@ -46,6 +46,9 @@ struct MethodInfo {
     uint8_t needs = kNeedsNothing;    // MethodNeeds
     bool outOfCoreForm = false;       // traces a prepared scene out of core (--out-of-core)
     bool chcrtDebugImages = false;    // CHC+RT debug images (--debug-image, the viewer's debug views)
+    // Starts from recommendedChcrtOptions() in core: its tracer takes the renderer's list decisions
+    // (recommendedChcrtOptions(traits), app/method_tracers.cpp) unless --chcrt-queries is given.
+    bool recommendedChcrt = false;
     // Its own defaults, written into `defaults` (whose method parameters start from their structs' defaults);
     // `user` holds the user's values, for defaults derived from them (ntree+ls: the shadow level d - 1).
     void (*setDefaults)(CommonOptions& defaults, const CommonOptions& user, uint64_t sceneTriangles) = nullptr;

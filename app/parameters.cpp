@@ -332,10 +332,11 @@ std::vector<Parameter> describeSession() {
             .sets<int>(FIELD(glDevice), glDeviceCodec()),
         Describe(Area::Session, "--shader-stage", "",
                  "Shader stage of pure BVH tracing (method bvh, the pure passes inside the other methods, the "
-                 "references of bench and verify): fragment (a full-screen pass), compute (an invocation per ray, "
-                 "8x8 groups; the same hits bit for bit) or auto: fragment on software renderers (llvmpipe, where "
-                 "fragments measured faster), compute on every other; the environment variable CHCRT_SHADER_STAGE "
-                 "overrides auto. Line Space and N-tree shadow passes stay fragment passes")
+                 "references of bench and verify) and of CHC+RT's cell passes (bounds-only, bounds-gpu): fragment "
+                 "(a full-screen pass, points over the cells), compute (an invocation per ray; the same hits bit for "
+                 "bit) or auto: fragment on software renderers (llvmpipe, where fragments measured faster), compute "
+                 "on every other; the environment variable CHCRT_SHADER_STAGE overrides auto. Line Space, N-tree "
+                 "shadow and CHC+RT's gl query and subtree passes stay fragment passes")
             .emit(Emit::IfNotDefault)
             .choice<TraceStage>(FIELD(shaderStage), {{"auto", TraceStage::Auto},
                                                      {"fragment", TraceStage::Fragment},

@@ -5,6 +5,7 @@
 #include "renderer/core/timing.h"
 #include "renderer/render/bvh_tracer.h"
 #include "renderer/render/trace_pass.h"
+#include "renderer/render/trace_stage.h"
 #include "shaders/shared/culling_layout.h"
 #include "shaders/shared/render_layout.h"
 
@@ -79,15 +80,20 @@ const char* debugDefine(ChcrtDebugImage kind) {
 
 } // namespace
 
-ChcrtOptions recommendedChcrtOptions() {
+ChcrtOptions recommendedChcrtOptions(const RendererTraits& renderer) {
     ChcrtOptions options;
-    options.queries = ChcrtQueries::BoundsOnly;
     options.partition.maxSubtreeHeight = 12;
     options.adaptiveHeights = {10, 14};
     options.cellListLimit = 64;
     options.hitHints = true;
+    // The renderer's part (chcrt_tracer.h says why): lists decided on the GPU and traced in compute dispatches on
+    // GPUs, decided on the CPU and traced in fragment passes on software rasterisers.
+    options.queries = renderer.software ? ChcrtQueries::BoundsOnly : ChcrtQueries::BoundsGpu;
+    options.computeCellPass = autoTraceStage(renderer) == TraceStage::Compute;
     return options;
 }
+
+ChcrtOptions recommendedChcrtOptions() { return recommendedChcrtOptions(RendererTraits{.software = true}); }
 
 const char* toString(ChcrtQueries queries) {
     switch (queries) {

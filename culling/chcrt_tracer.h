@@ -16,6 +16,7 @@
 #include "culling/ray_bounds_grid.h"
 #include "culling/subtree_source.h"
 #include "culling/visibility_state.h"
+#include "renderer/gl/context.h"
 #include "renderer/gl/gl_objects.h"
 #include "renderer/gl/shader.h"
 #include "renderer/render/tracer.h"
@@ -110,7 +111,18 @@ struct ChcrtOptions {
 // The fastest exact configuration measured on the city, interior and plant near paths (culling/README.md): the ray
 // bounds grid decides every pair, termination height 12, cells with more than 64 subtrees traverse the whole BVH,
 // any-hit rays start from hit hints, and the adaptive choice also tries heights 10 and 14 per ray kind besides the
-// pure pass.
+// pure pass. Where the grid decides and in which shader stage the cell lists are traced depends on the GL renderer
+// (culling/README.md, "Stage and list decisions per renderer"), and this is the one place that chooses it:
+//  - software rasterisers (renderer.software: llvmpipe): bounds-only, fragment cell passes. llvmpipe runs fragment
+//    and compute work on the same CPU threads; there bounds-only measured faster than bounds-gpu for primary, shadow
+//    and AO rays, and compute cell passes about as fast as fragment ones, pure BVH's compute pass slower than its
+//    fragment pass (docs/benchmarks.md);
+//  - every other renderer (GPUs): bounds-gpu with compute cell passes. Data-centre GPUs run fragment work on few
+//    graphics-capable units (docs/architecture.md, "GPUs"), and the GPU deciding the lists leaves nothing to read
+//    back until the trace ends. Not measured on a GPU yet.
+// Same hits either way. The overload without traits is the software choice (what a caller without a GL context
+// gets, e.g. the methods' defaults, before the renderer is known: app/method_tracers.cpp applies the renderer's).
+ChcrtOptions recommendedChcrtOptions(const RendererTraits& renderer);
 ChcrtOptions recommendedChcrtOptions();
 
 // Counters of one trace (lastStats) or summed over traces (totalStats).

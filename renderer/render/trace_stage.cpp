@@ -35,6 +35,10 @@ const char* toString(TraceStage stage) {
 void setPreferredTraceStage(TraceStage stage) { preferred() = stage; }
 TraceStage preferredTraceStage() { return preferred(); }
 
+TraceStage autoTraceStage(const RendererTraits& renderer) {
+    return renderer.software ? TraceStage::Fragment : TraceStage::Compute;
+}
+
 TraceStage resolveTraceStage(TraceStage requested) {
     if (requested != TraceStage::Auto) return requested;
     if (const char* forced = std::getenv("CHCRT_SHADER_STAGE"); forced != nullptr && *forced != '\0') {
@@ -42,7 +46,7 @@ TraceStage resolveTraceStage(TraceStage requested) {
         if (stage == TraceStage::Auto) throw InputError("CHCRT_SHADER_STAGE must be fragment or compute, not 'auto'");
         return stage;
     }
-    return currentRendererTraits().software ? TraceStage::Fragment : TraceStage::Compute;
+    return autoTraceStage(currentRendererTraits());
 }
 
 } // namespace chcrt

@@ -64,6 +64,8 @@ TEST_F(CliTest, GlslangValidatesEveryShaderVariantTheProgramCompiles) {
                                  "bvh+ls-exact,chcrt+ls-exact,bvh+ls,chcrt+ls,ntree+ls",
         // The compute stage, traced primary visibility.
         "bench " + scene + all + "--shader-stage compute --primary traced --method bvh,chcrt",
+        // CHC+RT's compute cell passes over the GPU's lists.
+        "bench " + scene + all + "--shader-stage compute --method chcrt-noadapt --chcrt-queries bounds-gpu",
         // CHC+RT's query kinds and options.
         "bench " + scene + all + "--method chcrt-noadapt --chcrt-queries gl --chcrt-leaf-cache on --chcrt-merged-batch off",
         "bench " + scene + all + "--method chcrt-noadapt --chcrt-queries bounds-only --chcrt-hints on --chcrt-leaf-cache on",

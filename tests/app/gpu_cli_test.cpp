@@ -1,6 +1,7 @@
 // What a GPU run relies on, through build/bin/chcrt: the EGL device list and the device flag (chcrt info --devices,
 // --gl-device N|auto), the software-renderer warning and the GL fields of every JSON the tools write, and the
-// compute stage of pure BVH tracing (--shader-stage), verified bit for bit against the fragment stage.
+// compute stage of pure BVH tracing (--shader-stage), verified bit for bit against the fragment stage, and the stage
+// and list decisions of CHC+RT's cell passes.
 #include "tests/app/cli_fixture.h"
 
 namespace chcrt::clitest {
@@ -95,6 +96,39 @@ TEST_F(CliTest, ComputeStageEqualsFragmentStageBitForBit) {
         ASSERT_EQ(r.exitCode, 0) << r.output;
     }
     EXPECT_EQ(readFile("fragment.png"), readFile("compute.png"));
+}
+
+// CHC+RT's cell passes run in the stage --shader-stage names, and the recommended configuration decides its lists by
+// the renderer (bounds-only on a software renderer, bounds-gpu on others) unless --chcrt-queries is given; the
+// compute cell passes find pure BVH's hits (verify's exact comparison, the culling path forced).
+TEST_F(CliTest, ChcrtCellPassesFollowTheShaderStageAndListsTheRenderer) {
+    const auto chcrtOptions = [&](const std::string& flags, bool& software) {
+        const Result r = run(std::string("bench ") + kScene + "--method chcrt-noadapt --ray-type shadow --runs 1 "
+                             "--warmup 0 --json b.json " + flags);
+        EXPECT_EQ(r.exitCode, 0) << r.output;
+        const nlohmann::json b = readJson("b.json");
+        software = b.value("software_renderer", false);
+        for (const nlohmann::json& row : b["rows"]) {
+            if (row["method"] == "chcrt-noadapt") return row["chcrt"]["options"];
+        }
+        ADD_FAILURE() << "no chcrt-noadapt row";
+        return nlohmann::json();
+    };
+    bool software = false;
+    const nlohmann::json compute = chcrtOptions("--shader-stage compute", software);
+    EXPECT_EQ(compute["cell_pass"], "compute");
+    EXPECT_EQ(compute["queries"], software ? "bounds-only" : "bounds-gpu");
+    const nlohmann::json fragment = chcrtOptions("--shader-stage fragment --chcrt-queries bounds-gpu", software);
+    EXPECT_EQ(fragment["cell_pass"], "fragment");
+    EXPECT_EQ(fragment["queries"], "bounds-gpu");
+    const nlohmann::json automatic = chcrtOptions("--shader-stage auto", software);
+    EXPECT_EQ(automatic["cell_pass"], software ? "fragment" : "compute");
+
+    for (const char* queries : {"bounds-only", "bounds-gpu"}) {
+        const Result verify = run(std::string("verify ") + kScene + "--method chcrt --shader-stage compute "
+                                  "--chcrt-queries " + queries + " --ray-type primary,shadow,ao,diffuse");
+        EXPECT_EQ(verify.exitCode, 0) << queries << "\n" << verify.output;
+    }
 }
 
 } // namespace

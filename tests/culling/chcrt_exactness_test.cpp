@@ -435,6 +435,46 @@ TEST_F(RenderTest, GpuCellListsWithRayBoundsShrunkBelowTheRoundingPadLoseHits) {
     EXPECT_GT(differing, 0u);
 }
 
+// The recommended configurations of both kinds of renderer (recommendedChcrtOptions: bounds-only with fragment cell
+// passes on software rasterisers, bounds-gpu with compute cell passes on GPUs), culling forced, find pure BVH's hits
+// over consecutive frames, hints included; here both run on the test's renderer.
+TEST_F(RenderTest, RecommendedConfigurationsOfSoftwareAndHardwareRenderersEqualPureBvh) {
+    RenderSettings settings;
+    settings.width = 96;
+    settings.height = 72;
+    Renderer& renderer = makeProceduralRenderer("city:60k", settings);
+    const CameraPath path = proceduralNearPath(spec_);
+    for (bool software : {true, false}) {
+        ChcrtOptions options = recommendedChcrtOptions(RendererTraits{.software = software});
+        options.adaptive = false;
+        ChcrtTracer chcrt(bvh_, options);
+        EXPECT_EQ(chcrt.options().computeCellPass, !software);
+        size_t differing = 0, compared = 0;
+        FrameStats stats;
+        for (int frame = 0; frame < 4; ++frame) {
+            const Camera camera = path.cameraAtFrame(frame * 2);
+            renderer.renderGBuffer(camera, stats);
+            for (RayType type : {RayType::Primary, RayType::Shadow, RayType::Ao, RayType::Diffuse}) {
+                renderer.generateRayPass(camera, type, 0, stats);
+                renderer.useTracer(nullptr);
+                renderer.traceRayPass(camera, type, 0, stats);
+                const std::vector<Hit> reference = renderer.readHits(0);
+                renderer.useTracer(&chcrt);
+                renderer.traceRayPass(camera, type, 0, stats);
+                const std::vector<Hit> culled = renderer.readHits(0);
+                ASSERT_EQ(reference.size(), culled.size());
+                for (size_t i = 0; i < reference.size(); ++i) differing += !sameHit(reference[i], culled[i], isAnyHit(type));
+                compared += reference.size();
+            }
+        }
+        renderer.useTracer(nullptr);
+        EXPECT_EQ(differing, 0u) << (software ? "software" : "hardware") << " configuration";
+        EXPECT_EQ(compared, 4u * 4u * 96u * 72u);
+        EXPECT_EQ(chcrt.totalStats().fallbackTraces, 0u);
+        EXPECT_EQ(stats.cappedRays, 0u);
+    }
+}
+
 TEST_F(RenderTest, WithoutTemporalCoherenceEveryTraceStartsFromTheRootPair) {
     RenderSettings settings;
     settings.width = 64;
