@@ -140,7 +140,9 @@ TEST(GlContext, AutoDevicePrefersHardware) {
     std::unique_ptr<GlContext> context = createHeadlessContext(GlBackend::Egl, false, kAutoGlDevice);
     const GlInfo info = queryGlInfo();
     std::printf("[ devices  ] auto: %s, %s\n", context->description().c_str(), info.renderer.c_str());
-    if (hardwareWorks) EXPECT_FALSE(info.softwareRenderer) << info.renderer;
+    if (hardwareWorks) {
+        EXPECT_FALSE(info.softwareRenderer) << info.renderer;
+    }
 }
 
 TEST(GlContext, EglRejectsUnknownPlatformOverride) {

@@ -86,7 +86,9 @@ TEST_P(TraceStageTest, ComputeHitsAndCostsEqualFragmentBitForBit) {
     // Something to compare: active rays and hits, and for secondary rays inactive ones too (the sky).
     EXPECT_GT(active, pixels / 4);
     EXPECT_GT(hits, 0u);
-    if (c.rayType != RayType::Primary) EXPECT_LT(active, pixels);
+    if (c.rayType != RayType::Primary) {
+        EXPECT_LT(active, pixels);
+    }
 }
 
 std::string caseName(const ::testing::TestParamInfo<StageCase>& info) {
@@ -193,10 +195,14 @@ TEST_F(RenderTest, LoopCapDefineFollowsTheRendererAndLlvmpipeKeepsIt) {
     ASSERT_TRUE(loopCap.has_value());
     EXPECT_EQ(*loopCap, currentRendererTraits().loopCap ? "1" : "0");
     const GlInfo info = queryGlInfo();
-    if (info.renderer.find("llvmpipe") != std::string::npos) EXPECT_EQ(*loopCap, "1") << info.renderer;
+    if (info.renderer.find("llvmpipe") != std::string::npos) {
+        EXPECT_EQ(*loopCap, "1") << info.renderer;
+    }
     // A program's own value wins.
     for (const ShaderDefine& d : withImplicitDefines({{"CHCRT_TRACE_LOOP_CAP", "0"}})) {
-        if (d.name == "CHCRT_TRACE_LOOP_CAP") EXPECT_EQ(d.value, "0");
+        if (d.name == "CHCRT_TRACE_LOOP_CAP") {
+            EXPECT_EQ(d.value, "0");
+        }
     }
 }
 
