@@ -230,6 +230,7 @@ void checkOutputFiles(const std::vector<std::string>& files) {
 }
 
 void warnIfSoftwareRenderer(const CommonOptions& o, const GlContext& context) {
+    if (o.quiet) return; // -q: errors only (scripts and tests read one line per failure)
     const GlInfo info = queryGlInfo();
     if (!info.softwareRenderer) return;
     const bool autoDevice = o.gl == GlBackend::Egl && o.glDevice == kAutoGlDevice;

@@ -74,6 +74,10 @@ TEST_F(CliTest, GlslangValidatesEveryShaderVariantTheProgramCompiles) {
                                  "diffuse=candidate,bounce=exact,faces=both",
         "prepare --scene city:4k --subtree-triangles 500 -o small.chs -q",
         "render --scene small.chs --out-of-core --method chcrt --width 24 --height 16 --spp 1 -q -o ooc.png",
+        // Without the scene in core, primary visibility is resolved from the subtrees' hits
+        // (outofcore/gbuffer_from_pixel_attributes).
+        "render --scene small.chs --out-of-core --load-in-core off --method chcrt --width 24 --height 16 --spp 1 -q "
+        "-o ooc_streamed.png",
     };
     for (const char* image : {"overdraw", "subtrees", "batches", "cost"}) {
         commands.push_back("render " + scene + "--method chcrt --debug-image " + image + " -o " + image + ".png");
