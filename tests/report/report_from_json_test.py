@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """`chcrt report --from-json` on the fixed bench JSON of tests/data/report (docs/report.md):
-every figure is drawn with PNG, SVG and CSV, each CSV holds exactly the JSON's numbers, the markdown tables equal
-the expected files, the page states the machine and warns about the software rasteriser; bad input exits 2 with
+every figure is drawn with PNG, SVG and CSV, each CSV holds exactly the JSON's numbers, the markdown tables (Tables
+2, 4 and 5, Figure 8's numbers, the work and Line Space tables) equal the expected files, the page states the machine and warns about the software rasteriser; bad input exits 2 with
 one line and leaves no report folder.
 
 Usage: report_from_json_test.py CHCRT_BINARY SOURCE_DIR WORK_DIR
@@ -139,6 +139,31 @@ def main():
         check(got == want, f"tables/{name}.md differs from tests/data/report/expected_{name}.md:\n{got}")
         check(want.strip() in open(os.path.join(out, "report.md"), encoding="utf-8").read(),
               f"report.md lacks tables/{name}.md")
+
+    # The sweeps' tables (Table 5, the work table, the Line Space table) from their own bench JSON, in a second
+    # report: with an ls-rc study the Line Space figure plots its rows rather than the compare study's.
+    sweeps = [os.path.join(data, f) for f in ("bench_rotation_r0.json", "bench_rotation_r36.json",
+                                              "bench_work_h8.json", "bench_ls_D3.json")]
+    sweeps_out = os.path.join(work, "sweeps")
+    run = subprocess.run([binary, "report", "-q", "--out", sweeps_out, "--from-json"] + sweeps, capture_output=True,
+                         text=True)
+    if check(run.returncode == 0, f"chcrt report of the sweeps failed ({run.returncode}): {run.stderr}"):
+        sweep_md = open(os.path.join(sweeps_out, "report.md"), encoding="utf-8").read()
+        for name in ("table5", "work", "linespace"):
+            got = open(os.path.join(sweeps_out, "tables", f"{name}.md"), encoding="utf-8").read()
+            want = open(os.path.join(data, f"expected_{name}.md"), encoding="utf-8").read()
+            check(got == want, f"sweeps tables/{name}.md differs from tests/data/report/expected_{name}.md:\n{got}")
+            check(want.strip() in sweep_md, f"sweeps report.md lacks tables/{name}.md")
+        rotation = [r for f in sweeps[:2] for r in json.load(open(f))["rows"]]
+        check(sorted({json.load(open(f))["settings"]["rotation"] for f in sweeps[:2]}) == [0, 36],
+              "fixture: rotations 0 and 36")
+        check(sum(r["method"] != "bvh" for r in rotation) == 4, "fixture: four Table 5 rows besides pure BVH")
+        ls = [r for r in json.load(open(sweeps[3]))["rows"] if "linespace" in r and r["method"] == "bvh+ls"]
+        compare_keyed(read_csv(os.path.join(sweeps_out, "figures", "linespace_psnr.csv"))[1],
+                      {key(r): {"speedup_vs_bvh": r["speedup_vs_bvh"], "ms_median": r["ms_median"],
+                                "final_psnr_db": r["image_error"]["final_psnr_db"],
+                                "final_mae": r["image_error"]["final_mae"]} for r in ls},
+                      base, "sweeps linespace_psnr.csv")
 
     page = open(os.path.join(out, "index.html"), encoding="utf-8").read()
     for name in figures:
