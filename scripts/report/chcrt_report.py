@@ -70,7 +70,7 @@ def flag_value(words, flag):
 def infer_study(bench):
     """The study of a bench JSON given with --from-json, from its command line: a threshold sweep is Table 4, a
     rotation sweep Table 5, a forced height the work study, Line Space flags a Line Space study; else compare."""
-    words = bench.get("command_line") or []
+    words = bench.get("command_line") or next(iter(farm_command_lines(bench)), [])
     methods = set((flag_value(words, "--method") or "").split(",")) | {r.get("method") for r in bench["rows"]}
     if "--chcrt-threshold" in words and methods <= {REFERENCE, "chcrt-aggressive"}:
         return "aggressive"
@@ -83,6 +83,17 @@ def infer_study(bench):
     if any(w in words for w in ("--ls-depth", "--ls-n", "--ls-modes")):
         return "ls-rc"
     return "compare"
+
+
+def farm_tasks(bench):
+    """The tasks of a bench JSON that `chcrt farm collect` wrote (one bench run per row), else []."""
+    tasks = bench.get("tasks")
+    return [t for t in tasks if isinstance(t, dict)] if isinstance(tasks, list) else []
+
+
+def farm_command_lines(bench):
+    """The command lines of a farm-collected bench JSON's tasks (it has none of its own)."""
+    return [t["command_line"] for t in farm_tasks(bench) if isinstance(t.get("command_line"), list) and t["command_line"]]
 
 
 def short_path(row):
@@ -133,10 +144,12 @@ class Data:
             study = g.get("study", "compare")
             if study == "from-json":
                 study = infer_study(bench)
+            farm = bool(farm_tasks(bench))
             for row in bench["rows"]:
                 check_row(row, path)
                 row["_study"] = study
                 row["_file"] = len(self.benches)
+                row["_farm"] = farm
             self.benches.append({"study": study, "file": path, "json": bench, "group": g})
 
     def rows(self, study=None, method=None):
@@ -157,8 +170,10 @@ class Data:
 
 
 def run_speedups(row, ref):
-    """Per timed run: pure BVH's time / the method's (all methods trace the same rays within a run)."""
-    if ref is None:
+    """Per timed run: pure BVH's time / the method's (all methods trace the same rays within a run). Not for farm
+    rows: each row is its own task, its pure BVH row another task's runs in another process (the row's own
+    speedup_vs_bvh is against the pure BVH its task traced, whose runs farm collect does not keep)."""
+    if ref is None or row.get("_farm"):
         return []
     return [b / m for b, m in zip(ref["ms_runs"], row["ms_runs"]) if m > 0]
 
@@ -828,6 +843,24 @@ def table_linespace(rep):
 
 # ---------------------------------------------------------------------------------------------------------- pages
 
+# The driver's name and version as GL_VERSION carries it after the GL version itself.
+DRIVER_PATTERNS = [
+    (re.compile(r"\bMesa (\d[\w.+~-]*)"), "Mesa {}"),                          # "4.5 (Core Profile) Mesa 22.3.6"
+    (re.compile(r"\bNVIDIA (\d[\d.]*)"), "NVIDIA {}"),                         # "4.6.0 NVIDIA 535.104.05"
+    (re.compile(r"\bProfile Context (?:FireGL )?(\d[\d.]*)"), "AMD {}"),      # "4.6.14830 Compatibility Profile Context 22.20"
+    (re.compile(r"\bBuild (\d[\d.]*)"), "Intel build {}"),                     # "4.6.0 - Build 31.0.101.4255"
+]
+
+
+def gl_driver(version):
+    """The driver named in a GL_VERSION string ("Mesa 22.3.6", "NVIDIA 535.104.05", ...), or "unknown"."""
+    for pattern, name in DRIVER_PATTERNS:
+        m = pattern.search(version or "")
+        if m:
+            return name.format(m.group(1))
+    return "unknown"
+
+
 def machine_facts(data):
     """What the report ran on: the report's own machine and every distinct measurement setup of its benches."""
     facts = []
@@ -849,6 +882,7 @@ def machine_facts(data):
             s["after"].append(jm["load_after"][0])
     for (vendor, renderer, version, cpu, cores, commit), s in setups.items():
         facts.append(("GL", f"{vendor or '?'} / {renderer or '?'} / {version or '?'}"))
+        facts.append(("driver", gl_driver(version)))
         facts.append(("CPU", f"{cpu or '?'}, {cores or '?'} cores"))
         facts.append(("commit", commit or "?"))
         if s["started"]:
@@ -858,6 +892,14 @@ def machine_facts(data):
             facts.append(("load (1 min) before/after each bench",
                           f"{min(s['before']):.2f}-{max(s['before']):.2f} / {min(s['after'] or [0]):.2f}-"
                           f"{max(s['after'] or [0]):.2f} on {cores or '?'} cores"))
+    for b in data.benches:
+        tasks = farm_tasks(b["json"])
+        if tasks:
+            hosts = sorted({t.get("host") or "?" for t in tasks})
+            walls = [t["wall_s"] for t in tasks if isinstance(t.get("wall_s"), (int, float))]
+            facts.append(("farm tasks", f"{os.path.basename(b['file'])}: {len(tasks)} task(s), one per row, on "
+                                        f"{', '.join(hosts)}" + (f", {min(walls):.1f}-{max(walls):.1f} s each" if walls
+                                                                 else "")))
     facts.append(("report made", f"{m.get('started_utc', '?')} to {m.get('finished_utc', '?')} UTC on "
                                   f"{m.get('cpu', '?')}, {m.get('cores', '?')} cores, commit {m.get('commit', '?')}"))
     if m.get("load_before"):
@@ -899,6 +941,11 @@ def command_lines(data):
             b = next((b for b in data.benches if b["group"] is g), None)
             if b and b["json"].get("command_line"):
                 lines.append((g.get("id", ""), " ".join(shell_quote(w) for w in b["json"]["command_line"])))
+            elif b:
+                for t in farm_tasks(b["json"]):
+                    if t.get("command_line"):
+                        lines.append((f"{g.get('id', '')} farm task: {t.get('row', '')}",
+                                      " ".join(shell_quote(w) for w in t["command_line"])))
     return lines
 
 
