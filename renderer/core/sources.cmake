@@ -6,6 +6,7 @@ chcrt_add_library(chcrt_core
   core/output_path.cpp
   core/signal_cleanup.cpp
   core/memory_budget.cpp
+  core/process_resources.cpp
   scene/camera_path.cpp # header-only dependency on scene.h (Camera); kept here so it builds alone
 )
 target_link_libraries(chcrt_core PUBLIC Threads::Threads PRIVATE PkgConfig::STB tinyexr::tinyexr nlohmann_json::nlohmann_json)

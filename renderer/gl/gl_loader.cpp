@@ -2,6 +2,7 @@
 #include "renderer/core/error.h"
 #include "renderer/gl/gl.h"
 #include "renderer/gl/gl_internal.h"
+#include "renderer/gl/gl_object_count.h"
 
 #include <atomic>
 #include <string>
@@ -35,6 +36,7 @@ void loadGlFunctions(GlProcAddressFn getProcAddress) {
             ++missingCount;
         }
     }
+    detail::installGlObjectCounting(); // live object counts (gl_object_count.h)
     ++gLoadGeneration;
     if (missingCount > 0) {
         throw GlError("GL loader: " + std::to_string(missingCount) +

@@ -6,6 +6,7 @@ chcrt_add_library(chcrt_gl
   gl/shader.cpp
   gl/shader_preprocess.cpp
   gl/gl_objects.cpp
+  gl/gl_object_count.cpp
   ${CHCRT_GL_LOADER_SOURCES}
 )
 target_include_directories(chcrt_gl PUBLIC ${CHCRT_GL_LOADER_INCLUDE_DIR})

@@ -1,6 +1,7 @@
 // GL object helpers: fullscreen passes into float targets, texture buffers, framebuffers, queries, handles.
 #include "renderer/core/error.h"
 #include "renderer/core/timing.h"
+#include "renderer/gl/gl_object_count.h"
 #include "renderer/gl/gl_objects.h"
 #include "renderer/gl/shader.h"
 #include "tests/gl/gl_test_fixture.h"
@@ -212,6 +213,49 @@ TEST_F(GlTest, GpuTimerMeasuresTheDrawsBetweenBeginAndEnd) {
     EXPECT_GE(idleMs, 0.0);
     EXPECT_LT(idleMs, ms);
     checkGlErrors("timer");
+}
+
+// The live-object counts (gl_object_count.h) follow every creation and deletion made through the function table:
+// RAII owners, raw glCreate*/glGen* calls (as the CHC+RT query pool makes them), programs and shaders, syncs.
+TEST_F(GlTest, LiveObjectCountsFollowCreationAndDeletion) {
+    const GlObjectCounts before = liveGlObjects();
+    {
+        TextureBuffer tbo = createTextureBuffer(nullptr, 64, GL_RGBA32F); // a buffer and a texture
+        GlTexture texture = createTexture2D(4, 4, GL_RGBA8);
+        const GLuint colour = texture.id();
+        GlFramebuffer fbo = createFramebuffer(&colour, 1);
+        GlQuery query = createQuery(GL_SAMPLES_PASSED);
+        GlVertexArray vao = createVertexArray();
+        GLuint raw[3] = {};
+        glCreateQueries(GL_SAMPLES_PASSED, 3, raw);
+        GLuint sampler = 0;
+        glGenSamplers(1, &sampler);
+        const GLsync sync = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+        const GlObjectCounts during = liveGlObjects();
+        EXPECT_EQ(during.buffers - before.buffers, 1);
+        EXPECT_EQ(during.textures - before.textures, 2);
+        EXPECT_EQ(during.framebuffers - before.framebuffers, 1);
+        EXPECT_EQ(during.queries - before.queries, 4);
+        EXPECT_EQ(during.vertexArrays - before.vertexArrays, 1);
+        EXPECT_EQ(during.samplers - before.samplers, 1);
+        EXPECT_EQ(during.syncs - before.syncs, 1);
+        EXPECT_EQ(during.total() - before.total(), 11);
+        glDeleteQueries(3, raw);
+        glDeleteSamplers(1, &sampler);
+        glDeleteSync(sync);
+        const GLuint none = 0;
+        glDeleteBuffers(1, &none); // name 0 is ignored by GL and by the count
+        EXPECT_EQ(liveGlObjects().total() - before.total(), 6);
+        checkGlErrors("counted objects");
+    }
+    {
+        ShaderProgram program({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
+                               {GL_FRAGMENT_SHADER, "test/solid_colour.frag.glsl"}});
+        EXPECT_EQ(liveGlObjects().programs - before.programs, 1);
+    }
+    const GlObjectCounts after = liveGlObjects();
+    EXPECT_EQ(after.named(), before.named()); // every kind back where it was
+    EXPECT_EQ(after.shaders, before.shaders); // the program's shaders were deleted once linked
 }
 
 } // namespace
