@@ -93,6 +93,16 @@ void OutOfCoreTracer::trace(const TraceRequest& request, const RayTextures& rays
         chcrt_->trace(request, rays, hits, width, height, stats);
         if (record) chcrt_->setDebugImage(selected);
     } catch (...) {
+        // A subtree that cannot be read (an I/O error, a file truncated or overwritten while it is rendered) fails
+        // the trace part way. The caller may go on rendering (the viewer): the interrupted trace's visibility fronts
+        // are half updated, so they are dropped (the next trace starts from the root pair, as the first one does),
+        // and the GL state the trace changed is left as a finished trace leaves it (ChcrtTracer::endTrace). The GPU
+        // cache stays consistent: a slot changes only after its subtree was read.
+        chcrt_->resetVisibility();
+        glMemoryBarrier(GL_ALL_BARRIER_BITS);
+        glDepthFunc(GL_LESS);
+        glDepthMask(GL_TRUE);
+        glDisable(GL_DEPTH_TEST);
         if (record) chcrt_->setDebugImage(selected);
         glBindTextureUnit(CHCRT_UNIT_BVH_NODES, nodes);
         glBindTextureUnit(CHCRT_UNIT_BVH_TRIANGLES, triangles);

@@ -3,19 +3,54 @@
 #include "renderer/core/error.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <utility>
 
 namespace chcrt::outofcore {
 namespace {
 
-void readExact(int fd, void* data, uint64_t bytes, uint64_t offset, const std::string& what) {
+// Test hook (docs/robustness.md): CHCRT_FAULT_CHS_EIO=FIRST[-LAST] makes the subtree reads numbered FIRST to LAST
+// (0-based, counted over the process's ChsFile::readSubtree calls; FIRST- = every read from FIRST on; one number =
+// that read only) fail with EIO in pread, as a failing disk would. Malformed values are ignored.
+bool injectedReadError() {
+    struct Range {
+        bool on = false;
+        uint64_t first = 0, last = 0;
+    };
+    static const Range range = [] {
+        Range r;
+        const char* text = std::getenv("CHCRT_FAULT_CHS_EIO");
+        if (text == nullptr || *text == '\0') return r;
+        char* end = nullptr;
+        r.first = std::strtoull(text, &end, 10);
+        if (end == text) return r;
+        r.last = r.first;
+        if (*end == '-') {
+            char* rest = end + 1;
+            if (*rest == '\0') r.last = UINT64_MAX, end = rest;
+            else r.last = std::strtoull(rest, &end, 10);
+        }
+        r.on = *end == '\0' && r.last >= r.first;
+        return r;
+    }();
+    static std::atomic<uint64_t> reads{0};
+    if (!range.on) return false;
+    const uint64_t n = reads.fetch_add(1);
+    return n >= range.first && n <= range.last;
+}
+
+void readExact(int fd, void* data, uint64_t bytes, uint64_t offset, const std::string& what, bool failWithEio = false) {
     auto* p = static_cast<char*>(data);
     while (bytes > 0) {
-        const ssize_t got = ::pread(fd, p, bytes, off_t(offset));
+        ssize_t got = -1;
+        if (failWithEio) errno = EIO;
+        else got = ::pread(fd, p, bytes, off_t(offset));
         if (got < 0 && errno == EINTR) continue;
         if (got <= 0) throw InputError(what + (got < 0 ? std::string(": ") + std::strerror(errno) : ": file is truncated"));
         p += got, bytes -= uint64_t(got), offset += uint64_t(got);
@@ -144,8 +179,9 @@ SubtreeData ChsFile::readSubtree(uint32_t index) const {
     if (hasTexcoords()) d.texcoords.resize(size_t(r.triangleCount) * 3);
     const std::string what = path_.string() + ": reading subtree " + std::to_string(index);
     uint64_t at = r.offset;
+    bool fail = injectedReadError();
     auto read = [&](void* data, uint64_t bytes) {
-        readExact(fd_, data, bytes, at, what);
+        readExact(fd_, data, bytes, at, what, std::exchange(fail, false));
         at += bytes;
     };
     read(d.nodes.data(), d.nodes.size() * sizeof(BvhNodeGpu));
