@@ -6,6 +6,7 @@
 #include <glm/gtc/constants.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 
@@ -87,12 +88,62 @@ void dropDegenerateTriangles(Scene& scene) {
     scene.stats.instancedTriangles = scene.triangles.size();
 }
 
+namespace {
+
+// The box of the middle 90 % of the triangles along each axis (5th to 95th percentile of their centroids; at most
+// ~1M centroids, evenly strided): where the scene's detail is, without a terrain's skirt, a cliff or a sky.
+Aabb denseBox(const Scene& scene) {
+    const size_t n = scene.triangles.size();
+    const size_t stride = std::max<size_t>(1, n / (size_t(1) << 20));
+    std::array<std::vector<float>, 3> axes;
+    for (auto& a : axes) a.reserve(n / stride + 1);
+    for (size_t i = 0; i < n; i += stride) {
+        const glm::uvec3& t = scene.triangles[i];
+        const glm::vec3 c = (scene.positions[t.x] + scene.positions[t.y] + scene.positions[t.z]) / 3.0f;
+        for (int a = 0; a < 3; ++a) axes[size_t(a)].push_back(c[a]);
+    }
+    Aabb box;
+    for (int a = 0; a < 3; ++a) {
+        std::vector<float>& v = axes[size_t(a)];
+        const size_t lo = v.size() / 20, hi = v.size() - 1 - v.size() / 20;
+        std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(lo), v.end());
+        box.lower[a] = v[lo];
+        std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(hi), v.end());
+        box.upper[a] = v[hi];
+    }
+    return box;
+}
+
+} // namespace
+
 // The bounding sphere of the box (centre, half its diagonal) fits the vertical field of view when the eye is
 // at distance r / sin(fovY / 2); a 5 % margin keeps silhouettes off the image border. Viewing from the front
 // (+Z) and 25 degrees above shows tops and fronts, the usual hero view for +Y-up scenes. With an aspect
 // ratio >= 1 the horizontal field of view is wider, so the vertical one is the binding constraint.
+//
+// A large, open scene (a town, a castle's streets: kLargeSceneTriangles or more, and its dense part flat, less high
+// than a quarter of its horizontal extent) framed so would be a small island seen from far outside the bounds
+// (the Intel castle: its cliff reaches 105 m below the town, which is 12 m high). Its default camera stands inside
+// the bounds instead, at the front (+Z) edge of the dense part and above it (up to the top of the bounds, the
+// 25° elevation when there is room), and looks at the dense part's centre.
 Camera defaultCamera(const Scene& scene, float fovYDegrees) {
     const Aabb box = scene.bounds();
+    constexpr size_t kLargeSceneTriangles = 100000;
+    if (!box.empty() && scene.triangles.size() >= kLargeSceneTriangles) {
+        const Aabb dense = denseBox(scene);
+        const glm::vec3 extent = dense.upper - dense.lower;
+        const float horizontal = std::sqrt(extent.x * extent.x + extent.z * extent.z);
+        if (horizontal > 0.0f && extent.y < 0.25f * horizontal && extent.z > 0.0f) {
+            Camera camera;
+            camera.target = dense.center();
+            const float back = 0.5f * extent.z; // to the dense part's front edge
+            const float rise = std::min(back * std::tan(glm::radians(25.0f)), box.upper.y - camera.target.y);
+            camera.eye = glm::vec3(camera.target.x, camera.target.y + std::max(rise, 0.0f), dense.upper.z);
+            camera.up = glm::vec3(0.0f, 1.0f, 0.0f);
+            camera.fovYDegrees = fovYDegrees;
+            return camera;
+        }
+    }
     const glm::vec3 center = box.empty() ? glm::vec3(0.0f) : box.center();
     float radius = 0.5f * box.diagonal();
     if (!(radius > 0.0f)) radius = 1.0f;

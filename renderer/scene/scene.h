@@ -99,7 +99,10 @@ void generateVertexNormals(Scene& scene);
 void dropDegenerateTriangles(Scene& scene);
 
 // A default camera that frames the whole scene: looking at the bounds' centre from the front-above, at a
-// distance that fits the bounding sphere into the vertical field of view.
+// distance that fits the bounding sphere into the vertical field of view. A large, open scene (100,000 triangles or
+// more whose middle 90 % lie in a flat box: a town, a castle) is seen from inside its bounds instead: from the front
+// edge of that dense part, above it, looking at its centre (scene.cpp says how). Files that store a camera use it
+// (app/session.cpp), not this.
 Camera defaultCamera(const Scene& scene, float fovYDegrees = 60.0f);
 
 // A default area light for any scene: a square facing down, above the bounds, offset sideways so shadows

@@ -175,6 +175,57 @@ TEST(DefaultCamera, HandlesFlatAndPointScenes) {
     EXPECT_EQ(camera.target, glm::vec3(1, 2, 3));
 }
 
+// `count` small triangles at random places in [lower, upper].
+void addScatteredTriangles(Scene& scene, size_t count, const glm::vec3& lower, const glm::vec3& upper, uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    for (size_t i = 0; i < count; ++i) {
+        const glm::vec3 p = lower + (upper - lower) * glm::vec3(u(rng), u(rng), u(rng));
+        const uint32_t v = uint32_t(scene.positions.size());
+        scene.positions.insert(scene.positions.end(), {p, p + glm::vec3(0.2f, 0, 0), p + glm::vec3(0, 0.2f, 0)});
+        scene.triangles.emplace_back(v, v + 1, v + 2);
+    }
+}
+
+bool inside(const Aabb& box, const glm::vec3& p) {
+    return glm::all(glm::greaterThanEqual(p, box.lower)) && glm::all(glm::lessThanEqual(p, box.upper));
+}
+
+// A town 200 × 200 m and 12 m high on an island whose cliff reaches 100 m down and 50 m out (the Intel castle's
+// shape): framed whole it would be a small island seen from far outside. The default camera stands inside the
+// bounds, above the town's front edge, and looks at the town's centre.
+TEST(DefaultCamera, ALargeOpenSceneIsSeenFromInsideItsBounds) {
+    Scene scene;
+    addScatteredTriangles(scene, 120000, {0, 0, 0}, {200, 12, 200}, 1);
+    const uint32_t v = uint32_t(scene.positions.size()); // the cliff: two big triangles
+    scene.positions.insert(scene.positions.end(), {{-50, -100, -50}, {250, -100, -50}, {250, -100, 250}, {-50, 0, 250}});
+    scene.triangles.emplace_back(v, v + 1, v + 2);
+    scene.triangles.emplace_back(v, v + 2, v + 3);
+    const Aabb bounds = scene.bounds();
+    const Camera camera = defaultCamera(scene, 60.0f);
+    EXPECT_TRUE(inside(bounds, camera.eye)) << camera.eye.x << " " << camera.eye.y << " " << camera.eye.z;
+    EXPECT_TRUE(inside(Aabb{{0, 0, 0}, {200, 12, 200}}, camera.target)) << "looks at the town";
+    EXPECT_NEAR(camera.target.x, 100.0f, 5.0f);
+    EXPECT_NEAR(camera.target.z, 100.0f, 5.0f);
+    EXPECT_GT(camera.eye.y, camera.target.y); // from above
+    EXPECT_GT(camera.eye.z, camera.target.z); // from the front
+    EXPECT_LE(camera.eye.z, 200.0f);          // at the town's edge, not beyond
+    EXPECT_FLOAT_EQ(camera.fovYDegrees, 60.0f);
+}
+
+// As many triangles, but a compact object (as high as wide) or a small flat scene: framed whole, from outside.
+TEST(DefaultCamera, CompactObjectsAndSmallScenesAreFramedWhole) {
+    Scene object;
+    addScatteredTriangles(object, 120000, {0, 0, 0}, {10, 10, 10}, 2);
+    Scene small;
+    addScatteredTriangles(small, 5000, {0, 0, 0}, {200, 12, 200}, 3);
+    for (const Scene* scene : {&object, &small}) {
+        const Camera camera = defaultCamera(*scene, 60.0f);
+        EXPECT_FALSE(inside(scene->bounds(), camera.eye));
+        EXPECT_EQ(camera.target, scene->bounds().center());
+    }
+}
+
 TEST(DefaultAreaLight, SquareFacingDownAboveTheSceneWithTheDocumentedBrightness) {
     const Scene scene = sceneWithBounds({-10, 0, -6}, {10, 4, 6});
     const AreaLight light = defaultAreaLight(scene);
