@@ -131,6 +131,16 @@ void addViewOptions(CLI::App& c, ViewOptions& view) {
     c.add_flag("--play", view.play, "Start playing the camera path");
     c.add_flag("--no-accumulate", view.noAccumulate, "No progressive refinement when the camera stops");
     c.add_flag("--hide-panel", view.hidePanel, "Start with the ImGui panel hidden (Tab toggles it)");
+    addResourceLogOptions(c, view.resourceLog, view.resourceEvery);
+}
+
+void addResourceLogOptions(CLI::App& c, std::string& file, int& every) {
+    c.add_option("--resource-log", file,
+                 "Write a JSON line of resident memory, open files, threads and live GL objects every "
+                 "--resource-every frames (long runs; scripts/soak.sh)");
+    c.add_option("--resource-every", every, "Frames between two --resource-log lines")
+        ->check(CLI::Range(1, 1000000000))
+        ->capture_default_str();
 }
 
 void checkViewOptions(const ViewOptions& view) {

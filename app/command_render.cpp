@@ -4,6 +4,7 @@
 #include "app/outofcore_report.h"
 #include "app/methods.h"
 #include "app/render_records.h"
+#include "app/resource_log.h"
 #include "app/report.h"
 #include "app/session.h"
 #include "renderer/core/error.h"
@@ -139,16 +140,31 @@ std::map<int, nlohmann::json> framesProvenDone(const RenderOptions& options, con
     return done;
 }
 
-// Test hooks for the farm's fault tests (docs/farm.md), acting right after frame k's image and record are written:
-// CHCRT_FAULT_KILL_AFTER_FRAME=k kills the process with SIGKILL, as a scheduler's kill would;
-// CHCRT_FAULT_STALL_AFTER_FRAME=k stops there until a signal ends the process (a task for scancel to cancel).
-void killIfFaultInjected(int frame) {
-    const char* at = std::getenv("CHCRT_FAULT_KILL_AFTER_FRAME");
-    if (at != nullptr && *at != '\0' && std::atoi(at) == frame) std::raise(SIGKILL);
-    const char* stall = std::getenv("CHCRT_FAULT_STALL_AFTER_FRAME");
-    if (stall != nullptr && *stall != '\0' && std::atoi(stall) == frame) {
+// Test hooks, right after frame k's image and record are written: CHCRT_FAULT_KILL_AFTER_FRAME=k kills the process
+// with SIGKILL, as a scheduler's kill would (the farm's fault tests, docs/farm.md); CHCRT_FAULT_STALL_AFTER_FRAME=k
+// waits there until a signal ends the process (a task for scancel to cancel); CHCRT_FAULT_STOP_AFTER_FRAME=k
+// stops it with SIGSTOP, so that a test can change the files it reads (a prepared scene truncated or overwritten
+// under an out-of-core render) before it continues it with SIGCONT (docs/robustness.md).
+void faultInjectedAfterFrame(int frame) {
+    const auto at = [frame](const char* variable) {
+        const char* value = std::getenv(variable);
+        return value != nullptr && *value != '\0' && std::atoi(value) == frame;
+    };
+    if (at("CHCRT_FAULT_KILL_AFTER_FRAME")) std::raise(SIGKILL);
+    if (at("CHCRT_FAULT_STOP_AFTER_FRAME")) std::raise(SIGSTOP);
+    if (at("CHCRT_FAULT_STALL_AFTER_FRAME")) {
         std::fflush(nullptr);
         for (;;) ::pause();
+    }
+}
+
+// A frame that fails on its input (a prepared scene's subtree that cannot be read or is corrupted) names the frame;
+// nothing of it is written.
+FrameStats renderFrameNamingIt(Renderer& renderer, const Camera& camera, int frame) {
+    try {
+        return renderer.renderFrame(camera);
+    } catch (const InputError& e) {
+        throw InputError("frame " + std::to_string(frame) + " not rendered: " + e.what());
     }
 }
 
@@ -180,6 +196,8 @@ RenderedFrames renderFrames(const RenderOptions& options, const SceneSession& se
     renderer.setPassCallback([&] { session.progress->update(++passesDone); });
     const RenderSettings& settings = renderer.settings();
     const std::string digest = flagsDigest(options.words);
+    ResourceLog resourceLog;
+    if (!options.resourceLog.empty()) resourceLog = ResourceLog(options.resourceLog, options.resourceEvery);
     for (int frame : frames) {
         const std::string file = formatFramePath(options.output, frame, int(frames.size()));
         out.written.push_back(file);
@@ -192,10 +210,11 @@ RenderedFrames renderFrames(const RenderOptions& options, const SceneSession& se
             t.chcrt->clearDebugImage();
         }
         const outofcore::OutOfCoreStats oocBefore = t.outOfCore ? t.outOfCore->snapshot() : outofcore::OutOfCoreStats{};
-        const FrameStats stats = renderer.renderFrame(session.path.cameraAtFrame(frame));
+        const FrameStats stats = renderFrameNamingIt(renderer, session.path.cameraAtFrame(frame), frame);
         writeFrameImage(file, t, renderer);
         nlohmann::json j = toJson(stats, uint64_t(settings.width) * settings.height);
         j["frame"] = frame;
+        j["resources"] = sampleResourcesJson();
         j["output"] = file;
         j["method"] = options.method;
         if (t.chcrt) j["chcrt"] = chcrtStatsJson(t.chcrt->totalStats(), 1.0);
@@ -214,10 +233,11 @@ RenderedFrames renderFrames(const RenderOptions& options, const SceneSession& se
                              {"commit", buildCommit()},
                              {"stats", j}});
         }
-        killIfFaultInjected(frame);
         out.json.push_back(j);
         addFrameStats(out.sum, stats);
+        resourceLog.frameDone(out.rendered, out.rendered + 1 == todo.size(), {{"path_frame", frame}});
         ++out.rendered;
+        faultInjectedAfterFrame(frame);
     }
     renderer.setPassCallback(nullptr);
     session.progress->end();
@@ -309,7 +329,7 @@ int runRender(const RenderOptions& options) {
     const ChcrtDebugImage debugImage = debugImageOf(options);
     if (options.resume && options.records.empty()) throw InputError("--resume needs --records FILE (the records it resumes from)");
     checkImageOutputPath(formatFramePath(options.output, 0, 1)); // every frame's file is in that directory
-    checkOutputFiles({o.statsJson, options.records});
+    checkOutputFiles({o.statsJson, options.records, options.resourceLog});
     SceneSession session = openSceneSession(o);
     const std::vector<int> frames = selectFrames(o, session.path, "0");
     GpuSession gpu = openGpuSession(o, session, settings);

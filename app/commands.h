@@ -22,9 +22,12 @@ struct RenderOptions {
     std::string debugImage;      // CHC+RT debug image instead of the shaded frame: overdraw|subtrees|batches|cost
     std::string records;         // --records: per-frame records, JSON Lines (app/render_records.h)
     bool resume = false;         // --resume: skip the frames --records proves done
+    std::string resourceLog;     // --resource-log: a JSON line of the process's resources every resourceEvery frames
+    int resourceEvery = 100;     // (app/resource_log.h)
     std::vector<std::string> words; // the command line after "render" (flags digest of the records)
 };
-// Registers render's own flags (-o, --method, --debug-image, --records, --resume) on a command (render, farm submit).
+// Registers render's own flags (-o, --method, --debug-image, --records, --resume, --resource-log, --resource-every)
+// on a command (render, farm submit).
 void addRenderOwnOptions(CLI::App& command, RenderOptions& render);
 int runRender(const RenderOptions& options);
 
@@ -94,9 +97,13 @@ struct ViewOptions {
     bool play = false;             // start playing the camera path
     bool noAccumulate = false;
     bool hidePanel = false;
+    std::string resourceLog;       // --resource-log, --resource-every (app/resource_log.h)
+    int resourceEvery = 100;
 };
 // The flags of `chcrt view` (the CLI and chcrt-view parse the same ones).
 void addViewOptions(CLI::App& command, ViewOptions& options);
+// --resource-log FILE and --resource-every N (render, farm submit, view).
+void addResourceLogOptions(CLI::App& command, std::string& file, int& every);
 // Checks what the flags' parser cannot before a window opens (image size, samples, effects: toRenderSettings); throws
 // InputError, so `chcrt view --width 0` is a usage error (exit 2), not a failed window (exit 3).
 void checkViewOptions(const ViewOptions& options);

@@ -47,6 +47,7 @@ void addRenderOwnOptions(CLI::App& c, RenderOptions& render) {
                  "docs/farm.md)");
     c.add_flag("--resume", render.resume, "Skip the frames whose --records prove them done (same flags and build, "
                                           "image unchanged)");
+    addResourceLogOptions(c, render.resourceLog, render.resourceEvery);
 }
 
 namespace {

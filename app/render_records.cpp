@@ -20,7 +20,8 @@ std::string hexDigest(uint64_t hash) {
 // Flags that take a value and do not decide pixels (pixelDecidingWords); -q/--quiet and --resume take none.
 bool isBookkeepingFlagWithValue(const std::string& flag) {
     return flag == "--frames" || flag == "-o" || flag == "--output" || flag == "--stats-json" ||
-           flag == "--records" || flag == "--gl-device" || flag == "--shader-stage";
+           flag == "--records" || flag == "--gl-device" || flag == "--shader-stage" || flag == "--resource-log" ||
+           flag == "--resource-every";
 }
 bool isBookkeepingSwitch(const std::string& flag) { return flag == "-q" || flag == "--quiet" || flag == "--resume"; }
 

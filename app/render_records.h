@@ -22,8 +22,9 @@ std::string fileChecksum(const std::filesystem::path& file);
 
 // The words of a `chcrt render` command line (after "render") that decide its images: all of them except the
 // frame selection and where statistics, records and progress go (--frames, -o/--output, --stats-json,
-// --records, --resume, -q/--quiet), the GL device (--gl-device: the same pixels on any device of a node) and the
-// shader stage (--shader-stage: the same pixels in either stage, tests/render/trace_stage_test.cpp).
+// --records, --resume, --resource-log, --resource-every, -q/--quiet), the GL device (--gl-device: the same pixels on
+// any device of a node) and the shader stage (--shader-stage: the same pixels in either stage,
+// tests/render/trace_stage_test.cpp).
 std::vector<std::string> pixelDecidingWords(const std::vector<std::string>& renderWords);
 // "fnv1a64:<hex>" of pixelDecidingWords(renderWords), NUL-separated.
 std::string flagsDigest(const std::vector<std::string>& renderWords);

@@ -6,9 +6,14 @@
 
 #include <csignal>
 #include <cstdlib>
+#include <cstring>
+#include <fcntl.h>
 #include <fstream>
+#include <functional>
 #include <string>
 #include <sys/wait.h>
+#include <unistd.h>
+#include <vector>
 
 namespace {
 
@@ -227,3 +232,153 @@ TEST_F(CliTest, ACorruptSubtreeFailsTheOutOfCoreFrameThatReadsIt) {
     EXPECT_NE(r.output.find("checksum mismatch)"), std::string::npos) << r.output;
     EXPECT_FALSE(exists("f_0000.png"));
 }
+
+namespace {
+
+using namespace chcrt::clitest;
+
+// Runs build/bin/chcrt with `arguments` in `dir`, stdout and stderr into out.log, with CHCRT_FAULT_STOP_AFTER_FRAME
+// = `stopAfterFrame`: when the render stops itself there, `whileStopped` changes its files and the render goes on.
+// Returns the exit code; `stopped` says whether the render reached the stop.
+int runStoppingAfterFrame(const fs::path& dir, const std::vector<std::string>& arguments, int stopAfterFrame,
+                          const std::function<void()>& whileStopped, bool& stopped) {
+    stopped = false;
+    const pid_t pid = ::fork();
+    if (pid < 0) return -1;
+    if (pid == 0) {
+        if (::chdir(dir.c_str()) != 0) ::_exit(126);
+        const int log = ::open("out.log", O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        ::dup2(log, 1);
+        ::dup2(log, 2);
+        ::setenv("CHCRT_FAULT_STOP_AFTER_FRAME", std::to_string(stopAfterFrame).c_str(), 1);
+        std::vector<char*> argv{const_cast<char*>(CHCRT_BINARY)};
+        for (const std::string& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
+        argv.push_back(nullptr);
+        ::execv(CHCRT_BINARY, argv.data());
+        ::_exit(127);
+    }
+    int status = 0;
+    ::waitpid(pid, &status, WUNTRACED);
+    if (WIFSTOPPED(status)) {
+        stopped = true;
+        whileStopped();
+        ::kill(pid, SIGCONT);
+        ::waitpid(pid, &status, 0);
+    }
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// An out-of-core walkthrough whose prepared scene changes under it: rendered through a GPU cache of 2 slots and a host
+// store of 1 MB, so that every frame reads subtrees from the file again.
+std::vector<std::string> outOfCoreWalk(const std::string& scene) {
+    return {"render", "--scene", scene, "--out-of-core", "--load-in-core", "off", "--method", "chcrt", "--gpu-cache-mb",
+            "1", "--host-cache-mb", "1", "--width", "64", "--height", "48", "--frames", "0-3", "-o", "f_####.png", "-q"};
+}
+
+// A prepared scene truncated or overwritten in place by another process while a walkthrough renders it: the first
+// frame that reads a subtree after the change fails, naming the frame, the file and the subtree, and is not written
+// (nor are the frames after it); the frames before stay. Replaced by a rename (a new file under the same name), the
+// render keeps reading the file it opened and finishes with the same images.
+TEST_F(CliTest, APreparedSceneTruncatedOrOverwrittenWhileItRendersFailsTheFrameThatReadsIt) {
+    ASSERT_EQ(run("prepare --scene city:200k --subtree-triangles 4000 -o c.chs -q").exitCode, 0);
+    ASSERT_EQ(run("prepare --scene city:200k:seed=9 --subtree-triangles 4000 -o other.chs -q").exitCode, 0);
+    const auto removeFrames = [&] {
+        for (int f = 0; f < 4; ++f) fs::remove(dir_ / ("f_000" + std::to_string(f) + ".png"));
+    };
+    bool stopped = false;
+    ASSERT_EQ(runStoppingAfterFrame(dir_, outOfCoreWalk("c.chs"), 99, [] {}, stopped), 0) << readFile("out.log");
+    std::vector<std::string> reference;
+    for (int f = 0; f < 4; ++f) reference.push_back(readFile("f_000" + std::to_string(f) + ".png"));
+    removeFrames();
+
+    struct Change {
+        const char* name;
+        std::function<void(const fs::path&)> apply;
+        const char* message; // empty: the render finishes
+    };
+    const std::vector<Change> changes = {
+        {"truncated", [](const fs::path& f) { fs::resize_file(f, 4096); }, "file is truncated"},
+        {"overwritten", [](const fs::path& f) { // same size, zeros after the header: another file's bytes
+             std::fstream out(f, std::ios::in | std::ios::out | std::ios::binary);
+             const std::string zeros(fs::file_size(f) - 4096, '\0');
+             out.seekp(4096);
+             out.write(zeros.data(), std::streamsize(zeros.size()));
+         }, "checksum mismatch"},
+        {"replaced", [&](const fs::path& f) { fs::rename(dir_ / "other.chs", f); }, ""},
+    };
+    for (const Change& change : changes) {
+        SCOPED_TRACE(change.name);
+        fs::copy_file(dir_ / "c.chs", dir_ / "s.chs", fs::copy_options::overwrite_existing);
+        const int code = runStoppingAfterFrame(dir_, outOfCoreWalk("s.chs"), 0, [&] { change.apply(dir_ / "s.chs"); },
+                                               stopped);
+        const std::string log = readFile("out.log");
+        ASSERT_TRUE(stopped) << log;
+        EXPECT_EQ(readFile("f_0000.png"), reference[0]) << "the frame before the change stays";
+        if (*change.message == '\0') {
+            EXPECT_EQ(code, 0) << log;
+            for (int f = 1; f < 4; ++f) EXPECT_EQ(readFile("f_000" + std::to_string(f) + ".png"), reference[size_t(f)]);
+        } else {
+            EXPECT_EQ(code, 2) << log;
+            EXPECT_NE(log.find("chcrt: error: frame 1 not rendered: s.chs: "), std::string::npos) << log;
+            EXPECT_NE(log.find("subtree "), std::string::npos) << log;
+            EXPECT_NE(log.find(change.message), std::string::npos) << log;
+            for (int f = 1; f < 4; ++f) EXPECT_FALSE(exists("f_000" + std::to_string(f) + ".png")) << f;
+        }
+        removeFrames();
+    }
+}
+
+// A read error of the disk, injected into the subtree reads (CHCRT_FAULT_CHS_EIO=FIRST-: every read from the
+// FIRST-th on fails with EIO in pread): the frame that reads then fails naming file and subtree, and is not written.
+TEST_F(CliTest, AnInjectedReadErrorFailsTheOutOfCoreFrameNamingFileAndSubtree) {
+    ASSERT_EQ(run("prepare --scene city:200k --subtree-triangles 4000 -o c.chs -q").exitCode, 0);
+    std::string walk;
+    for (const std::string& word : outOfCoreWalk("c.chs")) walk += word + " ";
+    const Result clean = run(walk + "--stats-json s.json");
+    ASSERT_EQ(clean.exitCode, 0) << clean.output;
+    // Reads of frames 0-2 (the warm-up frame before frame 0 reads too): the read numbered so fails in frame 1 or 2.
+    uint64_t reads = 0;
+    for (int f = 0; f < 3; ++f) reads += readJson("s.json")["frames"][f]["outofcore"]["host_reads"].get<uint64_t>();
+    ASSERT_GT(reads, 0u);
+    for (int f = 0; f < 4; ++f) fs::remove(dir_ / ("f_000" + std::to_string(f) + ".png"));
+
+    const Result r = run(walk, "CHCRT_FAULT_CHS_EIO=" + std::to_string(reads) + "-");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    const size_t at = r.output.find("chcrt: error: frame ");
+    ASSERT_NE(at, std::string::npos) << r.output;
+    const int failed = std::atoi(r.output.c_str() + at + std::strlen("chcrt: error: frame "));
+    EXPECT_GE(failed, 1) << r.output;
+    EXPECT_NE(r.output.find(" not rendered: c.chs: reading subtree "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(": Input/output error"), std::string::npos) << r.output;
+    for (int f = 0; f < 4; ++f) EXPECT_EQ(exists("f_000" + std::to_string(f) + ".png"), f < failed) << f;
+
+    // From the first read on: the warm-up frame fails, nothing is written.
+    for (int f = 0; f < 4; ++f) fs::remove(dir_ / ("f_000" + std::to_string(f) + ".png"));
+    const Result first = run(walk, "CHCRT_FAULT_CHS_EIO=0-");
+    EXPECT_EQ(first.exitCode, 2) << first.output;
+    EXPECT_NE(first.output.find("c.chs: reading subtree "), std::string::npos) << first.output;
+    EXPECT_FALSE(exists("f_0000.png"));
+}
+
+// A full disk, for real: a 1 MiB tmpfs mounted in a private mount namespace (unshare; skipped where user and mount
+// namespaces are not allowed, AFullDiskFailsCleanlyWithoutShortFiles simulates it with a file size limit). prepare and
+// a float image fail with ENOSPC, exit 2, and leave nothing on the disk.
+TEST_F(CliTest, PrepareAndRenderOnAFullDiskLeaveNothingBehind) {
+    fs::create_directories(dir_ / "disk");
+    write("disk.sh", "mount -t tmpfs -o size=1m tmpfs disk || exit 97\ncd disk\n"
+                     "'" CHCRT_BINARY "' prepare --scene city:200k -o c.chs -q; echo \"prepare exit $?\"\n"
+                     "'" CHCRT_BINARY "' render --scene city:10k --width 1024 --height 1024 --spp 1 -q -o big.exr\n"
+                     "echo \"render exit $?\"\necho left: $(ls -A)\n");
+    const std::string command = "cd '" + dir_.string() + "' && unshare -rm sh disk.sh > out.log 2>&1";
+    const int status = std::system(command.c_str());
+    const std::string log = readFile("out.log");
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+        GTEST_SKIP() << "no private tmpfs here (unshare -rm and mount -t tmpfs): " << log;
+    }
+    EXPECT_NE(log.find("No space left on device"), std::string::npos) << log;
+    EXPECT_NE(log.find("prepare exit 2"), std::string::npos) << log;
+    EXPECT_NE(log.find("render exit 2"), std::string::npos) << log;
+    EXPECT_NE(log.find("left:\n"), std::string::npos) << "files left on the full disk:\n" << log;
+}
+
+} // namespace
