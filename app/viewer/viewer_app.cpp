@@ -2,6 +2,7 @@
 
 #include "app/methods.h"
 #include "app/report.h"
+#include "app/resource_log.h"
 #include "app/viewer/residency_view.h"
 #include "app/viewer/shaft_picker.h"
 #include "app/viewer/view_display.h"
@@ -43,6 +44,26 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 
+// The window's back buffer as drawn (panel included), rows top to bottom.
+ImageRgba32f readWindow(int width, int height) {
+    std::vector<uint8_t> bytes(size_t(width) * size_t(height) * 4);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    glReadBuffer(GL_BACK);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, bytes.data());
+    ImageRgba32f image;
+    image.width = width;
+    image.height = height;
+    image.pixels.resize(bytes.size());
+    for (int y = 0; y < height; ++y) {
+        const uint8_t* row = bytes.data() + size_t(height - 1 - y) * size_t(width) * 4;
+        for (size_t i = 0; i < size_t(width) * 4; ++i) {
+            image.pixels[size_t(y) * size_t(width) * 4 + i] = i % 4 == 3 ? 1.0f : float(row[i]) / 255.0f;
+        }
+    }
+    return image;
+}
+
 bool sameCamera(const Camera& a, const Camera& b) {
     return a.eye == b.eye && a.target == b.target && a.up == b.up && a.fovYDegrees == b.fovYDegrees;
 }
@@ -78,6 +99,7 @@ private:
 
     void renderIfNeeded();
     void renderFrame(int w, int h);
+    void frameFailed(const std::string& error);
     void prepareDebugImage(ChcrtTracer* chcrt);
     void renderView(ChcrtTracer* chcrt, Clock::time_point start, FrameStats& stats,
                     std::optional<ResidencyCounts>& residency);
@@ -100,7 +122,7 @@ private:
     // A failure the session survives (a scene that does not load, an unwritable screenshot): in the panel, and on
     // stderr, where errors go, not on stdout with the notices.
     void reportError(const std::string& text);
-    void writeSummary() const;
+    void writeSummary();
 
     ViewOptions options_;
     ViewerSettings settings_;
@@ -126,14 +148,21 @@ private:
     std::optional<ResidencyCounts> lastResidency_; // of the last residency-view frame (out of core)
     std::optional<ScriptRunner> script_;
     ViewerStatus status_;
+    // The last frame failed on its input (an out-of-core read): no new attempt until the view changes (dirty_).
+    bool frameFailed_ = false;
+    static constexpr double kWaitingRedrawsPerSecond = 30.0;
+    int loadRedraws_ = 0; // window redraws while the current load ran (the "loaded" line)
+    std::string windowScreenshot_; // a script's window screenshot, taken by the next drawWindow
     ViewerLog log_;
+    ResourceLog resourceLog_; // --resource-log
 };
 
 Viewer::Viewer(const ViewOptions& options)
     : options_(options), methods_([this](const std::string& text) { notice(text); }, !options.script.empty()),
       shafts_([this](const std::string& text, bool onlyIfNew) {
           if (!onlyIfNew || status_.message != text) notice(text);
-      }, !options.script.empty()) {
+      }, !options.script.empty()),
+      log_(!options.common.statsJson.empty(), !options.script.empty()) {
     settings_.common = options.common;
     settings_.renderScale = options.renderScale;
     settings_.accumulate = !options.noAccumulate;
@@ -152,6 +181,7 @@ Viewer::Viewer(const ViewOptions& options)
     showPanel_ = !options.hidePanel;
     playing_ = options.play;
     if (!options.script.empty()) script_.emplace(loadViewerScript(options.script));
+    if (!options.resourceLog.empty()) resourceLog_ = ResourceLog(options.resourceLog, options.resourceEvery);
     openWindow();
     // Out of core the interactive viewer streams a cold cache over frames (at most 16 subtree uploads per trace;
     // incomplete frames are re-rendered until complete); scripts get complete, exact frames unless they ask.
@@ -255,31 +285,43 @@ int Viewer::run() {
             renderIfNeeded();
         }
         drawWindow();
-        status_.frameMs = millisecondsSince(start);
-        // The whole iteration of a rendered frame: input, render, display, panel and buffer swap.
+        // The whole iteration of a rendered frame: input, render, display, panel and buffer swap. Iterations that
+        // render nothing (a complete view, a load) are not frames: the panel's fps is of the last rendered frame.
+        const double loopMs = millisecondsSince(start);
         const bool rendered = log_.renderedFrames() != renderedBefore;
-        if (rendered) log_.setLoopMs(status_.frameMs);
+        if (rendered) {
+            status_.frameMs = loopMs;
+            log_.setLoopMs(loopMs);
+            resourceLog_.frameDone(uint64_t(log_.renderedFrames() - 1), false,
+                                   {{"method", methods_.activeMethod()}, {"scene", status_.sceneName}});
+        }
         // The graph shows rendered frames; the iteration that uploaded a scene would flatten it.
-        if (rendered && !loaded) log_.addToHistory(float(status_.frameMs));
+        if (rendered && !loaded) log_.addToHistory(float(loopMs));
         if (shafts_.takeFinished()) dirty_ = true; // the shafts view's new pick: show it
-        idle = !scripted() && !rendered && !loader_.busy() && !methods_.cacheJob().busy() && !shafts_.busy() &&
-               !playing_ && !input_->looking();
+        const bool background = loader_.busy() || methods_.cacheJob().busy() || shafts_.busy();
+        if (loader_.busy()) ++loadRedraws_;
+        idle = !scripted() && !rendered && !background && !playing_ && !input_->looking();
+        // While a worker loads a scene or builds structures and the loop renders nothing, the window (spinner,
+        // progress) is redrawn at most kWaitingRedrawsPerSecond times a second. Unthrottled it was redrawn ~270 times
+        // a second, and on a machine of few cores that drawing (llvmpipe) took the CPU the worker needed: docs/
+        // benchmarks.md, "Viewer scene loading".
+        if (!rendered && background) {
+            const double left = 1.0 / kWaitingRedrawsPerSecond - millisecondsSince(start) / 1000.0;
+            if (left > 0) glfwWaitEventsTimeout(left);
+        }
     }
     writeSummary();
     return script_ && script_->failures() ? kExitCheckFailed : kExitOk;
 }
 
 // --stats-json, and a scripted session's one-line summary.
-void Viewer::writeSummary() const {
+void Viewer::writeSummary() {
     if (!options_.common.statsJson.empty()) log_.write(options_.common.statsJson);
+    if (log_.renderedFrames() > 0) resourceLog_.frameDone(uint64_t(log_.renderedFrames() - 1), true);
     if (!scripted()) return;
-    std::vector<double> frameMs, rendererMs;
-    for (const auto& f : log_.frames()) {
-        frameMs.push_back(f.value("loop_ms", f["frame_ms"].get<double>()));
-        rendererMs.push_back(f["renderer_ms"].get<double>());
-    }
-    std::printf("view: %d frames rendered, median frame %.2f ms (renderer %.2f ms)%s\n", log_.renderedFrames(),
-                median(frameMs), median(rendererMs), script_->failures() ? ", expectations FAILED" : "");
+    std::printf("view: %d frames rendered%s, median frame %.2f ms (renderer %.2f ms)%s\n", log_.renderedFrames(),
+                log_.failedFrames() ? (", " + std::to_string(log_.failedFrames()) + " failed").c_str() : "",
+                log_.medianLoopMs(), log_.medianRendererMs(), script_->failures() ? ", expectations FAILED" : "");
 }
 
 void Viewer::finishLoading() {
@@ -298,10 +340,12 @@ void Viewer::finishLoading() {
     sampleLoadProgress(); // the worker has finished: complete, 100 %
     const auto uploadStart = Clock::now();
     installScene(std::move(loaded), std::move(uploaded.scene));
-    char timings[160]; // the numbers only: the scene's name, of any length, is appended whole
-    std::snprintf(timings, sizeof(timings), ": %llu triangles, %.2f s loading + BVH%s (worker thread), %.2f s "
-                  "renderer set-up (main thread)", static_cast<unsigned long long>(status_.triangles), loadSeconds,
-                  uploadedByWorker ? " + GPU upload" : "", millisecondsSince(uploadStart) / 1000.0);
+    char timings[200]; // the numbers only: the scene's name, of any length, is appended whole
+    std::snprintf(timings, sizeof(timings), ": %llu triangles, %.2f s loading + BVH%s (worker thread, %d window "
+                  "redraws meanwhile), %.2f s renderer set-up (main thread)",
+                  static_cast<unsigned long long>(status_.triangles), loadSeconds, uploadedByWorker ? " + GPU upload" : "",
+                  loadRedraws_, millisecondsSince(uploadStart) / 1000.0);
+    loadRedraws_ = 0;
     notice("loaded " + loader_.scene() + timings);
 }
 
@@ -335,7 +379,11 @@ void Viewer::installScene(std::unique_ptr<SceneSession> loaded, std::unique_ptr<
         setCamera(scene_->path.cameraAtFrame(pathFrame_));
     }
     walk_ = WalkController(camera_, scene_->scene.bounds());
-    gpu_.renderer->warmUp(camera_);
+    try {
+        gpu_.renderer->warmUp(camera_);
+    } catch (const InputError& e) { // an out-of-core read failed: as a failed frame, and the first frame tries again
+        frameFailed(e.what());
+    }
     status_.sceneName = settings_.common.scene = loader_.scene();
     status_.triangles = sceneTriangles(*scene_);
     dirty_ = true;
@@ -460,6 +508,7 @@ void Viewer::runStepActions(const ScriptStep& step) {
 
 void Viewer::runStepChecks(const ScriptStep& step) {
     if (!step.screenshot.empty()) takeScreenshot(step.screenshot);
+    if (!step.windowScreenshot.empty()) windowScreenshot_ = step.windowScreenshot; // drawWindow takes it
     if (!step.expect) return;
     for (const std::string& what : unmetExpectations(*step.expect, observe())) {
         std::fprintf(stderr, "chcrt: view script: expectation failed (step %zu): %s\n", script_->currentIndex(),
@@ -486,6 +535,8 @@ ScriptObservation Viewer::observe() const {
     seen.shaftNodePicked = shafts_.pick().has_value();
     seen.outOfCore = methods_.outOfCore() != nullptr;
     seen.loadProgress = loader_.progress().fraction();
+    seen.failedFrames = log_.failedFrames();
+    seen.frameFailed = frameFailed_;
     return seen;
 }
 
@@ -519,9 +570,30 @@ void Viewer::renderIfNeeded() {
     const bool shaded = settings_.viewMode == ViewMode::Shaded;
     const bool refine = shaded && settings_.accumulate && methods_.activeMethod() != kRasterOnlyMethod &&
                         display_->accumulatedFrames() < settings_.maxAccumulatedFrames;
-    if (!dirty_ && !refine) return; // the view is complete: only the window is redrawn
+    // The view is complete, or its last frame failed and nothing changed since: only the window is redrawn.
+    if (!dirty_ && (!refine || frameFailed_)) return;
     if (dirty_ || !settings_.accumulate) display_->resetAccumulation();
-    renderFrame(w, h);
+    try {
+        renderFrame(w, h);
+    } catch (const InputError& e) {
+        frameFailed(e.what());
+        return;
+    }
+    frameFailed_ = false;
+    status_.frameError.clear();
+}
+
+// A frame that failed on its input (a prepared scene's subtree that cannot be read: an I/O error, a file truncated
+// or overwritten while it is rendered; the message names the file and subtree): the panel and stderr say so, the
+// window keeps the last complete image, nothing of the frame is logged or can be saved as a screenshot, and the
+// session goes on. The view is tried again when it changes (camera, settings, another scene).
+void Viewer::frameFailed(const std::string& error) {
+    frameFailed_ = true;
+    dirty_ = false;
+    renderedCamera_ = camera_;
+    status_.frameError = error;
+    log_.addFailure(error);
+    reportError("frame not rendered: " + error);
 }
 
 // Renders the view mode, updates the frame's statistics and logs the frame.
@@ -549,6 +621,7 @@ void Viewer::renderFrame(int w, int h) {
     dirty_ = status_.outOfCore && status_.outOfCore->frame.cachePostponed > 0;
     renderedCamera_ = camera_;
     status_.stats = stats;
+    status_.frameRendered = true;
     if (recorder_.recording()) recorder_.record(camera_, scripted(), script_ ? script_->frame() : 0);
     FrameRecord record;
     record.stats = &stats;
@@ -662,6 +735,11 @@ void Viewer::drawWindow() {
     }
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    if (!windowScreenshot_.empty()) {
+        writeImage(windowScreenshot_, readWindow(fbWidth, fbHeight), /*alreadyDisplayEncoded=*/true);
+        notice("wrote " + windowScreenshot_);
+        windowScreenshot_.clear();
+    }
     glfwSwapBuffers(window_);
 }
 
@@ -711,6 +789,10 @@ void Viewer::applyPanelActions(const ViewerActions& a) {
 }
 
 void Viewer::takeScreenshot(const std::string& file) {
+    if (frameFailed_) { // the window shows an older frame than the view asked for
+        reportError("screenshot " + file + " not written: the last frame failed (" + status_.frameError + ")");
+        return;
+    }
     writeImage(file, display_->readImage());
     notice("wrote " + file);
 }

@@ -106,6 +106,8 @@ struct StepParser {
                 step.loadScene = get<std::string>(value, "loadScene");
             } else if (key == "screenshot") {
                 step.screenshot = get<std::string>(value, "screenshot");
+            } else if (key == "windowScreenshot") {
+                step.windowScreenshot = get<std::string>(value, "windowScreenshot");
             } else if (key == "expect") {
                 if (!value.is_object()) fail("'expect' must be an object");
                 step.expect = value;
@@ -182,6 +184,10 @@ std::vector<std::string> unmetExpectations(const nlohmann::json& expect, const S
             check(seen.outOfCore == value.get<bool>(), "outOfCore = " + flag(seen.outOfCore));
         } else if (key == "loadProgress") {
             check(std::abs(seen.loadProgress - value.get<double>()) <= 1e-9, "loadProgress = " + std::to_string(seen.loadProgress));
+        } else if (key == "failedFrames") {
+            check(seen.failedFrames == value.get<int>(), "failedFrames = " + std::to_string(seen.failedFrames));
+        } else if (key == "frameFailed") {
+            check(seen.frameFailed == value.get<bool>(), "frameFailed = " + flag(seen.frameFailed));
         } else {
             throw InputError("script: unknown expectation '" + key + "'");
         }

@@ -18,9 +18,11 @@
 //                                                     shafts view, like a left click in the window
 //    {"loadScene": "city:5k"},                        background load; the script waits until it is ready
 //    {"screenshot": "a.png"},                         the current view (internal resolution, no panel)
+//    {"windowScreenshot": "w.png"},                   the whole window as drawn, panel included (window size)
 //    {"expect": {"cappedRays": 0, "minRaysGenerated": 1, "tracePasses": {"shadow": 1},
 //                "accumulatedFrames": 1, "imageSize": [64, 36], "method": "bvh", "viewMode": "cost",
-//                "primary": "traced", "shaftNodePicked": true, "loadProgress": 1.0}}]
+//                "primary": "traced", "shaftNodePicked": true, "loadProgress": 1.0, "failedFrames": 0,
+//                "frameFailed": false}}]
 // An unmet expectation ends the session with exit code 4 (after the remaining steps are skipped).
 #include "app/viewer/walk_controller.h"
 #include "renderer/render/render_settings.h"
@@ -52,6 +54,7 @@ struct ScriptStep {
     std::optional<std::pair<int, int>> pick; // pixel of the internal image (rows top to bottom), like a left click
     std::string loadScene;
     std::string screenshot;
+    std::string windowScreenshot;
     std::optional<nlohmann::json> expect;
 };
 
@@ -74,6 +77,8 @@ struct ScriptObservation {
     bool shaftNodePicked = false;
     bool outOfCore = false;                // the method traces through the GPU subtree cache
     double loadProgress = 0;
+    int failedFrames = 0;                  // frames that failed on their input (an out-of-core read) so far
+    bool frameFailed = false;              // the last frame tried failed (the window shows an older one)
 };
 // The unmet expectations of `expect`, one line each ("accumulatedFrames = 1"); InputError for unknown keys.
 std::vector<std::string> unmetExpectations(const nlohmann::json& expect, const ScriptObservation& seen);

@@ -2,6 +2,8 @@
 
 #include "app/outofcore_report.h"
 #include "app/report.h"
+#include "app/resource_log.h"
+#include "renderer/core/statistics.h"
 
 namespace chcrt::app {
 namespace {
@@ -54,6 +56,12 @@ ViewerOutOfCoreStatus outOfCoreFrameStatus(const outofcore::OutOfCoreTracer& tra
 }
 
 void ViewerLog::addFrame(const FrameRecord& f) {
+    ++renderedFrames_;
+    if (keepTimes_) {
+        loopMs_.push_back(f.frameMs); // until setLoopMs
+        rendererMs_.push_back(f.stats->totalMs);
+    }
+    if (!keepJson_) return;
     nlohmann::json entry = statsToJson(*f.stats);
     entry["frame"] = frames_.size();
     entry["method"] = f.method;
@@ -84,12 +92,22 @@ void ViewerLog::addFrame(const FrameRecord& f) {
     entry["height"] = f.height;
     entry["accumulated_frames"] = f.accumulatedFrames;
     entry["frame_ms"] = f.frameMs;
+    entry["resources"] = sampleResourcesJson();
     frames_.push_back(std::move(entry));
 }
 
 void ViewerLog::setLoopMs(double ms) {
+    if (keepTimes_ && !loopMs_.empty()) loopMs_.back() = ms;
     if (!frames_.empty()) frames_.back()["loop_ms"] = ms;
 }
+
+void ViewerLog::addFailure(const std::string& error) {
+    ++failedFrames_;
+    if (keepJson_) failures_.push_back({{"after_frame", renderedFrames_}, {"error", error}});
+}
+
+double ViewerLog::medianLoopMs() const { return loopMs_.empty() ? 0.0 : median(loopMs_); }
+double ViewerLog::medianRendererMs() const { return rendererMs_.empty() ? 0.0 : median(rendererMs_); }
 
 void ViewerLog::addToHistory(float ms) {
     history_.push_back(ms);
@@ -97,6 +115,7 @@ void ViewerLog::addToHistory(float ms) {
 }
 
 void ViewerLog::sampleLoad(const LoadProgressSnapshot& p, const std::string& scene, double seconds) {
+    if (!keepJson_) return;
     nlohmann::json sample = {{"scene", scene},   {"step", p.step},   {"label", p.label},
                              {"done", p.done},   {"total", p.total}, {"fraction", p.fraction()},
                              {"complete", p.complete}};
@@ -110,7 +129,7 @@ void ViewerLog::sampleLoad(const LoadProgressSnapshot& p, const std::string& sce
 }
 
 void ViewerLog::write(const std::string& file) const {
-    writeJsonFile(file, nlohmann::json{{"frames", frames_}, {"loading", loads_}});
+    writeJsonFile(file, nlohmann::json{{"frames", frames_}, {"failed_frames", failures_}, {"loading", loads_}});
 }
 
 } // namespace chcrt::app

@@ -39,24 +39,39 @@ struct FrameRecord {
     double frameMs = 0; // render + visualisation (loop_ms, set afterwards, adds panel and swap)
 };
 
+// What the session keeps of its frames. Every frame's JSON (and each loading sample) only for --stats-json, whose
+// file lists them all: it grows with the session (a few kB a frame). Otherwise only counters, the graph's last
+// kFrameHistory times and, in scripted sessions, two times a frame for the medians of the summary line, so that a
+// session of any length keeps its memory flat (docs/robustness.md, "Long runs").
 class ViewerLog {
 public:
     static constexpr size_t kFrameHistory = 120;
 
+    ViewerLog(bool keepJson, bool keepTimes) : keepJson_(keepJson), keepTimes_(keepTimes) {}
     void addFrame(const FrameRecord& frame); // numbered in order
     void setLoopMs(double ms);                // of the last frame added: the whole loop iteration
     void addToHistory(float ms);              // the panel's frame-time graph
+    // A frame that failed (its error); failed frames are not numbered among the rendered ones.
+    void addFailure(const std::string& error);
     // A sample of the loading worker's progress; one per change.
     void sampleLoad(const LoadProgressSnapshot& progress, const std::string& scene, double seconds);
-    void write(const std::string& file) const;
+    void write(const std::string& file) const; // needs keepJson
 
-    int renderedFrames() const { return int(frames_.size()); }
-    const nlohmann::json& frames() const { return frames_; }
+    int renderedFrames() const { return renderedFrames_; }
+    int failedFrames() const { return failedFrames_; }
+    // Medians over the frames (keepTimes): whole loop iterations (frame_ms where a loop time is missing) and the
+    // renderer's time; 0 without frames.
+    double medianLoopMs() const;
+    double medianRendererMs() const;
     const std::deque<float>& history() const { return history_; }
 
 private:
+    bool keepJson_, keepTimes_;
+    int renderedFrames_ = 0, failedFrames_ = 0;
     nlohmann::json frames_ = nlohmann::json::array();
+    nlohmann::json failures_ = nlohmann::json::array();
     nlohmann::json loads_ = nlohmann::json::array();
+    std::vector<double> loopMs_, rendererMs_;
     std::deque<float> history_;
 };
 

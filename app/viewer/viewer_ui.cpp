@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 
 namespace chcrt::app {
@@ -30,9 +31,23 @@ double megaRaysPerSecond(const FrameStats& s) {
 
 ViewerActions ViewerPanel::draw(ViewerSettings& settings, const ViewerStatus& status) {
     ViewerActions actions;
-    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(360, 0), ImGuiCond_FirstUseEver);
+    // The panel stays inside the window: its height follows its content up to the window's bottom edge (below that
+    // it scrolls), its width is the user's (kPanelWidth at first; the resize grip changes it). Long text wraps.
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    const float maxWidth = std::max(kMinPanelWidth, display.x - 2 * kPanelMargin);
+    const float maxHeight = std::max(kMinPanelHeight, display.y - top_ - kPanelMargin);
+    ImGui::SetNextWindowPos(ImVec2(kPanelMargin, kPanelMargin), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(std::min(width_, maxWidth), 0.0f), ImGuiCond_Always); // 0: fit the content
+    ImGui::SetNextWindowSizeConstraints(ImVec2(kMinPanelWidth, kMinPanelHeight), ImVec2(maxWidth, maxHeight));
     ImGui::Begin("chcrt view");
+    width_ = ImGui::GetWindowWidth();
+    top_ = std::max(0.0f, ImGui::GetWindowPos().y);
+    // Sliders and inputs leave room for their labels on the right.
+    ImGui::PushItemWidth(-ImGui::GetFontSize() * 9.0f);
+    ImGui::PushTextWrapPos(0.0f); // text wraps at the panel's right edge
+    if (!status.frameError.empty()) {
+        ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f), "frame not rendered: %s", status.frameError.c_str());
+    }
     if (status.loading) { // first, so that it is visible however small the window
         // Loading and the BVH build run on a worker thread; the elapsed time and a spinner show it is alive.
         const char spinner[] = "|/-\\";
@@ -57,6 +72,7 @@ ViewerActions ViewerPanel::draw(ViewerSettings& settings, const ViewerStatus& st
     if (ImGui::CollapsingHeader("Camera and paths", ImGuiTreeNodeFlags_DefaultOpen)) drawCamera(status, actions);
     if (ImGui::CollapsingHeader("Scene")) {
         ImGui::Text("%s: %llu triangles", status.sceneName.c_str(), static_cast<unsigned long long>(status.triangles));
+        ImGui::SetNextItemWidth(-ImGui::CalcTextSize("Load").x - 3 * ImGui::GetStyle().ItemSpacing.x);
         ImGui::InputText("##scene", &sceneField_);
         ImGui::SameLine();
         ImGui::BeginDisabled(status.loading);
@@ -64,18 +80,31 @@ ViewerActions ViewerPanel::draw(ViewerSettings& settings, const ViewerStatus& st
         ImGui::EndDisabled();
     }
     if (!status.message.empty()) ImGui::TextWrapped("%s", status.message.c_str());
+    ImGui::PopTextWrapPos();
+    ImGui::PopItemWidth();
     ImGui::End();
     return actions;
 }
 
 void ViewerPanel::drawStatistics(const ViewerStatus& status) {
     const FrameStats& s = status.stats;
-    ImGui::Text("%.1f fps  frame %.2f ms  internal %d x %d", status.frameMs > 0 ? 1000.0 / status.frameMs : 0.0,
-                status.frameMs, status.internalWidth, status.internalHeight);
+    graphSize_ = {0.0f, 0.0f};
+    if (!status.frameRendered) { // loading the first scene: no frame, so no frame time, size or split to show
+        ImGui::TextUnformatted("no frame rendered yet");
+        return;
+    }
+    // Of the last rendered frame: frames that the loop does not render (a complete view) do not count.
+    ImGui::Text("%.1f fps, frame %.2f ms", status.frameMs > 0 ? 1000.0 / status.frameMs : 0.0, status.frameMs);
+    ImGui::SameLine();
+    ImGui::Text(" internal %d x %d", status.internalWidth, status.internalHeight);
     if (!status.frameHistoryMs.empty()) {
         const float top = *std::max_element(status.frameHistoryMs.begin(), status.frameHistoryMs.end());
+        // An explicit width: this ImGui's PlotLines takes a negative width as it is (a graph -1 px wide, drawn as a
+        // one-pixel line) instead of "up to the right edge".
+        const float width = std::max(ImGui::GetContentRegionAvail().x, 1.0f);
         ImGui::PlotLines("##frames", status.frameHistoryMs.data(), int(status.frameHistoryMs.size()), 0,
-                         "frame time (ms)", 0.0f, std::max(top * 1.1f, 1.0f), ImVec2(-1, 50));
+                         "frame time (ms)", 0.0f, std::max(top * 1.1f, 1.0f), ImVec2(width, kGraphHeight));
+        graphSize_ = {ImGui::GetItemRectSize().x, ImGui::GetItemRectSize().y};
     }
     ImGui::Text("renderer %.2f ms, accumulated frames %d", s.totalMs, status.accumulatedFrames);
     row("G-buffer", s.gbufferMs);
@@ -93,9 +122,10 @@ void ViewerPanel::drawStatistics(const ViewerStatus& status) {
         row("  CHC+RT phase 2", c.phase2Ms);
         row("  CHC+RT phase 3", c.phase3Ms);
         if (c.fallbackTraces > 0) row("  CHC+RT fallback", c.fallbackMs);
-        ImGui::Text("  %llu queries (%llu skipped: out of the rays' reach), %llu subtrees scheduled, %llu shader calls",
-                    static_cast<unsigned long long>(c.queries), static_cast<unsigned long long>(c.queriesSkippedExtent),
-                    static_cast<unsigned long long>(c.subtreesScheduled), static_cast<unsigned long long>(c.shaderCalls));
+        ImGui::Text("  %llu queries (%llu skipped: out of the rays' reach)", static_cast<unsigned long long>(c.queries),
+                    static_cast<unsigned long long>(c.queriesSkippedExtent));
+        ImGui::Text("  %llu subtrees scheduled, %llu shader calls", static_cast<unsigned long long>(c.subtreesScheduled),
+                    static_cast<unsigned long long>(c.shaderCalls));
     }
     row("shading", s.shadeMs);
     ImGui::Text("%.2f Mrays/s (%llu rays)", megaRaysPerSecond(s), static_cast<unsigned long long>(s.raysGenerated));
@@ -305,6 +335,7 @@ void ViewerPanel::drawCamera(const ViewerStatus& status, ViewerActions& actions)
     actions.togglePlay = ImGui::Button(status.playing ? "Pause path (P)" : "Play path (P)");
     ImGui::SameLine();
     int frame = status.pathFrame;
+    ImGui::SetNextItemWidth(-FLT_MIN); // up to the right edge (it has no label)
     if (ImGui::SliderInt("##pathframe", &frame, 0, std::max(status.pathFrames - 1, 0))) actions.pathFrame = frame;
     actions.toggleRecord = ImGui::Button(status.recording ? "Stop recording (F9)" : "Record walkthrough (F9)");
     if (status.recording) {

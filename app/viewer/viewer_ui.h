@@ -10,6 +10,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace chcrt::app {
@@ -32,10 +33,11 @@ struct ViewerOutOfCoreStatus {
 };
 
 struct ViewerStatus {
+    bool frameRendered = false; // a frame of the scene was rendered: the statistics below are of it
     FrameStats stats;          // of the last rendered frame
     std::optional<ViewerChcrtStats> chcrt;
     std::optional<ViewerOutOfCoreStatus> outOfCore;
-    double frameMs = 0;        // wall time of the last loop iteration (render + panel + swap)
+    double frameMs = 0;        // wall time of the last rendered frame's loop iteration (render + panel + swap)
     std::vector<float> frameHistoryMs;
     int accumulatedFrames = 0;
     int internalWidth = 0, internalHeight = 0;
@@ -56,6 +58,7 @@ struct ViewerStatus {
     bool recording = false;
     size_t recordedKeyframes = 0;
     std::string message; // last notice: screenshot written, command line copied, errors
+    std::string frameError; // the last frame failed on its input (shown until a frame renders)
 };
 
 struct ViewerActions {
@@ -71,6 +74,8 @@ public:
     explicit ViewerPanel(std::string sceneField) : sceneField_(std::move(sceneField)) {}
     // Draws the panel (between ImGui::NewFrame and ImGui::Render).
     ViewerActions draw(ViewerSettings& settings, const ViewerStatus& status);
+    // The size the last draw gave the frame-time graph (0 × 0 when it drew none): tests/viewer/viewer_panel_test.cpp.
+    std::pair<float, float> graphSize() const { return graphSize_; }
 
 private:
     void drawStatistics(const ViewerStatus& status);
@@ -81,7 +86,12 @@ private:
     void drawEffects(const ViewerSettings& settings, nlohmann::json& changes);
     void drawParameter(const Parameter& parameter, const CommonOptions& shown, nlohmann::json& changes);
     void drawCamera(const ViewerStatus& status, ViewerActions& actions);
+    static constexpr float kPanelWidth = 380.0f, kMinPanelWidth = 240.0f, kMinPanelHeight = 120.0f;
+    static constexpr float kPanelMargin = 8.0f, kGraphHeight = 50.0f;
     std::string sceneField_;
+    std::pair<float, float> graphSize_{0.0f, 0.0f};
+    float width_ = kPanelWidth; // the panel's width (the user may resize it) and top edge, of the last draw
+    float top_ = kPanelMargin;
 };
 
 } // namespace chcrt::app

@@ -11,6 +11,7 @@
 #include <array>
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <fcntl.h>
 #include <csignal>
 #include <cstdio>
@@ -22,6 +23,7 @@
 #include <string>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <vector>
 
 namespace chcrt {
 namespace {
@@ -775,6 +777,81 @@ TEST_F(ViewerTest, ASceneThatFailsToLoadReportsItsErrorAndTheSessionGoesOn) {
     EXPECT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("view: error: cannot load the scene: bad.obj: line 2: bad number 'zero'"), std::string::npos)
         << r.output;
+}
+
+
+// A prepared scene whose subtree reads fail while the viewer renders it out of core (an I/O error injected with
+// CHCRT_FAULT_CHS_EIO into two reads in the first frames of a walk over path frames 0-9): the frame that meets it is
+// not rendered, stderr says so naming file and subtree, no screenshot of it is written, and the session goes on:
+// every frame rendered after it has the pixels of an undisturbed session, and another scene loads and renders.
+TEST_F(ViewerTest, AFailingSubtreeReadFailsTheFrameAndTheSessionGoesOn) {
+    const Result prepared = run("prepare --scene city:60k -o c.chs --subtree-triangles 1000 -q", false);
+    ASSERT_EQ(prepared.exitCode, 0) << prepared.output;
+    const std::string flags = " --scene c.chs --out-of-core --load-in-core off --gpu-cache-mb 1 --host-cache-mb 1 "
+                              "--method chcrt --width 160 --height 96 --render-scale 1 --no-accumulate -q";
+    const auto walk = [](const char* prefix) {
+        std::string script = "[";
+        for (int k = 0; k < 10; ++k) {
+            script += std::string(k ? "," : "") + R"({"pathFrame": )" + std::to_string(k) + R"(, "frames": 1, "screenshot": ")" +
+                      prefix + std::to_string(k) + R"(.png"})";
+        }
+        return script;
+    };
+    std::ofstream(dir_ / "clean.json") << walk("c") + "]";
+    const Result clean = run("view --script clean.json --stats-json clean.json.stats" + flags);
+    ASSERT_EQ(clean.exitCode, 0) << clean.output;
+    // The reads of path frames 0-3 (before them the warm-up frame reads too): the read numbered so falls in one of
+    // the first frames; it and the next one fail.
+    uint64_t reads = 0;
+    for (int k = 0; k < 4; ++k) reads += json("clean.json.stats")["frames"][k]["outofcore"]["host_reads"].get<uint64_t>();
+    ASSERT_GT(reads, 0u);
+    std::ofstream(dir_ / "faulty.json")
+        << walk("f") + R"(, {"loadScene": "city:20k", "frames": 1, "screenshot": "other.png",
+                             "expect": {"scene": "city:20k", "frameFailed": false, "outOfCore": false}}])";
+    const Result r = run("view --script faulty.json --stats-json stats.json" + flags, true,
+                         "CHCRT_FAULT_CHS_EIO=" + std::to_string(reads) + "-" + std::to_string(reads + 1));
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("view: error: frame not rendered: c.chs: reading subtree "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(": Input/output error"), std::string::npos) << r.output;
+    const nlohmann::json stats = json("stats.json");
+    const size_t failed = stats["failed_frames"].size();
+    EXPECT_GE(failed, 1u);
+    EXPECT_LE(failed, 2u);
+    for (const nlohmann::json& f : stats["failed_frames"]) {
+        EXPECT_NE(f["error"].get<std::string>().find("c.chs: reading subtree "), std::string::npos) << f.dump();
+    }
+    size_t missing = 0;
+    for (int k = 0; k < 10; ++k) {
+        const std::string name = "f" + std::to_string(k) + ".png";
+        if (!fs::exists(dir_ / name)) {
+            ++missing;
+            EXPECT_NE(r.output.find("screenshot " + name + " not written: the last frame failed"), std::string::npos)
+                << r.output;
+            continue;
+        }
+        // Before the fault, and after it: the pixels of the undisturbed session.
+        const ImageDifference d = compareImages(image("c" + std::to_string(k) + ".png"), image(name));
+        EXPECT_EQ(d.differingPixels, 0u) << name << ": max difference " << d.maxAbsoluteError;
+    }
+    EXPECT_EQ(missing, failed) << "one screenshot is missing for each failed frame";
+    EXPECT_TRUE(fs::exists(dir_ / "other.png"));
+}
+
+// While a scene loads, the window (spinner and progress) is redrawn at most ~30 times a second: drawn as fast as
+// possible it took the CPU the loading worker needed (docs/benchmarks.md, "Viewer scene loading").
+TEST_F(ViewerTest, TheWindowIsRedrawnAtMostThirtyTimesASecondWhileASceneLoads) {
+    const Result r = view(R"([{"frames": 1}, {"loadScene": "city:300k", "frames": 1}])");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const std::string line = "view: loaded city:300k: ";
+    const size_t at = r.output.find(line);
+    ASSERT_NE(at, std::string::npos) << r.output;
+    double seconds = 0;
+    int redraws = -1;
+    const std::string rest = r.output.substr(at + line.size());
+    ASSERT_EQ(std::sscanf(rest.c_str(), "%*llu triangles, %lf s loading + BVH + GPU upload (worker thread, %d window",
+                          &seconds, &redraws), 2) << rest;
+    EXPECT_GT(seconds, 0.0);
+    EXPECT_LE(redraws, int(30 * seconds) + 3) << redraws << " redraws in " << seconds << " s";
 }
 
 
