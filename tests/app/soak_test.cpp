@@ -1,0 +1,97 @@
+// The short soak run (the long one is scripts/soak.sh; docs/robustness.md, "Long runs"): 500-frame walkthroughs at
+// low resolution keep the process's resident memory, open files, threads and live GL objects flat after a warm-up
+// of 50 frames, read from their --resource-log samples.
+#include "tests/app/cli_fixture.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace chcrt::clitest;
+
+constexpr int kFrames = 500, kWarmup = 50, kEvery = 25;
+
+// An orbit at street level around the centre of city:20k (bounds ±167 × 0..68 × ±174), one lap per 300 frames.
+std::string orbitPath() {
+    std::ostringstream path;
+    path << R"({"version": 1, "fps": 30, "keyframes": [)";
+    for (int k = 0; k <= kFrames / 300 * 8 + 8; ++k) {
+        const double a = 2 * M_PI * k / 8, r = 110, h = 12;
+        path << (k ? "," : "") << R"({"t": )" << k * 10.0 / 8 << R"(, "eye": [)" << r * std::cos(a) << ", " << h << ", "
+             << r * std::sin(a) << R"(], "target": [)" << r * std::cos(a + 0.6) << ", " << h << ", "
+             << r * std::sin(a + 0.6) << "]}";
+    }
+    path << "]}";
+    return path.str();
+}
+
+std::vector<nlohmann::json> readLines(const fs::path& file) {
+    std::vector<nlohmann::json> lines;
+    std::ifstream in(file);
+    for (std::string line; std::getline(in, line);) {
+        if (!line.empty()) lines.push_back(nlohmann::json::parse(line));
+    }
+    return lines;
+}
+
+// After the warm-up: resident memory within 1 % of the warm-up sample, the same open files, threads and GL objects.
+void expectFlat(const std::vector<nlohmann::json>& samples, int frames) {
+    ASSERT_EQ(samples.size(), size_t(frames / kEvery + 1)) << "a sample every " << kEvery << " frames and the last";
+    const nlohmann::json* warm = nullptr;
+    for (const nlohmann::json& s : samples) {
+        if (s["frame"].get<int>() < kWarmup) continue;
+        if (!warm) {
+            warm = &s;
+            EXPECT_GT(s["gl_objects"]["total"].get<int>(), 0);
+            continue;
+        }
+        const double rss = s["rss_mb"].get<double>(), rss0 = (*warm)["rss_mb"].get<double>();
+        EXPECT_LT(std::abs(rss - rss0) / rss0, 0.01) << "frame " << s["frame"] << ": " << rss << " MB, " << rss0
+                                                   << " MB at frame " << (*warm)["frame"];
+        EXPECT_EQ(s["gl_objects"], (*warm)["gl_objects"]) << "frame " << s["frame"];
+        EXPECT_EQ(s["open_files"], (*warm)["open_files"]) << "frame " << s["frame"];
+        EXPECT_EQ(s["threads"], (*warm)["threads"]) << "frame " << s["frame"];
+    }
+    EXPECT_EQ(samples.back()["frame"].get<int>(), frames - 1);
+}
+
+TEST_F(CliTest, FiveHundredFramesOfEachKindOfMethodKeepTheProcessFlat) {
+    write("orbit.json", orbitPath());
+    const std::string walk = "render --camera-path orbit.json --width 32 --height 24 --spp 1 --effects shadow -q -o f.png "
+                             "--resource-every " + std::to_string(kEvery) + " --resource-log r.jsonl ";
+    const std::string all = "--frames 0-" + std::to_string(kFrames - 1) + " ";
+    for (const char* method : {"bvh", "chcrt", "chcrt+ls"}) {
+        SCOPED_TRACE(method);
+        const Result r = run(walk + all + "--scene city:20k --ls-cache cache --method " + method, "LP_NUM_THREADS=0");
+        ASSERT_EQ(r.exitCode, 0) << r.output;
+        expectFlat(readLines(dir_ / "r.jsonl"), kFrames);
+    }
+    // Out of core through a GPU cache of 3 slots and a 2 MiB host store: every frame uploads and reads subtrees.
+    ASSERT_EQ(run("prepare --scene city:200k --subtree-triangles 4000 -o c.chs -q").exitCode, 0);
+    const std::string outOfCore = "--scene c.chs --out-of-core --load-in-core off --gpu-cache-mb 1 --host-cache-mb 2 "
+                                  "--method chcrt";
+    const Result r = run(walk + all + outOfCore, "LP_NUM_THREADS=0");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    expectFlat(readLines(dir_ / "r.jsonl"), kFrames);
+    // It streamed (a separate run: --stats-json keeps every frame's statistics in memory until the end): the cache
+    // evicted and the store read after the warm-up; each frame's statistics hold the resources of the process.
+    const Result stats = run(walk + outOfCore + " --frames 50-99 --stats-json s.json", "LP_NUM_THREADS=0");
+    ASSERT_EQ(stats.exitCode, 0) << stats.output;
+    double evictions = 0, reads = 0;
+    for (const nlohmann::json& f : readJson("s.json")["frames"]) {
+        evictions += f["outofcore"]["cache_evictions"].get<double>();
+        reads += f["outofcore"]["host_reads"].get<double>();
+        EXPECT_GT(f["resources"]["gl_objects"]["total"].get<int>(), 0) << f.dump();
+        EXPECT_GT(f["resources"]["rss_mb"].get<double>(), 0.0);
+    }
+    EXPECT_GT(evictions, 0.0);
+    EXPECT_GT(reads, 0.0);
+}
+
+} // namespace
