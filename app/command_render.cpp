@@ -93,12 +93,15 @@ void addFrameStats(FrameStats& sum, const FrameStats& stats) {
 }
 
 struct RenderedFrames {
-    std::vector<std::string> written; // every selected frame's image, resumed ones included
+    // Every selected frame's image, resumed ones included: how many, the first and the last (a walkthrough of any
+    // length keeps its memory flat: nothing here grows with the frames unless --stats-json asks for them).
+    size_t written = 0;
+    std::string firstWritten, lastWritten;
     size_t rendered = 0;              // frames rendered by this run (the others were proven done by records)
     FrameStats sum;                   // of the frames rendered by this run
     outofcore::OutOfCoreStats outOfCore; // --out-of-core: Table 3 counters summed over those frames
     std::vector<int> incomplete;      // --out-of-core frames with subtree requests postponed (--uploads-per-trace)
-    nlohmann::json json = nlohmann::json::array();
+    nlohmann::json json = nlohmann::json::array(); // every frame's statistics, kept only for --stats-json
 };
 
 // The run-level fields of --stats-json, also the header line of --records.
@@ -197,12 +200,14 @@ RenderedFrames renderFrames(const RenderOptions& options, const SceneSession& se
     const RenderSettings& settings = renderer.settings();
     const std::string digest = flagsDigest(options.words);
     ResourceLog resourceLog;
+    const bool keepJson = !options.common.statsJson.empty();
     if (!options.resourceLog.empty()) resourceLog = ResourceLog(options.resourceLog, options.resourceEvery);
     for (int frame : frames) {
         const std::string file = formatFramePath(options.output, frame, int(frames.size()));
-        out.written.push_back(file);
+        if (out.written++ == 0) out.firstWritten = file;
+        out.lastWritten = file;
         if (const auto d = done.find(frame); d != done.end()) {
-            out.json.push_back(d->second);
+            if (keepJson) out.json.push_back(d->second);
             continue;
         }
         if (t.chcrt) {
@@ -233,7 +238,7 @@ RenderedFrames renderFrames(const RenderOptions& options, const SceneSession& se
                              {"commit", buildCommit()},
                              {"stats", j}});
         }
-        out.json.push_back(j);
+        if (keepJson) out.json.push_back(std::move(j));
         addFrameStats(out.sum, stats);
         resourceLog.frameDone(out.rendered, out.rendered + 1 == todo.size(), {{"path_frame", frame}});
         ++out.rendered;
@@ -289,9 +294,9 @@ void printSummary(const RenderOptions& options, const SceneSession& session, con
                 renderer.settings().width, renderer.settings().height, renderer.settings().samplesPerPixel,
                 toString(renderer.settings().effects).c_str(), toString(renderer.settings().primaryVisibility),
                 session.path.name.c_str()); // as rendered (out of core may change them)
-    if (r.rendered < r.written.size()) {
+    if (r.rendered < r.written) {
         std::printf("  %zu frame(s) resumed: their records prove them done (not rendered again)\n",
-                    r.written.size() - r.rendered);
+                    r.written - r.rendered);
     }
     std::printf("  per frame: %.1f ms total = G-buffer %.1f + ray generation %.1f + tracing %.1f + shading %.1f\n",
                 sum.totalMs / n, sum.gbufferMs / n, sum.raygenMs / n, sum.traceMs() / n, sum.shadeMs / n);
@@ -304,8 +309,8 @@ void printSummary(const RenderOptions& options, const SceneSession& session, con
     std::printf("  %.2f Mrays/s (all generated rays, method %s)\n",
                 sum.traceMs() > 0 ? double(sum.raysGenerated) / (sum.traceMs() * 1000.0) : 0.0, options.method.c_str());
     printOutOfCoreSummary(tracer, r, n);
-    std::printf("  %s %s%s\n", r.rendered == r.written.size() ? "wrote" : "frames in", r.written.front().c_str(),
-                r.written.size() > 1 ? (" ... " + r.written.back()).c_str() : "");
+    std::printf("  %s %s%s\n", r.rendered == r.written ? "wrote" : "frames in", r.firstWritten.c_str(),
+                r.written > 1 ? (" ... " + r.lastWritten).c_str() : "");
     if (sum.cappedRays > 0) {
         std::fprintf(stderr, "warning: %llu rays reached the shader loop cap; their results are incomplete\n",
                      (unsigned long long)sum.cappedRays);
