@@ -7,6 +7,7 @@
 #include "app/viewer/view_modes.h"
 #include "renderer/core/error.h"
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
 #include <sstream>

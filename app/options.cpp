@@ -4,6 +4,8 @@
 #include "app/parameters.h"
 #include "renderer/core/error.h"
 
+#include <CLI/CLI.hpp>
+
 #include <cmath>
 #include <map>
 #include <sstream>

@@ -16,10 +16,14 @@
 #include "renderer/render/render_settings.h"
 #include "renderer/render/trace_stage.h"
 
-#include <CLI/CLI.hpp>
 
 #include <set>
 #include <string>
+
+// CLI11 is header-only and costs seconds per translation unit: only the files that declare flags include it.
+namespace CLI {
+class App;
+}
 
 namespace chcrt::app {
 

@@ -6,6 +6,7 @@
 #include "app/report.h"
 #include "renderer/core/error.h"
 
+#include <CLI/CLI.hpp>
 #include <gtest/gtest.h>
 
 #include <fstream>
