@@ -245,8 +245,10 @@ class Report:
 
     def save(self, fig, name, title, caption, header, rows):
         base = os.path.join(self.out, "figures", name)
-        fig.savefig(base + ".png", metadata=PNG_METADATA, bbox_inches="tight")
-        fig.savefig(base + ".svg", metadata=SVG_METADATA, bbox_inches="tight")
+        # The tight box measured once for both files: bbox_inches="tight" draws the whole figure again per file.
+        box = fig.get_tightbbox(fig.canvas.get_renderer()).padded(plt.rcParams["savefig.pad_inches"])
+        fig.savefig(base + ".png", metadata=PNG_METADATA, bbox_inches=box)
+        fig.savefig(base + ".svg", metadata=SVG_METADATA, bbox_inches=box)
         plt.close(fig)
         write_csv(base + ".csv", header, rows)
         self.figures.append({"name": name, "title": title, "caption": caption})
