@@ -75,7 +75,7 @@ TEST_F(NTreeCacheTest, HitLoadsTheSameTreeAndParametersOrSceneChangesRebuild) {
     EXPECT_EQ(built.stats.buildSeconds, loaded.stats.buildSeconds); // stored: reports show what the build cost
 
     // Each parameter is part of the key: a change builds (a new file), the old file still loads.
-    for (const NTreeParams& other : {params(3, 2), params(4, 3)}) {
+    for (const NTreeParams& other : {params(3, 2), params(2, 3)}) { // not (4, 3): 80 % of this test, 47 s under ASan
         const NTree tree = loadOrBuildNTree(bvh, other, dir_, nullProgress(), &outcome);
         EXPECT_EQ(outcome, CacheOutcome::Built) << other.toString();
         expectSame(tree, buildNTree(bvh, other));
