@@ -23,7 +23,8 @@ nlohmann::json chcrtStatsToJson(const ViewerChcrtStats& c) {
     return {{"traces", c.traces},         {"queries", c.queries},       {"subtrees_scheduled", c.subtreesScheduled},
             {"shader_calls", c.shaderCalls}, {"phase1_ms", c.phase1Ms}, {"phase2_ms", c.phase2Ms},
             {"phase3_ms", c.phase3Ms},     {"fallback_ms", c.fallbackMs}, {"fallback_traces", c.fallbackTraces},
-            {"queries_skipped_extent", c.queriesSkippedExtent}};
+            {"queries_skipped_extent", c.queriesSkippedExtent}, {"culled_traces", c.culledTraces()},
+            {"mean_height", c.meanHeight()}};
 }
 
 } // namespace
@@ -40,6 +41,7 @@ ViewerChcrtStats chcrtFrameStats(const ChcrtStats& before, const ChcrtStats& aft
     f.phase3Ms = after.phase3Ms - before.phase3Ms;
     f.fallbackMs = after.fallbackMs - before.fallbackMs;
     f.fallbackTraces = after.fallbackTraces - before.fallbackTraces;
+    f.heightSum = after.heightSum - before.heightSum;
     return f;
 }
 

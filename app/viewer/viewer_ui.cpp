@@ -122,6 +122,14 @@ void ViewerPanel::drawStatistics(const ViewerStatus& status) {
         row("  CHC+RT phase 2", c.phase2Ms);
         row("  CHC+RT phase 3", c.phase3Ms);
         if (c.fallbackTraces > 0) row("  CHC+RT fallback", c.fallbackMs);
+        // What the adaptive choice ran (culling/adaptive_choice.h): culling at which height, or pure passes.
+        if (c.culledTraces() > 0) {
+            ImGui::Text("  %llu of %llu traces culled, mean termination height %.1f",
+                        static_cast<unsigned long long>(c.culledTraces()), static_cast<unsigned long long>(c.traces),
+                        c.meanHeight());
+        } else if (c.traces > 0) {
+            ImGui::Text("  all %llu traces as pure passes (adaptive fallback)", static_cast<unsigned long long>(c.traces));
+        }
         ImGui::Text("  %llu queries (%llu skipped: out of the rays' reach)", static_cast<unsigned long long>(c.queries),
                     static_cast<unsigned long long>(c.queriesSkippedExtent));
         ImGui::Text("  %llu subtrees scheduled, %llu shader calls", static_cast<unsigned long long>(c.subtreesScheduled),

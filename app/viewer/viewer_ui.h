@@ -19,7 +19,10 @@ namespace chcrt::app {
 struct ViewerChcrtStats {
     uint64_t traces = 0, queries = 0, subtreesScheduled = 0, shaderCalls = 0, fallbackTraces = 0;
     uint64_t queriesSkippedExtent = 0; // pairs found invisible by the ray extent without a query
+    uint64_t heightSum = 0;            // termination heights of the traces that culled (the adaptive choice's picks)
     double phase1Ms = 0, phase2Ms = 0, phase3Ms = 0, fallbackMs = 0;
+    uint64_t culledTraces() const { return traces - fallbackTraces; }
+    double meanHeight() const { return culledTraces() ? double(heightSum) / double(culledTraces()) : 0.0; }
 };
 
 // Out of core (CHC+RT §5.4, Table 3's columns) for the last frame: the frame's counters (difference of the

@@ -348,6 +348,8 @@ TEST_F(ViewerTest, PrimaryVisibilitySwitchesLiveAndChcrtTracesTheSameImage) {
         const nlohmann::json& chcrtStats = stats["frames"][frame]["chcrt"];
         EXPECT_EQ(chcrtStats["queries"].get<uint64_t>(), 0u) << chcrtStats.dump();
         EXPECT_EQ(chcrtStats["fallback_traces"].get<uint64_t>(), 0u) << chcrtStats.dump();
+        EXPECT_EQ(chcrtStats["culled_traces"], chcrtStats["traces"]) << chcrtStats.dump();
+        EXPECT_GT(chcrtStats["mean_height"].get<double>(), 0.0) << chcrtStats.dump(); // the panel's "mean height"
         EXPECT_GT(chcrtStats["subtrees_scheduled"].get<uint64_t>(), 0u) << chcrtStats.dump();
     }
 
