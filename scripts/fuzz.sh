@@ -41,10 +41,12 @@ if ! grep -qs '^CHCRT_FUZZ:BOOL=ON' "$build/CMakeCache.txt"; then
   # only when a cache is made.
   rm -rf "$build/CMakeCache.txt" "$build/CMakeFiles"
   # Debug keeps assertions on (bugs assert, error.h); -O1 keeps executions fast and the build short; -g1 (line
-  # tables) is enough for the sanitizers' stack traces and links faster than full debug information.
+  # tables) is enough for the sanitizers' stack traces and links faster than full debug information. app/ at -O0:
+  # clang with ASan, UBSan and coverage took 51-57 s for app/parameters.cpp at -O1 and 23 s at -O0, and app/ was
+  # 60 % of this build.
   cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_C_COMPILER="$cc" \
-    -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" -DCMAKE_C_FLAGS_DEBUG="-O1 -g1" -DCHCRT_FUZZ=ON -DCHCRT_BUILD_VIEWER=OFF \
-    -DCHCRT_WERROR=OFF >/dev/null
+    -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" -DCMAKE_C_FLAGS_DEBUG="-O1 -g1" -DCHCRT_GLUE_OPTIMIZATION=-O0 \
+    -DCHCRT_FUZZ=ON -DCHCRT_BUILD_VIEWER=OFF -DCHCRT_WERROR=OFF >/dev/null
 fi
 targets=()
 if ((build_only)) && (($#)); then
