@@ -611,7 +611,8 @@ void Viewer::renderFrame(int w, int h) {
     renderView(chcrt, start, stats, residency);
     if (outOfCore) { // read ahead (--prefetch-frames): the next frames of a playing path, else the fronts only
         std::vector<Camera> next;
-        for (int f = pathFrame_; playing_ && f < scene_->path.frameCount() && next.size() < outOfCore->options().prefetchFrames; ++f) {
+        const size_t ahead = playing_ ? outOfCore->options().prefetchFrames : 0;
+        for (int f = pathFrame_; f < scene_->path.frameCount() && next.size() < ahead; ++f) {
             next.push_back(scene_->path.cameraAtFrame(f));
         }
         outOfCore->prefetchAfterFrame(camera_, next, w, h);

@@ -128,7 +128,8 @@ void OutOfCoreTracer::prefetchAfterFrame(const Camera& current, std::span<const 
     if (options_.prefetchFrames == 0) return;
     std::vector<uint32_t> front;
     chcrt_->collectInvisibleFrontNextToVisible(front);
-    PrefetchRequest request{front, current, next.first(std::min<size_t>(next.size(), options_.prefetchFrames)), width, height};
+    const PrefetchRequest request{front, current, next.first(std::min<size_t>(next.size(), options_.prefetchFrames)),
+                                  width, height};
     const std::vector<uint32_t> subtrees = choosePrefetchSubtrees(
         chcrt_->hierarchy(), request, [&](uint32_t subtree) { return cache_->isResident(subtree); });
     store_->prefetch(subtrees, options_.prefetchBytesPerFrame);
