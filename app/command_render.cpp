@@ -202,6 +202,7 @@ RenderedFrames renderFrames(const RenderOptions& options, const SceneSession& se
     ResourceLog resourceLog;
     const bool keepJson = !options.common.statsJson.empty();
     if (!options.resourceLog.empty()) resourceLog = ResourceLog(options.resourceLog, options.resourceEvery);
+    size_t todoIndex = 0; // of the frame being rendered, for the read-ahead's next cameras
     for (int frame : frames) {
         const std::string file = formatFramePath(options.output, frame, int(frames.size()));
         if (out.written++ == 0) out.firstWritten = file;
@@ -216,6 +217,8 @@ RenderedFrames renderFrames(const RenderOptions& options, const SceneSession& se
         }
         const outofcore::OutOfCoreStats oocBefore = t.outOfCore ? t.outOfCore->snapshot() : outofcore::OutOfCoreStats{};
         const FrameStats stats = renderFrameNamingIt(renderer, session.path.cameraAtFrame(frame), frame);
+        // Read ahead while this frame's image is written and the next one renders (--prefetch-frames).
+        if (t.outOfCore) prefetchAfterFrame(*t.outOfCore, session.path, todo, todoIndex++, settings.width, settings.height);
         writeFrameImage(file, t, renderer);
         nlohmann::json j = toJson(stats, uint64_t(settings.width) * settings.height);
         j["frame"] = frame;
@@ -263,6 +266,12 @@ void printOutOfCoreSummary(const RenderTracer& t, const RenderedFrames& r, doubl
                 t.outOfCore->file().subtrees().size(),
                 double(s.uploadedBvhBytes + s.uploadedGeometryBytes) * mb / frames, double(s.cacheMisses) / frames,
                 double(s.hostBytesRead) * mb / frames);
+    std::printf("  prefetch (%u frame(s) ahead, %.0f MB per frame): per frame %.1f reads, %.1f hits, %.1f MB wasted, "
+                "%.1f skipped; peak host cache %.1f of %.0f MB, peak GPU cache %.1f of %.0f MB\n",
+                o.prefetchFrames, double(o.prefetchBytesPerFrame) * mb, double(s.prefetchReads) / frames,
+                double(s.prefetchHits) / frames, double(s.prefetchWastedBytes) * mb / frames,
+                double(s.prefetchSkipped) / frames, double(s.hostPeakResidentBytes) * mb, double(o.hostCacheBytes) * mb,
+                double(s.peakResidentBytes) * mb, double(o.gpuCacheBytes) * mb);
     if (!r.incomplete.empty()) {
         std::string list;
         for (size_t i = 0; i < r.incomplete.size(); ++i) list += (i ? "," : "") + std::to_string(r.incomplete[i]);

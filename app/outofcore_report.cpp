@@ -28,12 +28,29 @@ nlohmann::json outOfCoreStatsJson(const outofcore::OutOfCoreStats& s, double fra
             {"resident_mb", double(s.residentBytes) * mb},
             {"allocated_mb", double(s.allocatedBytes) * mb},
             {"host_resident_mb", double(s.hostResidentBytes) * mb},
+            {"peak_resident_mb", double(s.peakResidentBytes) * mb},
+            {"host_peak_resident_mb", double(s.hostPeakResidentBytes) * mb},
+            {"prefetch_reads", double(s.prefetchReads) / n},
+            {"prefetch_hits", double(s.prefetchHits) / n},
+            {"prefetch_wasted_mb", double(s.prefetchWastedBytes) * mb / n},
+            {"prefetch_skipped", double(s.prefetchSkipped) / n},
+            {"prefetch_frames", o.prefetchFrames},
+            {"prefetch_mb", double(o.prefetchBytesPerFrame) * mb},
             {"slots", s.slots},
             {"resident_subtrees", s.residentSubtrees},
             {"gpu_cache_mb", double(o.gpuCacheBytes) * mb},
             {"host_cache_mb", double(o.hostCacheBytes) * mb},
             {"policy", outofcore::toString(o.policy)},
             {"file_subtrees", tracer.file().subtrees().size()}};
+}
+
+void prefetchAfterFrame(outofcore::OutOfCoreTracer& tracer, const CameraPath& path, const std::vector<int>& frames,
+                        size_t index, int width, int height) {
+    std::vector<Camera> next;
+    for (size_t i = index + 1; i < frames.size() && next.size() < tracer.options().prefetchFrames; ++i) {
+        next.push_back(path.cameraAtFrame(frames[i]));
+    }
+    tracer.prefetchAfterFrame(path.cameraAtFrame(frames[index]), next, width, height);
 }
 
 void installOutOfCorePrimary(Renderer& renderer, outofcore::OutOfCoreTracer& tracer) {

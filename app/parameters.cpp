@@ -551,6 +551,15 @@ std::vector<Parameter> describeOutOfCore() {
             .defaults("0; the interactive viewer 16")
             .emit(Emit::Never)
             .integer<uint32_t>(FIELD(outOfCore.maxUploadsPerTrace), 0),
+        Describe(Area::OutOfCore, "--prefetch-frames", "",
+                 "Out of core: after each frame, read ahead into the host cache the subtrees in the view of this many "
+                 "next frames of the walkthrough and those next to the visible ones (0 = no prefetch)")
+            .emit(Emit::IfNotDefault)
+            .integer<uint32_t>(FIELD(outOfCore.prefetchFrames), 0, 64),
+        Describe(Area::OutOfCore, "--prefetch-mb", "",
+                 "Out of core: at most this many MiB read ahead per frame (--prefetch-frames)")
+            .emit(Emit::IfNotDefault)
+            .sets<uint64_t>(FIELD(outOfCore.prefetchBytesPerFrame), megabyteCodec()),
         Describe(Area::OutOfCore, "--cache-policy", "", "Out of core: GPU cache replacement")
             .emit(Emit::IfNotDefault)
             .choice<outofcore::CachePolicy>(FIELD(outOfCore.policy), {{"round-robin", outofcore::CachePolicy::RoundRobin},

@@ -228,6 +228,11 @@ public:
         for (auto& arm : heightArms_) if (arm) arm->resetVisibility();
     }
     size_t rayStateCount() const { return states_.size(); }
+    // Every ray set's invisible front next to its visible pairs (VisibilityState::collectInvisibleNextToVisible):
+    // nodes of hierarchy(), appended, possibly repeated. Out of core: what to prefetch (subtree_prefetch.h).
+    void collectInvisibleFrontNextToVisible(std::vector<uint32_t>& nodes) const {
+        for (const auto& [key, state] : states_) state->collectInvisibleNextToVisible(nodes);
+    }
     // The hit hints of the request's ray set (R32UI texture, GL orientation; culling/README.md "Hit hints"), 0 when
     // it has none yet. Tests write arbitrary nodes into it: hints never change hits.
     GLuint hintTexture(const TraceRequest& request) const;

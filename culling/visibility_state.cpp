@@ -91,4 +91,18 @@ void VisibilityState::collectLeaves(std::vector<int32_t>& visible, std::vector<i
     }
 }
 
+void VisibilityState::collectInvisibleNextToVisible(std::vector<uint32_t>& nodes) const {
+    for (const QueryPair& p : pairs_) {
+        if (!p.alive || !p.isLeaf() || p.visible || p.parent < 0) continue;
+        const QueryPair& parent = pairs_[size_t(p.parent)];
+        for (int c = 0; c < parent.childCount; ++c) {
+            const QueryPair& sibling = pairs_[size_t(parent.children[size_t(c)])];
+            if (sibling.visible || !sibling.isLeaf()) {
+                nodes.push_back(p.bvhNode);
+                break;
+            }
+        }
+    }
+}
+
 } // namespace chcrt

@@ -48,6 +48,11 @@ public:
     int pullUpInvisibility();
     // Leaves of the hierarchy (visible and invisible fronts), in slot order.
     void collectLeaves(std::vector<int32_t>& visible, std::vector<int32_t>& invisible) const;
+    // Appends the nodes of the invisible front next to the visible part: invisible leaves with a sibling that is a
+    // visible leaf or an interior pair (which has visible pairs below it). A small change of view or of the rays
+    // most likely turns these visible; out of core they are what to prefetch (culling/outofcore/subtree_prefetch.h).
+    // A node may be appended more than once (several tiles).
+    void collectInvisibleNextToVisible(std::vector<uint32_t>& nodes) const;
 
 private:
     int32_t allocate();

@@ -609,6 +609,14 @@ void Viewer::renderFrame(int w, int h) {
     FrameStats stats;
     std::optional<ResidencyCounts> residency;
     renderView(chcrt, start, stats, residency);
+    if (outOfCore) { // read ahead (--prefetch-frames): the next frames of a playing path, else the fronts only
+        std::vector<Camera> next;
+        const size_t ahead = playing_ ? outOfCore->options().prefetchFrames : 0;
+        for (int f = pathFrame_; f < scene_->path.frameCount() && next.size() < ahead; ++f) {
+            next.push_back(scene_->path.cameraAtFrame(f));
+        }
+        outOfCore->prefetchAfterFrame(camera_, next, w, h);
+    }
     status_.chcrt.reset();
     if (chcrt) status_.chcrt = chcrtFrameStats(chcrtBefore, chcrt->totalStats());
     status_.outOfCore.reset();

@@ -167,6 +167,9 @@ void ViewerPanel::drawOutOfCore(const ViewerOutOfCoreStatus& o) {
     ImGui::Text("  the file has %zu subtrees", o.fileSubtrees);
     ImGui::Text("host: %llu reads, %.2f MB read", count(f.hostReads), double(f.hostBytesRead) * mb);
     ImGui::Text("  %.1f MB resident (budget %.0f MB)", double(f.hostResidentBytes) * mb, o.hostCacheMb);
+    ImGui::Text("  peak %.1f MB; GPU peak %.1f MB", double(f.hostPeakResidentBytes) * mb, double(f.peakResidentBytes) * mb);
+    ImGui::Text("prefetch: %llu reads, %llu hits, %.2f MB wasted", count(f.prefetchReads), count(f.prefetchHits),
+                double(f.prefetchWastedBytes) * mb);
     if (o.sceneInCore) ImGui::TextUnformatted("scene also in core (--load-in-core): G-buffer from the in-core data");
     if (o.residency) {
         const ResidencyCounts& r = *o.residency;

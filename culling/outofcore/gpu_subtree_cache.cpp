@@ -47,6 +47,7 @@ void GpuSubtreeCache::resetCounters() {
     const GpuCacheStats keep = stats_;
     stats_ = {};
     stats_.residentBytes = keep.residentBytes;
+    stats_.peakResidentBytes = keep.peakResidentBytes;
     stats_.allocatedBytes = keep.allocatedBytes;
     stats_.slots = keep.slots;
     stats_.residentSubtrees = keep.residentSubtrees;
@@ -95,6 +96,7 @@ void GpuSubtreeCache::upload(uint32_t subtree, uint32_t slot) {
     slotSubtree_[slot] = subtree;
     subtreeSlot_[subtree] = slot;
     stats_.residentBytes += nodeBytes + triBytes;
+    stats_.peakResidentBytes = std::max(stats_.peakResidentBytes, stats_.residentBytes);
     ++stats_.residentSubtrees;
     stats_.uploadedNodeBytes += nodeBytes;
     stats_.uploadedTriangleBytes += triBytes;

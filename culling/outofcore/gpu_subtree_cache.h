@@ -37,6 +37,7 @@ struct GpuCacheStats {
     uint64_t uploadedNodeBytes = 0;     // BVH MB transferred (Table 3)
     uint64_t uploadedTriangleBytes = 0; // geometry MB transferred
     uint64_t residentBytes = 0;  // nodes + triangles of the resident subtrees
+    uint64_t peakResidentBytes = 0; // the most residentBytes has been (kept by resetCounters)
     uint64_t allocatedBytes = 0; // both texture buffers, as allocated (<= budget)
     uint32_t slots = 0;
     uint32_t residentSubtrees = 0;
@@ -65,6 +66,7 @@ public:
     uint32_t slotCount() const { return uint32_t(slotSubtree_.size()); }
     uint32_t slotNodes() const { return slotNodes_; }
     uint32_t slotTriangles() const { return slotTriangles_; }
+    bool isResident(uint32_t subtree) const { return subtreeSlot_.at(subtree) != kNotResident; }
     // The subtree in a slot (kNotResident when empty).
     uint32_t slotSubtree(uint32_t slot) const { return slotSubtree_[slot]; }
     GLuint nodeBuffer() const { return nodes_.buffer.id(); }

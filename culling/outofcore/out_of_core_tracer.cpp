@@ -2,6 +2,7 @@
 
 #include "culling/outofcore/chs_culling_hierarchy.h"
 #include "culling/outofcore/primary_resolve.h"
+#include "culling/outofcore/subtree_prefetch.h"
 #include "renderer/core/error.h"
 #include "shaders/shared/render_layout.h"
 
@@ -33,6 +34,10 @@ OutOfCoreStats OutOfCoreStats::difference(const OutOfCoreStats& later, const Out
     d.uploadedGeometryBytes -= earlier.uploadedGeometryBytes;
     d.hostReads -= earlier.hostReads;
     d.hostBytesRead -= earlier.hostBytesRead;
+    d.prefetchReads -= earlier.prefetchReads;
+    d.prefetchHits -= earlier.prefetchHits;
+    d.prefetchWastedBytes -= earlier.prefetchWastedBytes;
+    d.prefetchSkipped -= earlier.prefetchSkipped;
     return d;
 }
 
@@ -50,6 +55,12 @@ OutOfCoreStats& OutOfCoreStats::operator+=(const OutOfCoreStats& o) {
     uploadedGeometryBytes += sum.uploadedGeometryBytes;
     hostReads += sum.hostReads;
     hostBytesRead += sum.hostBytesRead;
+    prefetchReads += sum.prefetchReads;
+    prefetchHits += sum.prefetchHits;
+    prefetchWastedBytes += sum.prefetchWastedBytes;
+    prefetchSkipped += sum.prefetchSkipped;
+    peakResidentBytes = o.peakResidentBytes;
+    hostPeakResidentBytes = o.hostPeakResidentBytes;
     residentBytes = o.residentBytes;
     allocatedBytes = o.allocatedBytes;
     hostResidentBytes = o.hostResidentBytes;
@@ -112,6 +123,18 @@ void OutOfCoreTracer::trace(const TraceRequest& request, const RayTextures& rays
     glBindTextureUnit(CHCRT_UNIT_BVH_TRIANGLES, triangles);
 }
 
+void OutOfCoreTracer::prefetchAfterFrame(const Camera& current, std::span<const Camera> next, int width, int height) {
+    store_->advanceFrame();
+    if (options_.prefetchFrames == 0) return;
+    std::vector<uint32_t> front;
+    chcrt_->collectInvisibleFrontNextToVisible(front);
+    const PrefetchRequest request{front, current, next.first(std::min<size_t>(next.size(), options_.prefetchFrames)),
+                                  width, height};
+    const std::vector<uint32_t> subtrees = choosePrefetchSubtrees(
+        chcrt_->hierarchy(), request, [&](uint32_t subtree) { return cache_->isResident(subtree); });
+    store_->prefetch(subtrees, options_.prefetchBytesPerFrame);
+}
+
 OutOfCoreStats OutOfCoreTracer::snapshot() const {
     OutOfCoreStats s;
     const ChcrtStats& t = chcrt_->totalStats();
@@ -130,10 +153,16 @@ OutOfCoreStats OutOfCoreTracer::snapshot() const {
     s.allocatedBytes = c.allocatedBytes;
     s.slots = c.slots;
     s.residentSubtrees = c.residentSubtrees;
+    s.peakResidentBytes = c.peakResidentBytes;
     const SubtreeStoreStats h = store_->stats();
     s.hostReads = h.misses;
     s.hostBytesRead = h.bytesRead;
     s.hostResidentBytes = h.residentBytes;
+    s.hostPeakResidentBytes = h.peakResidentBytes;
+    s.prefetchReads = h.prefetched;
+    s.prefetchHits = h.prefetchHits;
+    s.prefetchWastedBytes = h.prefetchWastedBytes;
+    s.prefetchSkipped = h.prefetchSkipped;
     return s;
 }
 

@@ -24,6 +24,10 @@ struct OutOfCoreOptions {
     uint64_t hostCacheBytes = 2048ull << 20; // --host-cache-mb
     CachePolicy policy = CachePolicy::Lru;   // --cache-policy
     uint32_t maxUploadsPerTrace = 0;         // viewer streaming (GpuCacheOptions); 0 = complete, exact traces
+    // Read-ahead into the host store after each frame (prefetchAfterFrame, subtree_prefetch.h): the frustums of up
+    // to this many next cameras and the fronts next to visible pairs; 0 = no prefetch. --prefetch-frames
+    uint32_t prefetchFrames = 2;
+    uint64_t prefetchBytesPerFrame = 256ull << 20; // at most this much queued per frame; --prefetch-mb
 };
 
 // Counters in the shape of CHC+RT Table 3, for one frame or summed (difference of two snapshots).
@@ -37,6 +41,10 @@ struct OutOfCoreStats {
     uint64_t hostReads = 0, hostBytesRead = 0;
     uint64_t residentBytes = 0, allocatedBytes = 0; // GPU cache, at the snapshot
     uint64_t hostResidentBytes = 0;
+    // Prefetch (SubtreeStoreStats): reads by the prefetch thread, first uses of what it read, bytes it read for
+    // nothing, queued subtrees it left out for lack of room.
+    uint64_t prefetchReads = 0, prefetchHits = 0, prefetchWastedBytes = 0, prefetchSkipped = 0;
+    uint64_t peakResidentBytes = 0, hostPeakResidentBytes = 0; // GPU cache, host store: highest since construction
     uint32_t slots = 0, residentSubtrees = 0;
     // `later` minus `earlier` for counters; levels (resident, allocated, slots) from `later`.
     static OutOfCoreStats difference(const OutOfCoreStats& later, const OutOfCoreStats& earlier);
@@ -70,6 +78,12 @@ public:
     // the recording above).
     PrimaryResolve& primaryResolve();
     const OutOfCoreOptions& options() const { return options_; }
+    // Read-ahead for the next frames, called once a frame is rendered (subtree_prefetch.h): queues for the host
+    // store's background thread the subtrees of the fronts next to visible pairs (ranked from `current`'s eye) and
+    // those in the frustums of the first options().prefetchFrames of `next` (width × height frames), leaving out
+    // subtrees resident in the GPU cache, up to prefetchBytesPerFrame. Starts the store's next frame. Nothing is
+    // queued when prefetchFrames is 0.
+    void prefetchAfterFrame(const Camera& current, std::span<const Camera> next, int width, int height);
     // Cumulative counters since construction (take differences for a frame).
     OutOfCoreStats snapshot() const;
 

@@ -13,25 +13,46 @@ SubtreeStore::~SubtreeStore() {
     if (worker_.joinable()) worker_.join();
 }
 
+void SubtreeStore::evictLeastRecent() {
+    const uint32_t victim = lru_.back();
+    lru_.pop_back();
+    const Entry& entry = entries_.at(victim);
+    const uint64_t bytes = entry.data->bytes();
+    if (entry.prefetchedUnused) stats_.prefetchWastedBytes += bytes;
+    stats_.residentBytes -= bytes;
+    entries_.erase(victim);
+    ++stats_.evictions;
+}
+
+bool SubtreeStore::prefetchFits(uint64_t bytes) const {
+    if (bytes > budget_) return false;
+    uint64_t room = budget_ - stats_.residentBytes;
+    // The list is in order of use, so the subtrees a prefetch may evict (used before the previous frame) are a
+    // suffix of it: stop at the first one it may not.
+    for (auto it = lru_.rbegin(); it != lru_.rend() && room < bytes; ++it) {
+        const Entry& entry = entries_.at(*it);
+        if (!evictableForPrefetch(entry)) return false;
+        room += entry.data->bytes();
+    }
+    return room >= bytes;
+}
+
 std::shared_ptr<const SubtreeData> SubtreeStore::insert(uint32_t subtree, std::shared_ptr<const SubtreeData> data,
                                                         bool prefetched) {
-    // Called with mutex_ held.
     const uint64_t bytes = data->bytes();
     ++stats_.misses;
     if (prefetched) ++stats_.prefetched;
     stats_.bytesRead += file_.subtrees()[subtree].bytes;
     const auto existing = entries_.find(subtree);
     if (existing != entries_.end()) return existing->second.data; // a concurrent read won
-    if (bytes > budget_) return data;
-    while (stats_.residentBytes + bytes > budget_ && !lru_.empty()) {
-        const uint32_t victim = lru_.back();
-        lru_.pop_back();
-        stats_.residentBytes -= entries_.at(victim).data->bytes();
-        entries_.erase(victim);
-        ++stats_.evictions;
+    if (bytes > budget_ || (prefetched && !prefetchFits(bytes))) {
+        // Not kept: larger than the budget, or a prefetch whose room meanwhile went to the frame's own reads.
+        if (prefetched) stats_.prefetchWastedBytes += bytes;
+        return data;
     }
+    while (stats_.residentBytes + bytes > budget_ && !lru_.empty()) evictLeastRecent();
     lru_.push_front(subtree);
-    entries_[subtree] = {data, lru_.begin()};
+    entries_[subtree] = {data, lru_.begin(), frame_, prefetched};
     stats_.residentBytes += bytes;
     stats_.peakResidentBytes = std::max(stats_.peakResidentBytes, stats_.residentBytes);
     return data;
@@ -39,12 +60,20 @@ std::shared_ptr<const SubtreeData> SubtreeStore::insert(uint32_t subtree, std::s
 
 std::shared_ptr<const SubtreeData> SubtreeStore::get(uint32_t subtree) {
     {
-        const std::lock_guard lock(mutex_);
+        std::unique_lock lock(mutex_);
+        // The prefetch thread is reading it: wait rather than read it a second time.
+        readDone_.wait(lock, [&] { return inFlight_ != subtree; });
         const auto it = entries_.find(subtree);
         if (it != entries_.end()) {
+            Entry& entry = it->second;
             ++stats_.hits;
-            lru_.splice(lru_.begin(), lru_, it->second.position);
-            return it->second.data;
+            if (entry.prefetchedUnused) {
+                ++stats_.prefetchHits;
+                entry.prefetchedUnused = false;
+            }
+            entry.usedFrame = frame_;
+            lru_.splice(lru_.begin(), lru_, entry.position);
+            return entry.data;
         }
     }
     // Read outside the lock (pread is thread-safe); a concurrent miss on the same subtree reads it twice, and
@@ -54,12 +83,17 @@ std::shared_ptr<const SubtreeData> SubtreeStore::get(uint32_t subtree) {
     return insert(subtree, std::move(data), false);
 }
 
-void SubtreeStore::prefetch(std::span<const uint32_t> subtrees) {
+void SubtreeStore::prefetch(std::span<const uint32_t> subtrees, uint64_t maxBytes) {
     {
         const std::lock_guard lock(mutex_);
         queue_.clear();
+        uint64_t queuedBytes = 0;
         for (uint32_t s : subtrees) {
-            if (s < file_.subtrees().size() && entries_.count(s) == 0) queue_.push_back(s);
+            if (s >= file_.subtrees().size() || s == inFlight_ || entries_.count(s) != 0) continue;
+            const uint64_t bytes = file_.subtrees()[s].bytes;
+            if (bytes > maxBytes - queuedBytes) break; // nearest first: the rest waits for a later list
+            queuedBytes += bytes;
+            queue_.push_back(s);
         }
         if (!worker_.joinable()) worker_ = std::thread([this] { prefetchLoop(); });
     }
@@ -71,18 +105,33 @@ void SubtreeStore::waitForPrefetch() {
     idle_.wait(lock, [&] { return queue_.empty() && !busy_; });
 }
 
+void SubtreeStore::advanceFrame() {
+    const std::lock_guard lock(mutex_);
+    ++frame_;
+}
+
+bool SubtreeStore::contains(uint32_t subtree) const {
+    const std::lock_guard lock(mutex_);
+    return entries_.count(subtree) != 0;
+}
+
 void SubtreeStore::prefetchLoop() {
     std::unique_lock lock(mutex_);
     for (;;) {
+        if (queue_.empty()) idle_.notify_all();
         wake_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
         if (stopping_) return;
         const uint32_t subtree = queue_.front();
         queue_.pop_front();
-        if (entries_.count(subtree) != 0) {
-            if (queue_.empty()) idle_.notify_all();
+        if (entries_.count(subtree) != 0) continue;
+        // The record's size is the decoded size to within the blob's padding: checked before reading, so that a
+        // prefetch that could not be kept costs no read.
+        if (!prefetchFits(file_.subtrees()[subtree].bytes)) {
+            ++stats_.prefetchSkipped;
             continue;
         }
         busy_ = true;
+        inFlight_ = subtree;
         lock.unlock();
         std::shared_ptr<const SubtreeData> data;
         try {
@@ -92,8 +141,9 @@ void SubtreeStore::prefetchLoop() {
         }
         lock.lock();
         if (data) insert(subtree, std::move(data), true);
+        inFlight_ = kNone;
         busy_ = false;
-        if (queue_.empty()) idle_.notify_all();
+        readDone_.notify_all();
     }
 }
 

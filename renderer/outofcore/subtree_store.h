@@ -4,12 +4,16 @@
 // memory for scene data is then this budget plus the upper hierarchy, however large the file is. A subtree
 // larger than the whole budget is still returned (the caller holds it) but not kept.
 //
-// prefetch() queues subtrees (e.g. those of the invisible front near the view) for a background thread that
-// reads them into the store, so a later get() is a hit; the queue is dropped when newer requests arrive.
+// prefetch() queues subtrees (those a later frame is likely to need: culling/outofcore/subtree_prefetch.h) for a
+// background thread that reads them into the store, so a later get() is a hit; the queue is dropped when newer
+// requests arrive. A prefetch is a guess, so it yields to the frames' own needs: it never evicts a subtree used
+// in the current or the previous frame (advanceFrame() marks frames) and is skipped instead, while a get() may
+// evict anything, prefetched subtrees included. It never takes the store over its budget.
 #include "renderer/outofcore/chs_file.h"
 
 #include <condition_variable>
 #include <deque>
+#include <limits>
 #include <list>
 #include <memory>
 #include <mutex>
@@ -27,10 +31,20 @@ struct SubtreeStoreStats {
     uint64_t residentBytes = 0;
     uint64_t peakResidentBytes = 0;
     uint64_t prefetched = 0; // reads done by the prefetch thread (also counted in misses)
+    // get()s answered by a subtree that was in the store only because the prefetch thread had read it (each
+    // prefetched subtree counts once, at its first use; a get() that waited for the read in flight counts too).
+    uint64_t prefetchHits = 0;
+    // Decoded bytes of prefetched subtrees that left the store before any get() used them, or that were read but
+    // not kept (room could not be made by then without evicting a recently used subtree).
+    uint64_t prefetchWastedBytes = 0;
+    // Queued prefetches not read: no room without evicting a subtree used in the current or the previous frame.
+    uint64_t prefetchSkipped = 0;
 };
 
 class SubtreeStore {
 public:
+    static constexpr uint64_t kNoByteLimit = std::numeric_limits<uint64_t>::max();
+
     SubtreeStore(const ChsFile& file, uint64_t budgetBytes);
     ~SubtreeStore(); // stops the prefetch thread
     SubtreeStore(const SubtreeStore&) = delete;
@@ -40,16 +54,22 @@ public:
     const ChsFile& file() const { return file_; }
     uint64_t budgetBytes() const { return budget_; }
     SubtreeStoreStats stats() const;
-    // Replaces the prefetch queue (subtrees already resident are skipped). Errors while prefetching are
+    // Replaces the prefetch queue with `subtrees` in their order, leaving out those already resident and stopping
+    // once the queued ones' sizes (the file's records) would pass `maxBytes`. Errors while prefetching are
     // ignored: the later get() reads again and reports them.
-    void prefetch(std::span<const uint32_t> subtrees);
+    void prefetch(std::span<const uint32_t> subtrees, uint64_t maxBytes = kNoByteLimit);
     // Blocks until the prefetch queue is empty and no read is in flight (tests, benchmarks).
     void waitForPrefetch();
+    // A new frame begins: subtrees used from the previous frame on are kept from prefetch evictions.
+    void advanceFrame();
+    bool contains(uint32_t subtree) const;
 
 private:
     struct Entry {
         std::shared_ptr<const SubtreeData> data;
         std::list<uint32_t>::iterator position;
+        uint64_t usedFrame = 0;        // frame of its last get() (or of its prefetch)
+        bool prefetchedUnused = false; // read by the prefetch thread, no get() since
     };
     const ChsFile& file_;
     uint64_t budget_;
@@ -57,12 +77,19 @@ private:
     std::list<uint32_t> lru_; // most recently used first
     std::unordered_map<uint32_t, Entry> entries_;
     SubtreeStoreStats stats_;
+    uint64_t frame_ = 1;
+    // The store's locked operations (mutex_ held).
     std::shared_ptr<const SubtreeData> insert(uint32_t subtree, std::shared_ptr<const SubtreeData> data, bool prefetched);
+    void evictLeastRecent();
+    bool evictableForPrefetch(const Entry& entry) const { return entry.usedFrame + 1 < frame_; }
+    bool prefetchFits(uint64_t bytes) const; // room for `bytes` without evicting a recently used subtree
     void prefetchLoop();
     std::deque<uint32_t> queue_;
+    static constexpr uint32_t kNone = 0xffffffffu;
+    uint32_t inFlight_ = kNone; // the subtree the prefetch thread is reading
     bool stopping_ = false;
     bool busy_ = false;
-    std::condition_variable wake_, idle_;
+    std::condition_variable wake_, idle_, readDone_;
     std::thread worker_; // started on the first prefetch()
 };
 

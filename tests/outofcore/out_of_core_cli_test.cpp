@@ -104,5 +104,49 @@ TEST_F(OutOfCoreCli, BadCombinationsAreExit2WithOneLine) {
     }
 }
 
+// --prefetch-frames along a walkthrough with a host cache of a fraction of the scene: every frame's peaks of the
+// host cache and of the GPU cache (from the counters) stay within --host-cache-mb and --gpu-cache-mb, and the
+// read-ahead ran (reads, or prefetches skipped because the frames' own subtrees filled the host cache).
+TEST_F(OutOfCoreCli, PrefetchKeepsTheHostAndGpuBudgetsAlongAWalkthrough) {
+    const CliRun run = chcrt(dir_.file(""), "render --scene c.chs --method chcrt --out-of-core --gpu-cache-mb 1 "
+                                            "--host-cache-mb 4 --prefetch-frames 2 --prefetch-mb 2 --load-in-core off "
+                                            "--effects shadow,ao --spp 1 --width 64 --height 48 --frames 0-150:15 "
+                                            "-o f_####.png --stats-json s.json -q");
+    ASSERT_EQ(run.exitCode, 0) << run.output;
+    std::ifstream in(dir_.file("s.json"));
+    const nlohmann::json j = nlohmann::json::parse(in);
+    ASSERT_EQ(j["frames"].size(), 11u);
+    double reads = 0, skipped = 0, hostPeak = 0, gpuPeak = 0;
+    for (const nlohmann::json& frame : j["frames"]) {
+        const nlohmann::json& o = frame["outofcore"];
+        EXPECT_EQ(o["prefetch_frames"].get<int>(), 2);
+        EXPECT_LE(o["host_peak_resident_mb"].get<double>(), 4.0) << frame["frame"];
+        EXPECT_LE(o["peak_resident_mb"].get<double>(), 1.0) << frame["frame"];
+        reads += o["prefetch_reads"].get<double>();
+        skipped += o["prefetch_skipped"].get<double>();
+        hostPeak = std::max(hostPeak, o["host_peak_resident_mb"].get<double>());
+        gpuPeak = std::max(gpuPeak, o["peak_resident_mb"].get<double>());
+    }
+    EXPECT_GT(reads + skipped, 0.0) << "the read-ahead ran";
+    EXPECT_GT(hostPeak, 1.0) << "the host cache was used up to near its budget";
+    EXPECT_GT(gpuPeak, 0.5);
+}
+
+TEST_F(OutOfCoreCli, BadPrefetchValuesAreExit2WithOneLine) {
+    for (const std::string arguments : {
+             "render --prefetch-frames -1 -o x.png",
+             "render --prefetch-frames 100000 -o x.png",
+             "render --prefetch-frames two -o x.png",
+             "bench --prefetch-frames -1",
+             "bench --prefetch-mb 0",
+         }) {
+        const CliRun run = chcrt(dir_.file(""), arguments + " --scene c.chs --method chcrt --out-of-core --frames 0 "
+                                                            "--width 32 --height 32 -q");
+        EXPECT_EQ(run.exitCode, 2) << arguments << "\n" << run.output;
+        EXPECT_EQ(lineCount(run.output), 1u) << arguments << "\n" << run.output;
+        EXPECT_EQ(run.output.rfind("chcrt: error: ", 0), 0u) << arguments << "\n" << run.output;
+    }
+}
+
 } // namespace
 } // namespace chcrt

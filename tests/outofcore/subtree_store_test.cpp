@@ -112,3 +112,81 @@ TEST(SubtreeStore, AFileTruncatedOrOverwrittenUnderItFailsTheReadsNamingFileAndS
 
 } // namespace
 } // namespace chcrt
+
+namespace chcrt {
+namespace {
+
+// Prefetch is a guess and yields to the frames (subtree_store.h): it never evicts a subtree used in the current or
+// the previous frame (it skips instead), stays under the budget, stops at its byte limit, counts each prefetched
+// subtree's first use as a hit once, and counts the bytes of prefetched subtrees evicted before any use as waste.
+TEST(SubtreeStore, PrefetchYieldsToTheFramesSubtreesAndCountsHitsAndWaste) {
+    test::ScratchDir dir;
+    const auto file = dir.file("city.chs");
+    test::prepareSmall("city:20k", file, 1000);
+    const outofcore::ChsFile chs(file);
+    const uint32_t count = chs.header().subtreeCount;
+    ASSERT_GT(count, 12u);
+    std::vector<uint64_t> bytes(count);
+    for (uint32_t i = 0; i < count; ++i) bytes[i] = chs.readSubtree(i).bytes();
+    // Subtrees 0, 1 and 2 fill the budget exactly: any more needs an eviction.
+    outofcore::SubtreeStore store(chs, bytes[0] + bytes[1] + bytes[2]);
+    store.get(0);
+    store.get(1);
+    store.advanceFrame(); // 0 and 1 were used in the previous frame: protected
+    store.prefetch(std::vector<uint32_t>{2, 3, 4});
+    store.waitForPrefetch();
+    outofcore::SubtreeStoreStats s = store.stats();
+    // 2 fits beside 0 and 1; 3 and 4 would need one of 0, 1 (previous frame) or 2 (this frame) evicted.
+    EXPECT_EQ(s.prefetched, 1u);
+    EXPECT_EQ(s.prefetchSkipped, 2u);
+    EXPECT_EQ(s.evictions, 0u);
+    EXPECT_TRUE(store.contains(0) && store.contains(1) && store.contains(2));
+    EXPECT_FALSE(store.contains(3) || store.contains(4));
+    store.get(2);
+    store.get(2);
+    EXPECT_EQ(store.stats().prefetchHits, 1u) << "a prefetched subtree's first use only";
+
+    // Two subtrees that fit the budget together, and a third.
+    uint32_t x = 0, y = 0, z = 0;
+    for (uint32_t a = 5; a < count && x == 0; ++a) {
+        for (uint32_t b = a + 1; b < count && x == 0; ++b) {
+            if (bytes[a] + bytes[b] <= store.budgetBytes()) x = a, y = b;
+        }
+    }
+    ASSERT_NE(x, 0u);
+    for (uint32_t c = 5; c < count && z == 0; ++c) {
+        if (c != x && c != y && bytes[c] <= store.budgetBytes()) z = c;
+    }
+    ASSERT_NE(z, 0u);
+
+    // Two frames on, 0, 1 and 2 were last used before the previous frame: a prefetch may evict them.
+    store.advanceFrame();
+    store.advanceFrame();
+    store.prefetch(std::vector<uint32_t>{x, y});
+    store.waitForPrefetch();
+    EXPECT_TRUE(store.contains(x) && store.contains(y));
+    EXPECT_EQ(store.stats().prefetched, 3u);
+    EXPECT_LE(store.stats().peakResidentBytes, store.budgetBytes());
+
+    // The byte limit of one call: only the first subtree fits.
+    store.advanceFrame();
+    store.advanceFrame();
+    store.prefetch(std::vector<uint32_t>{z, 3}, chs.subtrees()[z].bytes);
+    store.waitForPrefetch();
+    EXPECT_TRUE(store.contains(z));
+    EXPECT_FALSE(store.contains(3));
+    EXPECT_EQ(store.stats().prefetched, 4u);
+
+    // The frame's own reads evict anything; x, y and z leave unused (some maybe already for z): their bytes are waste.
+    for (uint32_t i = 5; i < count && (store.contains(x) || store.contains(y) || store.contains(z)); ++i) {
+        if (i != x && i != y && i != z) store.get(i);
+    }
+    ASSERT_FALSE(store.contains(x) || store.contains(y) || store.contains(z));
+    s = store.stats();
+    EXPECT_EQ(s.prefetchWastedBytes, bytes[x] + bytes[y] + bytes[z]);
+    EXPECT_EQ(s.prefetchHits, 1u);
+    EXPECT_LE(s.peakResidentBytes, store.budgetBytes());
+}
+
+} // namespace
+} // namespace chcrt
