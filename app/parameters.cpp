@@ -88,7 +88,8 @@ Codec<float> floatCodec(double lo, double hi) {
 
 // Megabytes on the command line, bytes in the field (OutOfCoreOptions' budgets).
 Codec<uint64_t> megabyteCodec() {
-    const Codec<uint64_t> mb = integerCodec<uint64_t>(1, 1e15);
+    // At most 10^12 MB (an exabyte): the shift to bytes must not overflow 64 bits (2^44 MB would).
+    const Codec<uint64_t> mb = integerCodec<uint64_t>(1, 1e12);
     Codec<uint64_t> c;
     c.parse = [mb](const std::string& text, const std::string& name) { return mb.parse(text, name) << 20; };
     c.fromJson = [mb](const nlohmann::json& value, const std::string& name) { return mb.fromJson(value, name) << 20; };

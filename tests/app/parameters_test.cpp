@@ -113,6 +113,9 @@ TEST(ParameterTable, BadValuesNameTheFlag) {
     EXPECT_NE(inputError({"--spp", "0"}).find("--spp must be at least 1"), std::string::npos);
     EXPECT_NE(inputError({"--ls-angle", "200"}).find("--ls-angle must be between 0 and 180"), std::string::npos);
     EXPECT_NE(inputError({"--gpu-cache-mb", "0"}).find("--gpu-cache-mb must be at least 1"), std::string::npos);
+    // Megabytes whose bytes would not fit 64 bits are refused, not wrapped around to a small budget.
+    EXPECT_NE(inputError({"--host-cache-mb", "1000000000000000"}).find("--host-cache-mb"), std::string::npos);
+    EXPECT_EQ(parse({"--host-cache-mb", "1000000000000"}).outOfCore.hostCacheBytes, uint64_t(1e12) << 20);
     EXPECT_NE(inputError({"--cache-policy", "fifo"}).find("round-robin or lru"), std::string::npos);
     EXPECT_NE(inputError({"--chcrt-height", "tall"}).find("--chcrt-height expects a whole number"), std::string::npos);
     EXPECT_NE(inputError({"--ls-ntree", "1:2"}).find("N"), std::string::npos);
