@@ -35,8 +35,9 @@ public:
     ~SubtreeStore(); // stops the prefetch thread
     SubtreeStore(const SubtreeStore&) = delete;
     SubtreeStore& operator=(const SubtreeStore&) = delete;
-    // Thread-safe. Throws InputError on a corrupted subtree.
-    std::shared_ptr<const SubtreeData> get(uint32_t subtree);
+    // Thread-safe. Throws InputError on a corrupted subtree. `level` >= 1: its LOD proxy (ChsFile::readSubtree),
+    // kept under the same budget.
+    std::shared_ptr<const SubtreeData> get(uint32_t subtree, uint32_t level = 0);
     const ChsFile& file() const { return file_; }
     uint64_t budgetBytes() const { return budget_; }
     SubtreeStoreStats stats() const;
@@ -49,15 +50,16 @@ public:
 private:
     struct Entry {
         std::shared_ptr<const SubtreeData> data;
-        std::list<uint32_t>::iterator position;
+        std::list<uint64_t>::iterator position;
     };
+    static uint64_t keyOf(uint32_t subtree, uint32_t level) { return uint64_t(level) << 32 | subtree; }
     const ChsFile& file_;
     uint64_t budget_;
     mutable std::mutex mutex_;
-    std::list<uint32_t> lru_; // most recently used first
-    std::unordered_map<uint32_t, Entry> entries_;
+    std::list<uint64_t> lru_; // keys (keyOf), most recently used first
+    std::unordered_map<uint64_t, Entry> entries_;
     SubtreeStoreStats stats_;
-    std::shared_ptr<const SubtreeData> insert(uint32_t subtree, std::shared_ptr<const SubtreeData> data, bool prefetched);
+    std::shared_ptr<const SubtreeData> insert(uint64_t key, std::shared_ptr<const SubtreeData> data, bool prefetched);
     void prefetchLoop();
     std::deque<uint32_t> queue_;
     bool stopping_ = false;

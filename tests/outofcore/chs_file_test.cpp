@@ -148,7 +148,7 @@ TEST(ChsFile, VersionMismatchIsRefusedWithClearMessage) {
     std::vector<char> bytes = test::readBytes(file);
     ChsHeader h;
     std::memcpy(&h, bytes.data(), sizeof(h));
-    h.version = outofcore::kChsVersion + 1;
+    h.version = outofcore::kChsVersionLod + 1;
     h.headerChecksum = outofcore::chsChecksum(&h, offsetof(ChsHeader, headerChecksum));
     std::memcpy(bytes.data(), &h, sizeof(h));
     test::writeBytes(file, bytes);
