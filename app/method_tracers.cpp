@@ -123,6 +123,9 @@ std::unique_ptr<Tracer> makeChcrtTracer(const MethodInfo& method, const SceneSes
     }
     if (method.reads(ParameterArea::LineSpace)) addSubtreeLineSpaces(method, session, o, options);
     const bool lod = method.reads(ParameterArea::Lod);
+    if (lod && !(o.outOfCore.lodPixels > 0.0f)) {
+        throw InputError("--lod-pixels must be above 0 for " + method.name + " (exact tracing is --method chcrt)");
+    }
     if (lod && !o.outOfCoreScene.enabled) {
         throw InputError(method.name + " traces the LOD proxies of a prepared scene: give --scene file.chs --out-of-core");
     }

@@ -565,11 +565,11 @@ std::vector<Parameter> describeOutOfCore() {
         // default 1 pixel is set in app/methods.cpp, exact methods ignore it (they never trace proxies).
         Describe(Area::Lod, "--lod-pixels", "lodPixels",
                  "chcrt-lod: trace a subtree's LOD proxy where its geometric error projects below this many pixels "
-                 "(approximate)")
+                 "(> 0; approximate)")
             .defaults("1 (chcrt-lod)")
             .emit(Emit::IfGiven)
             .logSlider("LOD threshold (px)", 0.125f, 16.0f, "%.3g")
-            .number(FIELD(outOfCore.lodPixels), 0.001, 1000.0),
+            .number(FIELD(outOfCore.lodPixels), 0.0, 1000.0),
     };
 }
 

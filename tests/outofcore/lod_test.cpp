@@ -53,9 +53,9 @@ TEST_F(LodFile, ProxiesLieInsideTheirSubtreesBoxAndShrinkLevelByLevel) {
         float finerError = 0.0f;
         for (uint32_t level = 1; level <= 2; ++level) {
             const ChsLodRecord& lod = file.lodRecord(s, level);
+            if (lod.nodeCount == 0) continue; // not kept: too little reduction over the finer level
             EXPECT_GE(lod.errorWorld, finerError) << "subtree " << s << " level " << level;
             finerError = lod.errorWorld;
-            if (lod.nodeCount == 0) continue;
             ++kept[level];
             triangles[level] += lod.triangleCount;
             EXPECT_LE(float(lod.triangleCount), outofcore::kLodMaxKeptShare * float(finer)) << s;
@@ -71,11 +71,11 @@ TEST_F(LodFile, ProxiesLieInsideTheirSubtreesBoxAndShrinkLevelByLevel) {
             EXPECT_TRUE(inside(proxy.nodes[0].boundsMax, r.boundsMin, r.boundsMax));
         }
     }
-    // The city simplifies: most subtrees keep both levels, each level a fraction of the finer one's triangles.
-    EXPECT_GT(kept[1], file.subtrees().size() / 2);
+    // The city simplifies: some subtrees within the collapse level's 0.2 % bound, most by clustering (the coarsest
+    // level, towards 1/64 of the triangles; measured 1/8 here: small material groups stay whole).
+    EXPECT_GT(kept[1], 0u);
     EXPECT_GT(kept[2], file.subtrees().size() / 2);
-    EXPECT_LT(triangles[1], triangles[0] / 2);
-    EXPECT_LT(triangles[2], triangles[1] / 2);
+    EXPECT_LT(triangles[2], triangles[0] / 4);
     EXPECT_EQ(report_.proxies, kept[1] + kept[2]);
     EXPECT_GT(report_.proxyBytes, 0u);
     EXPECT_LT(report_.proxyBytes, report_.subtreeBytes / 2);
@@ -106,18 +106,20 @@ TEST_F(LodFile, ProxyTrianglesCarryDistinctOriginalIdsOfTheirMaterialFromTheSubt
 TEST_F(LodFile, ACorruptedLodRecordIsRefusedWithOneLine) {
     std::vector<char> bytes = test::readBytes(dir_->file("lod.chs"));
     const ChsFile file(dir_->file("lod.chs"));
-    // The first kept proxy's checksum in its blob: flip one byte of the proxy and its read fails.
-    const ChsLodRecord& r = file.lodRecord(0, 1);
-    ASSERT_NE(r.nodeCount, 0u);
+    // The first kept proxy of the coarsest level: flip one byte of its blob and its read fails (the subtree's not).
+    uint32_t subtree = 0;
+    while (subtree < file.subtrees().size() && file.lodRecord(subtree, 2).nodeCount == 0) ++subtree;
+    ASSERT_LT(subtree, file.subtrees().size());
+    const ChsLodRecord& r = file.lodRecord(subtree, 2);
     bytes[r.offset + 5] ^= 0x40;
     test::writeBytes(dir_->file("flipped.chs"), bytes);
     const ChsFile flipped(dir_->file("flipped.chs")); // metadata intact: opens
-    EXPECT_NO_THROW(flipped.readSubtree(0));
+    EXPECT_NO_THROW(flipped.readSubtree(subtree));
     try {
-        flipped.readSubtree(0, 1);
+        flipped.readSubtree(subtree, 2);
         FAIL() << "read a corrupted proxy";
     } catch (const InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("LOD 1 checksum mismatch"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("LOD 2 checksum mismatch"), std::string::npos) << e.what();
     }
 }
 
