@@ -3,7 +3,8 @@
 // (ratios within one run: runs vary by ±40 % here); only tracing is timed (glFinish before and after). One
 // untimed warm-up run compiles shaders and fills caches. ms_median = median over runs of the mean tracing
 // time per frame (all samples of a frame). Mrays/s counts active rays (pixels without a surface shoot no
-// secondary rays). diff_pixels / psnr_db compare with pure BVH GLSL tracing: for embree, diff_pixels counts
+// secondary rays). diff_pixels / psnr_db compare with pure BVH GLSL tracing (chcrt-lod's psnr_db: with exact
+// out-of-core CHC+RT, whose hits equal pure BVH's, through the same primary resolve): for embree, diff_pixels counts
 // hit-buffer pixels that differ beyond the stated tolerance (renderer/render/hit_comparison.h) and psnr_db is
 // null (it produces hits, not an image).
 #include "app/commands.h"
@@ -76,6 +77,8 @@ struct Bench {
     std::vector<std::string> gpuMethodNames; // traced on the GPU: pure BVH first (the reference), when in core
     std::map<std::string, std::unique_ptr<Tracer>> tracers;
     outofcore::OutOfCoreTracer* gbufferTracer = nullptr; // scene not in core: primary visibility for secondary rays
+    RenderSettings rendererSettings;     // the renderer's as opened (LOD image errors switch primary visibility)
+    std::unique_ptr<Tracer> lodReference; // exact out-of-core CHC+RT for chcrt-lod's image error, when not benchmarked
     std::unique_ptr<EmbreeTracer> embree;
     HitTolerance tolerance;
     std::map<std::string, ls::ImageError> imageErrors;
@@ -84,6 +87,35 @@ struct Bench {
     Tracer* tracer(const std::string& m) const { return m == kPureBvhMethod ? nullptr : tracers.at(m).get(); }
     Renderer& renderer() { return *gpu.renderer; }
 };
+
+// Makes `t` the renderer's tracer with the G-buffer it needs: a tracer of LOD proxies (or any out-of-core tracer of a
+// scene not in core) resolves its own primary hits; otherwise the session's G-buffer tracer, or the in-core passes.
+void useTracerWithPrimary(Bench& b, Tracer* t) {
+    Renderer& renderer = b.renderer();
+    auto* ooc = dynamic_cast<outofcore::OutOfCoreTracer*>(t);
+    if (ooc && needsOutOfCorePrimary(*ooc, b.session.sceneInCore)) {
+        installOutOfCorePrimary(renderer, *ooc);
+    } else if (b.gbufferTracer) {
+        installOutOfCorePrimary(renderer, *b.gbufferTracer);
+    } else {
+        renderer.setOutOfCorePrimary({});
+        renderer.setSettings(b.rendererSettings);
+    }
+    renderer.useTracer(t);
+}
+
+// The exact reference of chcrt-lod's image error: exact CHC+RT through the same GPU cache design and the same primary
+// resolve, so that the proxies are the only difference (its hits equal pure BVH's: `verify`). Not in core a benchmarked
+// exact out-of-core method serves (it resolves the session's G-buffer anyway); else one is made, so that the timed
+// tracers are not changed by the measurement (a resolve records subtrees on every primary trace).
+outofcore::OutOfCoreTracer& lodReference(Bench& b) {
+    for (const auto& [name, tracer] : b.tracers) {
+        auto* ooc = dynamic_cast<outofcore::OutOfCoreTracer*>(tracer.get());
+        if (ooc && !b.session.sceneInCore && !ooc->lodEnabled() && findGpuMethod(name).exact) return *ooc;
+    }
+    if (!b.lodReference) b.lodReference = makeTracer("chcrt", b.session);
+    return dynamic_cast<outofcore::OutOfCoreTracer&>(*b.lodReference);
+}
 
 // Pure BVH tracing always runs: it is the reference for speedups and differing pixels. Not for an --out-of-core
 // scene that is not loaded in core: there is no whole-scene BVH to trace (docs/outofcore.md).
@@ -95,17 +127,32 @@ void makeTracers(Bench& b, bool wantEmbree) {
         b.gpuMethodNames.push_back(m);
         b.tracers[m] = makeTracer(m, b.session);
     }
-    for (const auto& [name, tracer] : b.tracers) {
-        auto* ooc = dynamic_cast<outofcore::OutOfCoreTracer*>(tracer.get());
-        if (ooc && !b.session.sceneInCore && !b.gbufferTracer) b.gbufferTracer = ooc;
+    // Not in core, the secondary rays of every method start from one G-buffer: an exact method's when there is one.
+    for (bool exactOnly : {true, false}) {
+        for (const auto& [name, tracer] : b.tracers) {
+            auto* ooc = dynamic_cast<outofcore::OutOfCoreTracer*>(tracer.get());
+            if (ooc && !b.session.sceneInCore && !b.gbufferTracer && (!exactOnly || !ooc->lodEnabled())) b.gbufferTracer = ooc;
+        }
     }
+    b.rendererSettings = b.renderer().settings();
     if (b.gbufferTracer) installOutOfCorePrimary(b.renderer(), *b.gbufferTracer);
     if (wantEmbree) b.embree = std::make_unique<EmbreeTracer>(b.session.scene);
     b.tolerance.absoluteT *= b.renderer().sceneDiagonal();
     // Image error of approximate methods against pure BVH tracing (Line Space issue): whole frames with the
     // effects and spp of the command line, rendered once per tracer (untimed), final and indirect-only images.
+    // chcrt-lod (issue #19) against exact out-of-core CHC+RT, each frame with its own tracer's primary resolve.
     for (const std::string& m : b.gpuMethodNames) {
-        if (m != kPureBvhMethod && !findGpuMethod(m).exact) {
+        if (m == kPureBvhMethod || findGpuMethod(m).exact) continue;
+        auto* ooc = dynamic_cast<outofcore::OutOfCoreTracer*>(b.tracers[m].get());
+        if (ooc && ooc->lodEnabled()) {
+            outofcore::OutOfCoreTracer& reference = lodReference(b);
+            const ls::UseTracer use = [&b, &reference](Tracer* t) {
+                if (t != &reference) return useTracerWithPrimary(b, t);
+                installOutOfCorePrimary(b.renderer(), reference); // the same resolve as chcrt-lod's, also in core
+                b.renderer().useTracer(t);
+            };
+            b.imageErrors[m] = ls::measureImageError(b.renderer(), *ooc, &reference, use, b.session.path, b.frames);
+        } else {
             b.imageErrors[m] = ls::measureImageError(b.renderer(), *b.tracers[m], b.session.path, b.frames);
         }
     }

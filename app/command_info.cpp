@@ -8,6 +8,7 @@
 #include "renderer/gl/context.h"
 #include "renderer/outofcore/chs_file.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -25,6 +26,14 @@ std::vector<std::string> checkSubtrees(const outofcore::ChsFile& file) {
             (void)file.readSubtree(i);
         } catch (const InputError& e) {
             failures.push_back(e.what());
+        }
+        for (uint32_t level = 1; level <= file.lodLevels(); ++level) { // its LOD proxies (issue #19)
+            if (file.lodRecord(i, level).nodeCount == 0) continue;
+            try {
+                (void)file.readSubtree(i, level);
+            } catch (const InputError& e) {
+                failures.push_back(e.what());
+            }
         }
     }
     return failures;
@@ -115,6 +124,28 @@ int runInfo(const InfoOptions& options) {
                          {"subtrees", h.subtreeCount}, {"upper_nodes", h.upperNodeCount}, {"parts", h.chunkCount},
                          {"file_bytes", h.fileBytes}, {"max_subtree_triangles", h.maxSubtreeTriangles},
                          {"max_subtree_nodes", h.maxSubtreeNodes}};
+        if (file.lodLevels() > 0) { // LOD proxies (issue #19): what they cost against what they replace
+            std::printf("  LOD proxies  %.1f MB = %.1f %% of the subtrees' bytes\n", double(f.proxyBytes) / 1e6,
+                        f.subtreeBytes ? 100.0 * double(f.proxyBytes) / double(f.subtreeBytes) : 0.0);
+            nlohmann::json levels = nlohmann::json::array();
+            for (uint32_t level = 1; level <= file.lodLevels(); ++level) {
+                std::vector<float> errors;
+                for (uint32_t i = 0; i < h.subtreeCount; ++i) {
+                    const outofcore::ChsLodRecord& r = file.lodRecord(i, level);
+                    if (r.nodeCount != 0) errors.push_back(r.errorWorld);
+                }
+                std::sort(errors.begin(), errors.end());
+                const float medianError = errors.empty() ? 0.0f : errors[errors.size() / 2];
+                const uint64_t triangles = f.proxyTrianglesPerLevel[level - 1];
+                std::printf("  level %u      %llu of %u subtrees, %llu triangles (%.2f %%), error median %.3g / max %.3g\n",
+                            level, (unsigned long long)f.proxiesPerLevel[level - 1], h.subtreeCount,
+                            (unsigned long long)triangles, 100.0 * double(triangles) / double(h.triangleCount),
+                            double(medianError), errors.empty() ? 0.0 : double(errors.back()));
+                levels.push_back({{"level", level}, {"proxies", f.proxiesPerLevel[level - 1]}, {"triangles", triangles},
+                                  {"error_median", medianError}, {"error_max", errors.empty() ? 0.0f : errors.back()}});
+            }
+            j["prepared"]["lod"] = {{"levels", levels}, {"proxy_bytes", f.proxyBytes}, {"subtree_bytes", f.subtreeBytes}};
+        }
         if (options.check) {
             const std::vector<std::string> bad = checkSubtrees(file);
             std::printf("  check        %u subtrees read: %s\n", h.subtreeCount,

@@ -56,7 +56,9 @@ RenderTracer makeRenderTracer(const RenderOptions& options, ChcrtDebugImage debu
     t.outOfCore = dynamic_cast<outofcore::OutOfCoreTracer*>(t.tracer.get());
     t.chcrt = t.outOfCore ? &t.outOfCore->chcrt() : dynamic_cast<ChcrtTracer*>(t.tracer.get());
     if (t.chcrt) t.chcrt->setDebugImage(t.debugImage);
-    if (t.outOfCore && !session.sceneInCore) installOutOfCorePrimary(renderer, *t.outOfCore); // docs/outofcore.md
+    if (t.outOfCore && needsOutOfCorePrimary(*t.outOfCore, session.sceneInCore)) {
+        installOutOfCorePrimary(renderer, *t.outOfCore); // docs/outofcore.md
+    }
     renderer.useTracer(t.tracer.get());
     return t;
 }

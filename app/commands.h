@@ -77,6 +77,7 @@ struct PrepareCommandOptions {
     uint64_t memoryMb = 2048;
     uint32_t subtreeTriangles = 1u << 16;
     uint32_t subtreeHeight = 24;
+    uint32_t lodLevels = 3; // outofcore::kDefaultLodLevels (checked in command_prepare.cpp)
     std::string grid; // "NxM" copies
     bool quiet = false;
 };

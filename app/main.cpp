@@ -138,6 +138,10 @@ CLI::App* addPrepare(CLI::App& cli, PrepareCommandOptions& prepare) {
     c->add_option("--subtree-triangles", prepare.subtreeTriangles, "Termination subtree triangle limit")
         ->capture_default_str();
     c->add_option("--subtree-height", prepare.subtreeHeight, "Termination subtree height limit")->capture_default_str();
+    c->add_option("--lod-levels", prepare.lodLevels,
+                  "Level-of-detail proxy levels per subtree for chcrt-lod (errors of 0.2 %, 1 %, ... of the subtree's "
+                  "extent; the last one clusters to 1/64 of its triangles; 0 = none, at most 4)")
+        ->capture_default_str();
     c->add_option("--grid", prepare.grid, "NxM copies of the scene (like the paper's Powerplant x 16)");
     c->add_flag("-q,--quiet", prepare.quiet, "No progress bar");
     return c;

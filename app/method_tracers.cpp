@@ -122,9 +122,18 @@ std::unique_ptr<Tracer> makeChcrtTracer(const MethodInfo& method, const SceneSes
         throw InputError("--chcrt-threshold > 0 makes culling approximate: use --method chcrt-aggressive");
     }
     if (method.reads(ParameterArea::LineSpace)) addSubtreeLineSpaces(method, session, o, options);
+    const bool lod = method.reads(ParameterArea::Lod);
+    if (lod && !(o.outOfCore.lodPixels > 0.0f)) {
+        throw InputError("--lod-pixels must be above 0 for " + method.name + " (exact tracing is --method chcrt)");
+    }
+    if (lod && !o.outOfCoreScene.enabled) {
+        throw InputError(method.name + " traces the LOD proxies of a prepared scene: give --scene file.chs --out-of-core");
+    }
     if (o.outOfCoreScene.enabled) {
         checkOutOfCore(o);
-        return std::make_unique<outofcore::OutOfCoreTracer>(o.scene, o.outOfCore, options, method.name);
+        outofcore::OutOfCoreOptions outOfCore = o.outOfCore;
+        if (!lod) outOfCore.lodPixels = 0.0f; // exact methods never trace proxies, whatever --lod-pixels says
+        return std::make_unique<outofcore::OutOfCoreTracer>(o.scene, outOfCore, options, method.name);
     }
     return std::make_unique<ChcrtTracer>(session.bvh, options, method.name);
 }

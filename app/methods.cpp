@@ -34,6 +34,14 @@ void noAdaptDefaults(CommonOptions& d, const CommonOptions& user, uint64_t trian
     d.chcrt.adaptive = false;
 }
 
+// chcrt-lod (issue #19): out-of-core CHC+RT tracing a subtree's LOD proxy where its error projects below one pixel
+// (docs/outofcore.md, "LOD proxies"): the threshold at which the measured far-view PSNR against exact tracing stays
+// high while most far subtrees are served as proxies.
+void lodDefaults(CommonOptions& d, const CommonOptions& user, uint64_t triangles) {
+    recommendedChcrtDefaults(d, user, triangles);
+    d.outOfCore.lodPixels = 1.0f;
+}
+
 // Exact skipping for every ray type (bvh+ls-exact falls back to pure BVH when it would not pay: method_tracers.cpp).
 void exactLineSpaceDefaults(CommonOptions& d, const CommonOptions&, uint64_t) {
     d.lineSpaceTracing.baseModes = ls::LineSpaceModes::allExact();
@@ -84,6 +92,11 @@ std::vector<MethodInfo> registerMethods() {
          .description = "CHC+RT culling pairs whose query passes <= 20 rays (approximate)",
          .areas = {Area::Chcrt, Area::ChcrtVisibility}, .outOfCoreForm = true, .chcrtDebugImages = true,
          .setDefaults = aggressiveDefaults, .makeTracer = makeChcrtTracer},
+        {.name = "chcrt-lod", .exact = false,
+         .description = "CHC+RT out of core tracing a subtree's level-of-detail proxy where its error projects below "
+                        "--lod-pixels (approximate; prepared scenes with proxies)",
+         .areas = {Area::Chcrt, Area::Lod}, .outOfCoreForm = true, .chcrtDebugImages = true,
+         .setDefaults = lodDefaults, .makeTracer = makeChcrtTracer},
         {.name = "chcrt-noadapt",
          .description = "CHC+RT without the adaptive fallback to a pure pass (always culls; exact)",
          .areas = chcrt, .outOfCoreForm = true, .chcrtDebugImages = true, .recommendedChcrt = true,

@@ -20,8 +20,12 @@ void prefetchAfterFrame(outofcore::OutOfCoreTracer& tracer, const CameraPath& pa
 
 // A scene that is not in core (docs/outofcore.md): the renderer's traced G-buffer is resolved through
 // `tracer`'s recorded subtrees (outofcore::PrimaryResolve) and secondary rays read per-pixel geometric normals.
-// The renderer must use traced primary visibility, and `tracer` must trace the G-buffer's primary rays (it must
+// Switches the renderer to traced primary visibility; `tracer` must trace the G-buffer's primary rays (it must
 // outlive the renderer's use of it).
 void installOutOfCorePrimary(Renderer& renderer, outofcore::OutOfCoreTracer& tracer);
+// Whether the renderer's G-buffer must come from `tracer` (installOutOfCorePrimary): a scene not in core, or a tracer
+// of LOD proxies (chcrt-lod), whose secondary rays must start on the proxy surfaces its primary rays hit (an exact
+// G-buffer under a proxy that lies above it would shadow itself).
+bool needsOutOfCorePrimary(const outofcore::OutOfCoreTracer& tracer, bool sceneInCore);
 
 } // namespace chcrt::app

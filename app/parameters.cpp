@@ -571,6 +571,15 @@ std::vector<Parameter> describeOutOfCore() {
             .emit(Emit::IfNotDefault)
             .choice<LoadInCore>(FIELD(outOfCoreScene.loadInCore),
                                 {{"auto", LoadInCore::Auto}, {"on", LoadInCore::On}, {"off", LoadInCore::Off}}),
+        // Issue #19: the projected-error threshold of the LOD proxies (docs/outofcore.md, "LOD proxies"); chcrt-lod's
+        // default 1 pixel is set in app/methods.cpp, exact methods ignore it (they never trace proxies).
+        Describe(Area::Lod, "--lod-pixels", "lodPixels",
+                 "chcrt-lod: trace a subtree's LOD proxy where its geometric error projects below this many pixels "
+                 "(> 0; approximate)")
+            .defaults("1 (chcrt-lod)")
+            .emit(Emit::IfGiven)
+            .logSlider("LOD threshold (px)", 0.125f, 16.0f, "%.3g")
+            .number(FIELD(outOfCore.lodPixels), 0.0, 1000.0),
     };
 }
 
@@ -608,13 +617,14 @@ const char* toString(ParameterArea area) {
     case ParameterArea::NTree: return "N-tree (ntree+ls)";
     case ParameterArea::LineSpaceCache: return "Line Space and N-tree cache";
     case ParameterArea::OutOfCore: return "Out of core (prepared .chs scenes)";
+    case ParameterArea::Lod: return "Level of detail (chcrt-lod)";
     }
     return "?";
 }
 
 bool isMethodArea(ParameterArea area) {
     return area == ParameterArea::Chcrt || area == ParameterArea::ChcrtVisibility || area == ParameterArea::LineSpace ||
-           area == ParameterArea::LineSpaceModes || area == ParameterArea::NTree;
+           area == ParameterArea::LineSpaceModes || area == ParameterArea::NTree || area == ParameterArea::Lod;
 }
 
 const std::vector<Parameter>& parameterTable() {

@@ -28,6 +28,7 @@ enum class ParameterArea : uint8_t {
     NTree,           // CommonOptions::ntree, ntreeShadow: ntree+ls
     LineSpaceCache,  // --ls-cache: the methods that build Line Spaces or N-trees
     OutOfCore,       // CommonOptions::outOfCore, outOfCoreScene: prepared scenes traced out of core
+    Lod,             // OutOfCoreOptions::lodPixels: level-of-detail proxies (chcrt-lod)
 };
 const char* toString(ParameterArea area); // the option group's title in --help
 // Areas whose values are a tracing method's parameters (the method's own defaults apply to what is not given).

@@ -4,6 +4,7 @@ find_package(glm REQUIRED)
 find_package(nlohmann_json 3.10 REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(embree 3.13 REQUIRED)
+find_package(meshoptimizer 0.18 REQUIRED) # Debian's libmeshoptimizer-dev: the simplifier of the LOD proxies (prepare)
 find_package(PkgConfig REQUIRED)
 # libEGL (glvnd) is the one GL library the headless commands link; OSMesa is opened with dlopen for `--gl osmesa`
 # (renderer/gl/context_osmesa.cpp), so only its header is needed here.

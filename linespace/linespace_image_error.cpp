@@ -17,20 +17,25 @@ double psnrFromMse(double mse) {
 } // namespace
 
 ImageError measureImageError(Renderer& renderer, Tracer& method, const CameraPath& path, const std::vector<int>& frames) {
+    return measureImageError(renderer, method, nullptr, [&renderer](Tracer* t) { renderer.useTracer(t); }, path, frames);
+}
+
+ImageError measureImageError(Renderer& renderer, Tracer& method, Tracer* reference, const UseTracer& use,
+                             const CameraPath& path, const std::vector<int>& frames) {
     ImageError e;
     double finalMse = 0.0, indirectMse = 0.0;
     uint64_t over = 0;
     for (int frame : frames) {
         const Camera camera = path.cameraAtFrame(frame);
-        renderer.useTracer(nullptr);
+        use(reference);
         renderer.renderFrame(camera);
         const ImageRgba32f exactFinal = renderer.readDisplayImage();
         const ImageRgba32f exactIndirect = renderer.readIndirectImage();
-        renderer.useTracer(&method);
+        use(&method);
         renderer.renderFrame(camera);
         const ImageRgba32f approxFinal = renderer.readDisplayImage();
         const ImageRgba32f approxIndirect = renderer.readIndirectImage();
-        renderer.useTracer(nullptr);
+        use(nullptr);
         const ImageDifference f = compareImages(exactFinal, approxFinal, 2.0f / 255.0f);
         const ImageDifference i = compareImages(exactIndirect, approxIndirect);
         e.finalMae += f.meanAbsoluteError;

@@ -7,6 +7,7 @@
 #include "renderer/scene/camera_path.h"
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace chcrt::ls {
@@ -23,5 +24,11 @@ struct ImageError {
 
 // Renders each frame with pure BVH tracing and with `method` and compares. Leaves pure BVH tracing active.
 ImageError measureImageError(Renderer& renderer, Tracer& method, const CameraPath& path, const std::vector<int>& frames);
+
+// The same with `reference` as the exact tracer (nullptr: pure BVH), and `use(tracer)` called instead of
+// renderer.useTracer before each frame (a tracer may bring its own G-buffer resolve: chcrt-lod, out of core).
+using UseTracer = std::function<void(Tracer*)>;
+ImageError measureImageError(Renderer& renderer, Tracer& method, Tracer* reference, const UseTracer& use,
+                             const CameraPath& path, const std::vector<int>& frames);
 
 } // namespace chcrt::ls

@@ -15,7 +15,7 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   libglfw3-dev libosmesa6-dev libegl-dev libegl1-mesa-dev libgl-dev libgl1-mesa-dri libopengl-dev
   libglm-dev libtinygltf-dev libstb-dev libtinyexr-dev libimgui-dev libopenimageio-dev openimageio-tools
-  libembree-dev libtbb-dev libgtest-dev nlohmann-json3-dev libcli11-dev
+  libembree-dev libtbb-dev libgtest-dev nlohmann-json3-dev libcli11-dev libmeshoptimizer-dev
   xvfb xauth
   python3-matplotlib chromium
   clang-14 libclang-rt-14-dev

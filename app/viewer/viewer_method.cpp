@@ -79,7 +79,7 @@ void MethodSwitcher::apply(ViewerSettings& settings, SceneSession& scene, Render
     createWithFallback(settings, scene, previous);
     outOfCore_ = dynamic_cast<outofcore::OutOfCoreTracer*>(tracer_.get());
     // Not in core: the G-buffer is resolved through this tracer's recorded primary subtrees (as chcrt render).
-    if (outOfCore_ && !scene.sceneInCore) installOutOfCorePrimary(renderer, *outOfCore_);
+    if (outOfCore_ && needsOutOfCorePrimary(*outOfCore_, scene.sceneInCore)) installOutOfCorePrimary(renderer, *outOfCore_);
     renderer.useTracer(tracer_.get());
     activeMethod_ = settings.method;
     activeAlwaysCull_ = settings.chcrtAlwaysCull;

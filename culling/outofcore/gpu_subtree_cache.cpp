@@ -5,6 +5,8 @@
 #include "renderer/outofcore/gpu_cache_slots.h"
 #include "shaders/shared/render_layout.h"
 
+#include <algorithm>
+
 namespace chcrt::outofcore {
 
 CachePolicy parseCachePolicy(const std::string& text) {
@@ -17,30 +19,90 @@ const char* toString(CachePolicy policy) { return policy == CachePolicy::Lru ? "
 
 GpuSubtreeCache::GpuSubtreeCache(SubtreeStore& store, const GpuCacheOptions& options)
     : store_(store), options_(options) {
-    const ChsHeader& h = store.file().header();
-    slotNodes_ = h.maxSubtreeNodes;
-    slotTriangles_ = std::max(1u, h.maxSubtreeTriangles);
-    const uint64_t slotBytes = uint64_t(slotNodes_) * sizeof(BvhNodeGpu) + uint64_t(slotTriangles_) * sizeof(TriangleGpu);
+    const ChsFile& file = store.file();
+    const ChsHeader& h = file.header();
     // The budget is clamped to what one texture buffer addresses and to the GPU memory the driver reports
     // (renderer/outofcore/gpu_cache_slots.h), so a budget beyond them allocates what fits instead of failing.
     GLint maxTexels = 0;
     glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
-    const GpuCacheLimits limits{uint64_t(std::max(maxTexels, 0)), queryGpuMemory().availableBytes};
-    const uint64_t slots = gpuCacheSlots(options.budgetBytes, slotNodes_, slotTriangles_, h.subtreeCount, limits);
+    GpuCacheLimits limits{uint64_t(std::max(maxTexels, 0)), queryGpuMemory().availableBytes};
+    uint64_t budget = options.budgetBytes;
+    if (limits.availableGpuBytes != 0) budget = std::min(budget, limits.availableGpuBytes / 4 * 3);
+    Pool subtrees;
+    subtrees.slotNodes = h.maxSubtreeNodes;
+    subtrees.slotTriangles = std::max(1u, h.maxSubtreeTriangles);
+    const uint64_t slotBytes = uint64_t(subtrees.slotNodes) * sizeof(BvhNodeGpu) +
+                               uint64_t(subtrees.slotTriangles) * sizeof(TriangleGpu);
+    // chcrt-lod: a pool per proxy level, each of up to kLodPoolShare of the budget and at most one slot per proxy of
+    // that level, but never at the cost of the one subtree slot that tracing needs.
+    std::vector<Pool> proxyPools;
+    uint64_t proxyBytes = 0, proxyNodeTexels = 0, proxyTriangleTexels = 0;
+    if (lodEnabled()) {
+        for (uint32_t level = 1; level <= file.lodLevels(); ++level) {
+            // Slots sized for the 95th percentile of the level's proxies, not the largest: a few proxies that barely
+            // simplified would otherwise make every slot as large as theirs. Those few are served at a finer level.
+            std::vector<uint32_t> nodeCounts, triangleCounts;
+            for (uint32_t s = 0; s < h.subtreeCount; ++s) {
+                const ChsLodRecord& r = file.lodRecord(s, level);
+                if (r.nodeCount == 0) continue;
+                nodeCounts.push_back(r.nodeCount);
+                triangleCounts.push_back(r.triangleCount);
+            }
+            Pool pool;
+            const auto percentile = [](std::vector<uint32_t>& v) {
+                std::sort(v.begin(), v.end());
+                return v.empty() ? 0u : v[std::min(v.size() - 1, v.size() * 95 / 100)];
+            };
+            pool.slotNodes = std::max(1u, percentile(nodeCounts));
+            pool.slotTriangles = std::max(1u, percentile(triangleCounts));
+            uint64_t fitting = 0;
+            for (uint32_t s = 0; s < h.subtreeCount; ++s) {
+                const ChsLodRecord& r = file.lodRecord(s, level);
+                fitting += r.nodeCount != 0 && r.nodeCount <= pool.slotNodes && r.triangleCount <= pool.slotTriangles;
+            }
+            const uint64_t bytes = uint64_t(pool.slotNodes) * sizeof(BvhNodeGpu) + uint64_t(pool.slotTriangles) * sizeof(TriangleGpu);
+            const double share = level == file.lodLevels() ? kLodCoarsestPoolShare : kLodPoolShare;
+            uint64_t slots = std::min<uint64_t>(fitting, uint64_t(double(budget) * share) / bytes);
+            if (fitting != 0 && slots == 0 && budget >= slotBytes + proxyBytes + bytes) slots = 1;
+            pool.slotKey.assign(slots, kNotResident);
+            proxyBytes += slots * bytes;
+            proxyNodeTexels += slots * pool.slotNodes * CHCRT_BVH_TEXELS_PER_NODE;
+            proxyTriangleTexels += slots * pool.slotTriangles * CHCRT_TRI_TEXELS_PER_TRIANGLE;
+            proxyPools.push_back(std::move(pool));
+        }
+    }
+    if (limits.maxTextureBufferTexels != 0) {
+        const uint64_t used = std::max(proxyNodeTexels, proxyTriangleTexels);
+        limits.maxTextureBufferTexels = limits.maxTextureBufferTexels > used ? limits.maxTextureBufferTexels - used : 1;
+    }
+    limits.availableGpuBytes = 0; // applied to `budget` above
+    const uint64_t slots = gpuCacheSlots(budget > proxyBytes ? budget - proxyBytes : 0, subtrees.slotNodes,
+                                         subtrees.slotTriangles, h.subtreeCount, limits);
     if (slots == 0) {
         throw InputError("--gpu-cache-mb " + std::to_string(options.budgetBytes >> 20) +
-                         " is too small to hold one subtree of " + store.file().path().string() + " (needs " +
+                         " is too small to hold one subtree of " + file.path().string() + " (needs " +
                          std::to_string((slotBytes + (1u << 20) - 1) >> 20) + " MB; prepare with smaller --subtree-triangles)");
     }
-    nodes_ = createTextureBuffer(nullptr, slots * slotNodes_ * sizeof(BvhNodeGpu), GL_RGBA32F);
-    triangles_ = createTextureBuffer(nullptr, slots * slotTriangles_ * sizeof(TriangleGpu), GL_RGBA32F);
+    subtrees.slotKey.assign(slots, kNotResident);
+    pools_.push_back(std::move(subtrees));
+    for (Pool& p : proxyPools) pools_.push_back(std::move(p));
+    // Pools one after another in both buffers: the subtree pool first (slot k's root = k × slotNodes, as without LOD).
+    uint64_t nodes = 0, triangles = 0;
+    for (Pool& p : pools_) {
+        p.firstNode = nodes;
+        p.firstTriangle = triangles;
+        nodes += uint64_t(p.slotKey.size()) * p.slotNodes;
+        triangles += uint64_t(p.slotKey.size()) * p.slotTriangles;
+        p.lastUse.assign(p.slotKey.size(), 0);
+        p.pinned.assign(p.slotKey.size(), 0);
+        p.slotOf.assign(h.subtreeCount, kNotResident);
+        stats_.slots += uint32_t(p.slotKey.size());
+    }
+    stats_.proxySlots = stats_.slots - uint32_t(pools_[0].slotKey.size());
+    nodes_ = createTextureBuffer(nullptr, nodes * sizeof(BvhNodeGpu), GL_RGBA32F);
+    triangles_ = createTextureBuffer(nullptr, triangles * sizeof(TriangleGpu), GL_RGBA32F);
     stats_.allocatedBytes = nodes_.bytes + triangles_.bytes;
     if (stats_.allocatedBytes > options.budgetBytes) throw std::logic_error("GPU cache allocation exceeds its budget");
-    stats_.slots = uint32_t(slots);
-    slotSubtree_.assign(slots, kNotResident);
-    slotLastUse_.assign(slots, 0);
-    slotPinned_.assign(slots, 0);
-    subtreeSlot_.assign(h.subtreeCount, kNotResident);
 }
 
 void GpuSubtreeCache::resetCounters() {
@@ -50,16 +112,41 @@ void GpuSubtreeCache::resetCounters() {
     stats_.peakResidentBytes = keep.peakResidentBytes;
     stats_.allocatedBytes = keep.allocatedBytes;
     stats_.slots = keep.slots;
+    stats_.proxySlots = keep.proxySlots;
     stats_.residentSubtrees = keep.residentSubtrees;
 }
 
-uint32_t GpuSubtreeCache::chooseVictim() {
-    const uint32_t n = slotCount();
+uint32_t GpuSubtreeCache::levelFor(uint32_t subtree) const {
+    if (!viewSet_ || !lodEnabled() || pools_.size() < 2) return 0;
+    const ChsFile& file = store_.file();
+    const ChsSubtreeRecord& r = file.subtrees()[subtree];
+    const glm::vec3 lo(r.boundsMin[0], r.boundsMin[1], r.boundsMin[2]), hi(r.boundsMax[0], r.boundsMax[1], r.boundsMax[2]);
+    const float distance = glm::length(glm::clamp(eye_, lo, hi) - eye_);
+    if (!(distance > 0.0f)) return 0; // the eye inside the box: full detail
+    // A proxy's error is a distance in world units from the subtree's surface; seen from the eye it covers at most
+    // error × focal / distance pixels (distance to the nearest point of the box bounds it from below). The floor
+    // keeps the ratio finite for an eye on the box's face.
+    const float floorDistance = 1e-6f * glm::length(hi - lo);
+    const float pixelsPerUnit = focalPixels_ / std::max(distance, floorDistance);
+    for (uint32_t level = uint32_t(pools_.size()) - 1; level >= 1; --level) {
+        const ChsLodRecord& lod = file.lodRecord(subtree, level);
+        const Pool& pool = pools_[level];
+        if (lod.nodeCount == 0 || pool.slotKey.empty() || lod.nodeCount > pool.slotNodes ||
+            lod.triangleCount > pool.slotTriangles) {
+            continue; // no proxy, or one larger than the level's slots: a finer level serves
+        }
+        if (lod.errorWorld * pixelsPerUnit < options_.lodPixels) return level;
+    }
+    return 0;
+}
+
+uint32_t GpuSubtreeCache::chooseVictim(Pool& pool) {
+    const uint32_t n = uint32_t(pool.slotKey.size());
     if (options_.policy == CachePolicy::RoundRobin) {
         for (uint32_t k = 0; k < n; ++k) {
-            const uint32_t slot = (nextVictim_ + k) % n;
-            if (slotPinned_[slot] != acquireCount_) {
-                nextVictim_ = (slot + 1) % n;
+            const uint32_t slot = (pool.nextVictim + k) % n;
+            if (pool.pinned[slot] != acquireCount_) {
+                pool.nextVictim = (slot + 1) % n;
                 return slot;
             }
         }
@@ -67,78 +154,102 @@ uint32_t GpuSubtreeCache::chooseVictim() {
     }
     uint32_t best = kNotResident;
     for (uint32_t slot = 0; slot < n; ++slot) { // empty slots have lastUse 0 and go first
-        if (slotPinned_[slot] == acquireCount_) continue;
-        if (best == kNotResident || slotLastUse_[slot] < slotLastUse_[best]) best = slot;
+        if (pool.pinned[slot] == acquireCount_) continue;
+        if (best == kNotResident || pool.lastUse[slot] < pool.lastUse[best]) best = slot;
     }
     return best;
 }
 
-void GpuSubtreeCache::upload(uint32_t subtree, uint32_t slot) {
-    const std::shared_ptr<const SubtreeData> data = store_.get(subtree);
-    const uint32_t nodeBase = slot * slotNodes_, triBase = slot * slotTriangles_;
-    std::vector<BvhNodeGpu> nodes = data->nodes;
-    for (BvhNodeGpu& node : nodes) node.leftFirst += node.triCount != 0 ? triBase : nodeBase;
-    const size_t nodeBytes = nodes.size() * sizeof(BvhNodeGpu), triBytes = data->triangles.size() * sizeof(TriangleGpu);
-    glNamedBufferSubData(nodes_.buffer.id(), GLintptr(uint64_t(nodeBase) * sizeof(BvhNodeGpu)), GLsizeiptr(nodeBytes),
-                         nodes.data());
-    if (triBytes != 0) {
-        glNamedBufferSubData(triangles_.buffer.id(), GLintptr(uint64_t(triBase) * sizeof(TriangleGpu)),
-                             GLsizeiptr(triBytes), data->triangles.data());
+uint64_t GpuSubtreeCache::entryBytes(uint32_t level, uint32_t subtree) const {
+    const ChsFile& file = store_.file();
+    if (level == 0) {
+        const ChsSubtreeRecord& r = file.subtrees()[subtree];
+        return uint64_t(r.nodeCount) * sizeof(BvhNodeGpu) + uint64_t(r.triangleCount) * sizeof(TriangleGpu);
     }
-    const uint32_t previous = slotSubtree_[slot];
+    const ChsLodRecord& r = file.lodRecord(subtree, level);
+    return uint64_t(r.nodeCount) * sizeof(BvhNodeGpu) + uint64_t(r.triangleCount) * sizeof(TriangleGpu);
+}
+
+void GpuSubtreeCache::upload(uint32_t level, uint32_t subtree, uint32_t slot) {
+    Pool& pool = pools_[level];
+    const std::shared_ptr<const SubtreeData> data = store_.get(subtree, level);
+    const uint64_t nodeBase = pool.firstNode + uint64_t(slot) * pool.slotNodes;
+    const uint64_t triBase = pool.firstTriangle + uint64_t(slot) * pool.slotTriangles;
+    std::vector<BvhNodeGpu> nodes = data->nodes;
+    for (BvhNodeGpu& node : nodes) node.leftFirst += uint32_t(node.triCount != 0 ? triBase : nodeBase);
+    const size_t nodeBytes = nodes.size() * sizeof(BvhNodeGpu), triBytes = data->triangles.size() * sizeof(TriangleGpu);
+    glNamedBufferSubData(nodes_.buffer.id(), GLintptr(nodeBase * sizeof(BvhNodeGpu)), GLsizeiptr(nodeBytes), nodes.data());
+    if (triBytes != 0) {
+        glNamedBufferSubData(triangles_.buffer.id(), GLintptr(triBase * sizeof(TriangleGpu)), GLsizeiptr(triBytes),
+                             data->triangles.data());
+    }
+    const uint32_t previous = pool.slotKey[slot];
     if (previous != kNotResident) {
-        const ChsSubtreeRecord& r = store_.file().subtrees()[previous];
-        stats_.residentBytes -= uint64_t(r.nodeCount) * sizeof(BvhNodeGpu) + uint64_t(r.triangleCount) * sizeof(TriangleGpu);
-        subtreeSlot_[previous] = kNotResident;
+        stats_.residentBytes -= entryBytes(level, previous);
+        pool.slotOf[previous] = kNotResident;
         ++stats_.evictions;
         --stats_.residentSubtrees;
     }
-    slotSubtree_[slot] = subtree;
-    subtreeSlot_[subtree] = slot;
+    pool.slotKey[slot] = subtree;
+    pool.slotOf[subtree] = slot;
     stats_.residentBytes += nodeBytes + triBytes;
     stats_.peakResidentBytes = std::max(stats_.peakResidentBytes, stats_.residentBytes);
     ++stats_.residentSubtrees;
     stats_.uploadedNodeBytes += nodeBytes;
     stats_.uploadedTriangleBytes += triBytes;
     ++stats_.misses;
+    ++stats_.uploadsPerLevel[level];
+    if (level != 0) {
+        ++stats_.proxyUploads;
+        stats_.proxyUploadedBytes += nodeBytes + triBytes;
+    }
+}
+
+void GpuSubtreeCache::use(Pool& pool, uint32_t slot) {
+    pool.pinned[slot] = acquireCount_;
+    if (pool.lastUse[slot] <= traceStartTick_) ++slotsUsedThisTrace_;
+    pool.lastUse[slot] = ++tick_;
 }
 
 void GpuSubtreeCache::acquire(std::span<const uint32_t> subtrees, std::span<uint32_t> gpuRoots) {
     ++acquireCount_;
+    std::vector<uint32_t> levels(subtrees.size());
+    for (size_t i = 0; i < subtrees.size(); ++i) {
+        levels[i] = levelFor(subtrees[i]);
+        ++stats_.requestsPerLevel[levels[i]];
+    }
     // Resident ones first, so that a miss never evicts a subtree this same request needs (CHC+RT §5.4:
     // resident scheduled subtrees are intersected first).
     for (size_t i = 0; i < subtrees.size(); ++i) {
-        const uint32_t slot = subtreeSlot_.at(subtrees[i]);
+        Pool& pool = pools_[levels[i]];
+        const uint32_t slot = pool.slotOf.at(subtrees[i]);
         gpuRoots[i] = kNotResident;
         if (slot == kNotResident) continue;
         ++stats_.hits;
-        slotPinned_[slot] = acquireCount_;
-        if (slotLastUse_[slot] <= traceStartTick_) ++slotsUsedThisTrace_;
-        slotLastUse_[slot] = ++tick_;
-        gpuRoots[i] = slot * slotNodes_;
+        use(pool, slot);
+        gpuRoots[i] = pool.root(slot);
     }
     for (size_t i = 0; i < subtrees.size(); ++i) {
         if (gpuRoots[i] != kNotResident) continue;
-        const uint32_t already = subtreeSlot_[subtrees[i]]; // requested twice in one call
+        Pool& pool = pools_[levels[i]];
+        const uint32_t already = pool.slotOf[subtrees[i]]; // requested twice in one call
         if (already != kNotResident) {
-            gpuRoots[i] = already * slotNodes_;
+            gpuRoots[i] = pool.root(already);
             continue;
         }
         if (uploadBudgetExhausted()) {
             ++stats_.postponed;
             continue;
         }
-        const uint32_t slot = chooseVictim();
+        const uint32_t slot = chooseVictim(pool);
         if (slot == kNotResident) {
             ++stats_.deferred;
             continue;
         }
-        upload(subtrees[i], slot);
+        upload(levels[i], subtrees[i], slot);
         ++uploadsThisTrace_;
-        slotPinned_[slot] = acquireCount_;
-        if (slotLastUse_[slot] <= traceStartTick_) ++slotsUsedThisTrace_;
-        slotLastUse_[slot] = ++tick_;
-        gpuRoots[i] = slot * slotNodes_;
+        use(pool, slot);
+        gpuRoots[i] = pool.root(slot);
     }
     glBindTextureUnit(CHCRT_UNIT_BVH_NODES, nodes_.texture.id());
     glBindTextureUnit(CHCRT_UNIT_BVH_TRIANGLES, triangles_.texture.id());

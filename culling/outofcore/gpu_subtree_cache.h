@@ -7,6 +7,14 @@
 // against the buffers actually allocated, which never grow.
 //
 // Subtree indices are indices into the file's directory (ChsFile::subtrees()).
+//
+// Level of detail (chcrt-lod, issue #19; renderer/outofcore/lod_proxies.h): with GpuCacheOptions::lodPixels > 0 and a
+// file with proxies, a requested subtree is served at the coarsest level whose geometric error projects below
+// lodPixels pixels from the view set by setView() (error × focal length / distance from the eye to the subtree's
+// box; an eye inside the box gets the subtree itself). Entries are keyed by (subtree, level): the subtree pool
+// holds full subtrees, and each proxy level has a pool of its own whose slots hold that level's largest proxy
+// (proxies are 8-500× smaller, so equal slots for both would waste most of the budget). Exact methods run with
+// lodPixels 0: no proxy pool is allocated and no proxy is ever served (tested: proxy uploads stay 0).
 #include "culling/subtree_source.h"
 #include "renderer/gl/gl_objects.h"
 #include "renderer/outofcore/subtree_store.h"
@@ -26,7 +34,15 @@ struct GpuCacheOptions {
     // Subtrees uploaded per trace at most (0 = no limit: every trace is complete and exact). The viewer streams
     // with a limit so that a cold cache costs several short frames instead of one long one.
     uint32_t maxUploadsPerTrace = 0;
+    // chcrt-lod: serve a subtree's LOD proxy where its error projects below this many pixels; 0 = exact (never).
+    float lodPixels = 0.0f;
 };
+
+// Share of the budget each proxy level's pool may take (at most what all of that level's proxies need), the coarsest
+// level's more: a far view needs it for nearly every subtree. The subtree pool gets the rest (near views need it).
+inline constexpr double kLodPoolShare = 0.125;
+inline constexpr double kLodCoarsestPoolShare = 0.25;
+inline constexpr uint32_t kLodStatLevels = 5; // statistics per level 0 (subtree) ... 4 (kMaxLodLevels)
 
 struct GpuCacheStats {
     uint64_t hits = 0;
@@ -36,11 +52,16 @@ struct GpuCacheStats {
     uint64_t postponed = 0; // requests answered kNotResident because the per-trace upload limit was reached
     uint64_t uploadedNodeBytes = 0;     // BVH MB transferred (Table 3)
     uint64_t uploadedTriangleBytes = 0; // geometry MB transferred
+    uint64_t proxyUploads = 0;       // of misses: LOD proxies (level >= 1)
+    uint64_t proxyUploadedBytes = 0; // of the bytes uploaded: LOD proxies' nodes + triangles
+    uint64_t requestsPerLevel[kLodStatLevels] = {}; // requests served at each level (0 = the subtree)
+    uint64_t uploadsPerLevel[kLodStatLevels] = {};
     uint64_t residentBytes = 0;  // nodes + triangles of the resident subtrees
     uint64_t peakResidentBytes = 0; // the most residentBytes has been (kept by resetCounters)
     uint64_t allocatedBytes = 0; // both texture buffers, as allocated (<= budget)
-    uint32_t slots = 0;
-    uint32_t residentSubtrees = 0;
+    uint32_t slots = 0;      // all pools
+    uint32_t proxySlots = 0; // of slots: the proxy pools'
+    uint32_t residentSubtrees = 0; // entries of every level
 };
 
 class GpuSubtreeCache final : public SubtreeSource {
@@ -61,35 +82,61 @@ public:
         traceStartTick_ = tick_;
     }
 
+    // chcrt-lod: the eye and the focal length in pixels (half the image height over tan(fovY / 2)) that levels are
+    // chosen for, until the next call. Without it (or lodPixels 0) every subtree is served whole.
+    void setView(const glm::vec3& eye, float focalPixels) {
+        eye_ = eye;
+        focalPixels_ = focalPixels;
+        viewSet_ = true;
+    }
+    // The level a request for `subtree` is served at from the current view (0 = the subtree itself).
+    uint32_t levelFor(uint32_t subtree) const;
+    bool lodEnabled() const { return options_.lodPixels > 0.0f && store_.file().lodLevels() > 0; }
+
     const GpuCacheStats& stats() const { return stats_; }
     void resetCounters(); // per-frame statistics: zero hits/misses/evictions/uploads, keep residency
-    uint32_t slotCount() const { return uint32_t(slotSubtree_.size()); }
-    uint32_t slotNodes() const { return slotNodes_; }
-    uint32_t slotTriangles() const { return slotTriangles_; }
-    bool isResident(uint32_t subtree) const { return subtreeSlot_.at(subtree) != kNotResident; }
-    // The subtree in a slot (kNotResident when empty).
-    uint32_t slotSubtree(uint32_t slot) const { return slotSubtree_[slot]; }
+    // The subtree pool (full subtrees), at the start of both buffers.
+    uint32_t slotCount() const { return uint32_t(pools_[0].slotKey.size()); }
+    uint32_t slotNodes() const { return pools_[0].slotNodes; }
+    uint32_t slotTriangles() const { return pools_[0].slotTriangles; }
+    // The subtree in a slot of the subtree pool (kNotResident when empty).
+    uint32_t slotSubtree(uint32_t slot) const { return pools_[0].slotKey[slot]; }
+    // The subtree itself (level 0) is in the cache (prefetch leaves resident ones out).
+    bool isResident(uint32_t subtree) const { return pools_[0].slotOf.at(subtree) != kNotResident; }
+    // Slots of the pool of proxy level `level` >= 1 (0 when it has none).
+    uint32_t proxySlotCount(uint32_t level) const { return level < pools_.size() ? uint32_t(pools_[level].slotKey.size()) : 0u; }
     GLuint nodeBuffer() const { return nodes_.buffer.id(); }
     GLuint triangleBuffer() const { return triangles_.buffer.id(); }
     GLuint nodeTexture() const { return nodes_.texture.id(); }
     GLuint triangleTexture() const { return triangles_.texture.id(); }
 
 private:
-    uint32_t chooseVictim(); // kNotResident when every slot is pinned
-    void upload(uint32_t subtree, uint32_t slot);
+    // Equal slots for one level (0 = subtrees) in a range of both buffers.
+    struct Pool {
+        uint32_t slotNodes = 0, slotTriangles = 0;
+        uint64_t firstNode = 0, firstTriangle = 0; // where the pool starts in the buffers
+        std::vector<uint32_t> slotKey;  // subtree in each slot, kNotResident when empty
+        std::vector<uint64_t> lastUse;
+        std::vector<uint64_t> pinned;   // == acquireCount_: used by the current acquire, not evictable
+        std::vector<uint32_t> slotOf;   // per subtree: its slot in this pool, or kNotResident
+        uint32_t nextVictim = 0;        // round-robin pointer
+        uint32_t root(uint32_t slot) const { return uint32_t(firstNode + uint64_t(slot) * slotNodes); }
+    };
+    uint32_t chooseVictim(Pool& pool); // kNotResident when every slot is pinned
+    void upload(uint32_t level, uint32_t subtree, uint32_t slot);
+    uint64_t entryBytes(uint32_t level, uint32_t subtree) const; // nodes + triangles on the GPU
+    void use(Pool& pool, uint32_t slot);                          // pins and marks it used by this trace
 
     SubtreeStore& store_;
     GpuCacheOptions options_;
-    uint32_t slotNodes_ = 0, slotTriangles_ = 0;
     TextureBuffer nodes_, triangles_;
-    std::vector<uint32_t> slotSubtree_;
-    std::vector<uint64_t> slotLastUse_;
-    std::vector<uint64_t> slotPinned_; // == acquireCount_: used by the current acquire, not evictable
-    std::vector<uint32_t> subtreeSlot_;
+    std::vector<Pool> pools_; // [0] subtrees, [l] proxies of level l (empty pools when LOD is off)
     uint64_t acquireCount_ = 0, tick_ = 0;
-    uint32_t nextVictim_ = 0; // round-robin pointer
     uint32_t uploadsThisTrace_ = 0, slotsUsedThisTrace_ = 0;
     uint64_t traceStartTick_ = 0;
+    glm::vec3 eye_{0.0f};
+    float focalPixels_ = 0.0f;
+    bool viewSet_ = false;
     GpuCacheStats stats_;
 };
 

@@ -6,6 +6,8 @@
 #include "renderer/core/error.h"
 #include "shaders/shared/render_layout.h"
 
+#include <cmath>
+
 namespace chcrt::outofcore {
 namespace {
 
@@ -32,6 +34,12 @@ OutOfCoreStats OutOfCoreStats::difference(const OutOfCoreStats& later, const Out
     d.cachePostponed -= earlier.cachePostponed;
     d.uploadedBvhBytes -= earlier.uploadedBvhBytes;
     d.uploadedGeometryBytes -= earlier.uploadedGeometryBytes;
+    d.proxyUploads -= earlier.proxyUploads;
+    d.proxyUploadedBytes -= earlier.proxyUploadedBytes;
+    for (uint32_t l = 0; l < kLodStatLevels; ++l) {
+        d.requestsPerLevel[l] -= earlier.requestsPerLevel[l];
+        d.uploadsPerLevel[l] -= earlier.uploadsPerLevel[l];
+    }
     d.hostReads -= earlier.hostReads;
     d.hostBytesRead -= earlier.hostBytesRead;
     d.prefetchReads -= earlier.prefetchReads;
@@ -53,6 +61,12 @@ OutOfCoreStats& OutOfCoreStats::operator+=(const OutOfCoreStats& o) {
     cachePostponed += sum.cachePostponed;
     uploadedBvhBytes += sum.uploadedBvhBytes;
     uploadedGeometryBytes += sum.uploadedGeometryBytes;
+    proxyUploads += sum.proxyUploads;
+    proxyUploadedBytes += sum.proxyUploadedBytes;
+    for (uint32_t l = 0; l < kLodStatLevels; ++l) {
+        requestsPerLevel[l] += sum.requestsPerLevel[l];
+        uploadsPerLevel[l] += sum.uploadsPerLevel[l];
+    }
     hostReads += sum.hostReads;
     hostBytesRead += sum.hostBytesRead;
     prefetchReads += sum.prefetchReads;
@@ -72,9 +86,13 @@ OutOfCoreStats& OutOfCoreStats::operator+=(const OutOfCoreStats& o) {
 OutOfCoreTracer::OutOfCoreTracer(const std::filesystem::path& file, const OutOfCoreOptions& options,
                                  ChcrtOptions chcrt, std::string name)
     : options_(options), file_(std::make_unique<ChsFile>(file)) {
+    if (options.lodPixels > 0.0f && file_->lodLevels() == 0) {
+        throw InputError(name + ": " + file.string() + " has no LOD proxies (prepare it again with chcrt prepare "
+                                "--lod-levels N, N > 0)");
+    }
     store_ = std::make_unique<SubtreeStore>(*file_, options.hostCacheBytes);
     cache_ = std::make_unique<GpuSubtreeCache>(
-        *store_, GpuCacheOptions{options.gpuCacheBytes, options.policy, options.maxUploadsPerTrace});
+        *store_, GpuCacheOptions{options.gpuCacheBytes, options.policy, options.maxUploadsPerTrace, options.lodPixels});
     chcrt.adaptive = false; // no full-scene tracer exists out of core
     chcrt_ = std::make_unique<ChcrtTracer>(buildCullingHierarchy(*file_), *cache_, nullptr, chcrt, std::move(name));
 }
@@ -101,6 +119,10 @@ void OutOfCoreTracer::trace(const TraceRequest& request, const RayTextures& rays
             chcrt_->clearDebugImage();
         }
         cache_->beginTrace();
+        // chcrt-lod chooses levels from the frame's camera, the same for every ray type of a frame, so that
+        // secondary rays see the surfaces the primary rays hit.
+        const float tanHalf = std::tan(0.5f * glm::radians(request.camera.fovYDegrees));
+        cache_->setView(request.camera.eye, tanHalf > 0.0f ? 0.5f * float(height) / tanHalf : 0.0f);
         chcrt_->trace(request, rays, hits, width, height, stats);
         if (record) chcrt_->setDebugImage(selected);
     } catch (...) {
@@ -130,8 +152,12 @@ void OutOfCoreTracer::prefetchAfterFrame(const Camera& current, std::span<const 
     chcrt_->collectInvisibleFrontNextToVisible(front);
     const PrefetchRequest request{front, current, next.first(std::min<size_t>(next.size(), options_.prefetchFrames)),
                                   width, height};
-    const std::vector<uint32_t> subtrees = choosePrefetchSubtrees(
-        chcrt_->hierarchy(), request, [&](uint32_t subtree) { return cache_->isResident(subtree); });
+    // Prefetch reads whole subtrees: under chcrt-lod those served as proxies from this view are left out, so that
+    // a far view does not fill the host store with subtrees it traces as proxies.
+    const std::vector<uint32_t> subtrees =
+        choosePrefetchSubtrees(chcrt_->hierarchy(), request, [&](uint32_t subtree) {
+            return cache_->isResident(subtree) || (cache_->lodEnabled() && cache_->levelFor(subtree) != 0);
+        });
     store_->prefetch(subtrees, options_.prefetchBytesPerFrame);
 }
 
@@ -149,6 +175,12 @@ OutOfCoreStats OutOfCoreTracer::snapshot() const {
     s.cachePostponed = c.postponed;
     s.uploadedBvhBytes = c.uploadedNodeBytes;
     s.uploadedGeometryBytes = c.uploadedTriangleBytes;
+    s.proxyUploads = c.proxyUploads;
+    s.proxyUploadedBytes = c.proxyUploadedBytes;
+    for (uint32_t l = 0; l < kLodStatLevels; ++l) {
+        s.requestsPerLevel[l] = c.requestsPerLevel[l];
+        s.uploadsPerLevel[l] = c.uploadsPerLevel[l];
+    }
     s.residentBytes = c.residentBytes;
     s.allocatedBytes = c.allocatedBytes;
     s.slots = c.slots;

@@ -28,6 +28,9 @@ struct OutOfCoreOptions {
     // to this many next cameras and the fronts next to visible pairs; 0 = no prefetch. --prefetch-frames
     uint32_t prefetchFrames = 2;
     uint64_t prefetchBytesPerFrame = 256ull << 20; // at most this much queued per frame; --prefetch-mb
+    // chcrt-lod (--lod-pixels): trace a subtree's LOD proxy where its error projects below this many pixels; 0 =
+    // exact tracing, proxies never used. > 0 needs a file with proxies (InputError otherwise).
+    float lodPixels = 0.0f;
 };
 
 // Counters in the shape of CHC+RT Table 3, for one frame or summed (difference of two snapshots).
@@ -38,6 +41,9 @@ struct OutOfCoreStats {
     uint64_t cacheHits = 0, cacheMisses = 0, cacheEvictions = 0, cacheDeferred = 0;
     uint64_t cachePostponed = 0; // requests left for a later trace by the per-trace upload limit (incomplete traces)
     uint64_t uploadedBvhBytes = 0, uploadedGeometryBytes = 0;
+    uint64_t proxyUploads = 0, proxyUploadedBytes = 0; // chcrt-lod: of the uploads, LOD proxies (issue #19)
+    uint64_t requestsPerLevel[kLodStatLevels] = {};    // subtree requests served per level (0 = the subtree)
+    uint64_t uploadsPerLevel[kLodStatLevels] = {};
     uint64_t hostReads = 0, hostBytesRead = 0;
     uint64_t residentBytes = 0, allocatedBytes = 0; // GPU cache, at the snapshot
     uint64_t hostResidentBytes = 0;
@@ -57,6 +63,7 @@ public:
     // Opens the file, builds its culling hierarchy and the caches (needs a current GL context). `options.adaptive`
     // is ignored: there is no full-scene tracer out of core. Throws InputError for a bad file or a GPU budget
     // that cannot hold one subtree.
+    // With options.lodPixels > 0 (chcrt-lod) the file must hold LOD proxies (InputError naming it otherwise).
     OutOfCoreTracer(const std::filesystem::path& file, const OutOfCoreOptions& options, ChcrtOptions chcrt,
                     std::string name = "chcrt");
     ~OutOfCoreTracer() override;
@@ -68,6 +75,9 @@ public:
     const ChsFile& file() const { return *file_; }
     ChcrtTracer& chcrt() { return *chcrt_; }
     const GpuSubtreeCache& cache() const { return *cache_; }
+    // Whether this tracer traces LOD proxies (chcrt-lod): approximate, and its primary hits must be resolved through
+    // it (PrimaryResolve) even when the scene is in core, so that secondary rays start on the surfaces it traces.
+    bool lodEnabled() const { return cache_->lodEnabled(); }
     const SubtreeStore& store() const { return *store_; }
     SubtreeStore& store() { return *store_; }
     // Primary rays (closest hit) are traced with ChcrtTracer's "subtrees" debug image, cleared first, so that

@@ -90,7 +90,7 @@ uint32_t PrimaryResolve::DenseIdIndex::find(uint32_t id) const {
 // Most subtrees of a prepared scene hold a compact range of original ids (the streamed city's: span within 1-3×
 // the triangle count), so one table lookup per pixel replaces a scan of the whole subtree each frame (~45k triangles
 // per subtree, ~190 hit subtrees per near frame of the 140M city). Tables of other subtrees are not built.
-const PrimaryResolve::DenseIdIndex* PrimaryResolve::denseIndexFor(uint32_t subtree, const SubtreeData& data) {
+const PrimaryResolve::DenseIdIndex* PrimaryResolve::denseIndexFor(uint64_t subtree, const SubtreeData& data) {
     ++useClock_;
     if (const auto it = denseIndex_.find(subtree); it != denseIndex_.end()) {
         it->second.lastUse = useClock_;
@@ -154,8 +154,11 @@ void PrimaryResolve::resolve(const Camera& camera, const FrameTargets& t, float 
     HitIdIndex localOf; // hit triangle id -> its index in the subtree
     for (const auto& [subtree, pixels] : pixelsOf) {
         ++stats_.subtreesRead;
-        const std::shared_ptr<const SubtreeData> data = store.get(subtree);
-        const DenseIdIndex* dense = denseIndexFor(subtree, *data);
+        // chcrt-lod: the level the cache served this subtree at for this frame's camera (the primary trace's), whose
+        // proxy triangles carry representative ids, their own normals and materials.
+        const uint32_t level = tracer_.cache().levelFor(subtree);
+        const std::shared_ptr<const SubtreeData> data = store.get(subtree, level);
+        const DenseIdIndex* dense = denseIndexFor(uint64_t(level) << 32 | subtree, *data);
         ++(dense ? stats_.subtreesIndexed : stats_.subtreesScanned);
         if (!dense) { // ids spread out: find the hit ones with one scan of the subtree
             localOf.reset(pixels.size());

@@ -64,11 +64,11 @@ private:
     };
     // Kept across frames, least recently used dropped first; memory outside --host-cache-mb, so bounded here.
     static constexpr uint64_t kDenseBudgetBytes = uint64_t(96) << 20;
-    const DenseIdIndex* denseIndexFor(uint32_t subtree, const SubtreeData& data);
+    const DenseIdIndex* denseIndexFor(uint64_t key, const SubtreeData& data); // key: level << 32 | subtree
 
     OutOfCoreTracer& tracer_;
     uint64_t denseSpanFactor_;
-    std::unordered_map<uint32_t, DenseIdIndex> denseIndex_;
+    std::unordered_map<uint64_t, DenseIdIndex> denseIndex_;
     uint64_t denseBytes_ = 0, useClock_ = 0;
     std::vector<glm::vec3> albedos_; // per material (base colour factor; v1 files keep no textures)
     ShaderProgram program_;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -81,20 +82,36 @@ void ChsFile::validate() {
     readExact(fd_, &header_, sizeof(header_), 0, name);
     const ChsHeader& h = header_;
     if (std::memcmp(h.magic, kChsMagic, sizeof(h.magic)) != 0) throw InputError(name + ": not a prepared scene (bad magic)");
-    if (h.version != kChsVersion) {
-        throw InputError(name + ": prepared scene version " + std::to_string(h.version) + ", this build reads version " +
-                         std::to_string(kChsVersion) + " (prepare it again)");
+    const bool lod = (h.flags & kChsFlagLod) != 0;
+    if (h.version != kChsVersion && h.version != kChsVersionLod) {
+        throw InputError(name + ": prepared scene version " + std::to_string(h.version) + ", this build reads versions " +
+                         std::to_string(kChsVersion) + " and " + std::to_string(kChsVersionLod) + " (prepare it again)");
     }
     if (h.headerBytes != sizeof(ChsHeader) || h.headerChecksum != chsChecksum(&h, offsetof(ChsHeader, headerChecksum))) {
         throw InputError(name + ": corrupted prepared scene (header checksum mismatch)");
+    }
+    if (lod != (h.version == kChsVersionLod)) {
+        throw InputError(name + ": corrupted prepared scene (version " + std::to_string(h.version) +
+                         (lod ? " with" : " without") + " LOD proxies)");
     }
     if (h.fileBytes != size) {
         throw InputError(name + ": truncated or extended prepared scene (" + std::to_string(size) + " bytes, header says " +
                          std::to_string(h.fileBytes) + ")");
     }
-    const uint64_t metaExpected = uint64_t(h.upperNodeCount) * sizeof(ChsUpperNode) +
-                                  uint64_t(h.subtreeCount) * sizeof(ChsSubtreeRecord) +
-                                  uint64_t(h.materialCount) * sizeof(ChsMaterialRecord) + h.sourceBytes;
+    const uint64_t baseMeta = uint64_t(h.upperNodeCount) * sizeof(ChsUpperNode) +
+                              uint64_t(h.subtreeCount) * sizeof(ChsSubtreeRecord) +
+                              uint64_t(h.materialCount) * sizeof(ChsMaterialRecord) + h.sourceBytes;
+    uint64_t metaExpected = baseMeta;
+    if (lod) { // the LOD directory ends the metadata; its header says how many levels follow
+        if (h.metaOffset > size || baseMeta + sizeof(ChsLodHeader) > size - h.metaOffset) {
+            throw InputError(name + ": corrupted prepared scene (inconsistent sizes in the header)");
+        }
+        readExact(fd_, &lod_, sizeof(lod_), h.metaOffset + baseMeta, name);
+        if (lod_.levels == 0 || lod_.levels > 8 || lod_.coarsestRatio < 2) {
+            throw InputError(name + ": corrupted prepared scene (LOD directory header)");
+        }
+        metaExpected += sizeof(ChsLodHeader) + uint64_t(h.subtreeCount) * lod_.levels * sizeof(ChsLodRecord);
+    }
     if (h.metaBytes != metaExpected || h.metaOffset < sizeof(ChsHeader) || h.metaOffset > size || h.metaOffset + h.metaBytes != size ||
         h.subtreeCount == 0 || h.upperNodeCount == 0) {
         throw InputError(name + ": corrupted prepared scene (inconsistent sizes in the header)");
@@ -120,10 +137,17 @@ void ChsFile::validate() {
     readExact(fd_, materials_.data(), materials_.size() * sizeof(ChsMaterialRecord), at, name);
     at += materials_.size() * sizeof(ChsMaterialRecord);
     readExact(fd_, source_.data(), source_.size(), at, name);
+    at += source_.size();
     uint64_t sum = chsChecksum(upper_.data(), upper_.size() * sizeof(ChsUpperNode));
     sum = chsChecksum(subtrees_.data(), subtrees_.size() * sizeof(ChsSubtreeRecord), sum);
     sum = chsChecksum(materials_.data(), materials_.size() * sizeof(ChsMaterialRecord), sum);
     sum = chsChecksum(source_.data(), source_.size(), sum);
+    if (lod) {
+        lodRecords_.resize(size_t(h.subtreeCount) * lod_.levels);
+        readExact(fd_, lodRecords_.data(), lodRecords_.size() * sizeof(ChsLodRecord), at + sizeof(ChsLodHeader), name);
+        sum = chsChecksum(&lod_, sizeof(lod_), sum);
+        sum = chsChecksum(lodRecords_.data(), lodRecords_.size() * sizeof(ChsLodRecord), sum);
+    }
     if (sum != h.metaChecksum) throw InputError(name + ": corrupted prepared scene (metadata checksum mismatch)");
     // Structure: children in range and after their parent, every subtree referenced from its upper node, blobs
     // inside the subtree area and of the size their counts imply.
@@ -141,6 +165,24 @@ void ChsFile::validate() {
             r.bytes != chsSubtreeBytes(r.nodeCount, r.triangleCount, uv) || r.offset < sizeof(ChsHeader) ||
             r.offset > h.metaOffset || r.bytes > h.metaOffset - r.offset || r.upperNode >= h.upperNodeCount) {
             throw InputError(name + ": corrupted prepared scene (subtree record " + std::to_string(i) + ")");
+        }
+    }
+    if (lod && (lod_.maxProxyNodes > subtreeArea / sizeof(BvhNodeGpu) ||
+                lod_.maxProxyTriangles > subtreeArea / (sizeof(TriangleGpu) + 36))) {
+        throw InputError(name + ": corrupted prepared scene (LOD directory header)");
+    }
+    for (size_t i = 0; i < lodRecords_.size(); ++i) {
+        const ChsLodRecord& r = lodRecords_[i];
+        const bool kept = r.nodeCount != 0;
+        const bool ok = std::isfinite(r.errorWorld) && r.errorWorld >= 0.0f &&
+                        (!kept ? r.triangleCount == 0 && r.bytes == 0
+                               : r.nodeCount <= lod_.maxProxyNodes && r.triangleCount <= lod_.maxProxyTriangles &&
+                                     r.bytes == chsSubtreeBytes(r.nodeCount, r.triangleCount, uv) &&
+                                     r.offset >= sizeof(ChsHeader) && r.offset <= h.metaOffset &&
+                                     r.bytes <= h.metaOffset - r.offset);
+        if (!ok) {
+            throw InputError(name + ": corrupted prepared scene (LOD record " + std::to_string(i / lod_.levels) + "." +
+                             std::to_string(i % lod_.levels + 1) + ")");
         }
     }
 }
@@ -172,13 +214,33 @@ BvhNodeGpu ChsFile::readSubtreeNode(uint32_t index, uint32_t localNode) const {
 SubtreeData ChsFile::readSubtree(uint32_t index) const {
     if (index >= subtrees_.size()) throw InputError(path_.string() + ": no subtree " + std::to_string(index));
     const ChsSubtreeRecord& r = subtrees_[index];
+    return readBlob(r.offset, r.nodeCount, r.triangleCount, r.checksum, "subtree " + std::to_string(index));
+}
+
+const ChsLodRecord& ChsFile::lodRecord(uint32_t subtree, uint32_t level) const {
+    if (subtree >= subtrees_.size() || level == 0 || level > lodLevels()) {
+        throw InputError(path_.string() + ": no LOD level " + std::to_string(level) + " of subtree " + std::to_string(subtree));
+    }
+    return lodRecords_[size_t(subtree) * lod_.levels + level - 1];
+}
+
+SubtreeData ChsFile::readSubtree(uint32_t index, uint32_t level) const {
+    if (level == 0) return readSubtree(index);
+    const ChsLodRecord& r = lodRecord(index, level);
+    const std::string what = "subtree " + std::to_string(index) + " LOD " + std::to_string(level);
+    if (r.nodeCount == 0) throw InputError(path_.string() + ": no proxy stored for " + what);
+    return readBlob(r.offset, r.nodeCount, r.triangleCount, r.checksum, what);
+}
+
+SubtreeData ChsFile::readBlob(uint64_t offset, uint32_t nodeCount, uint32_t triangleCount, uint64_t checksum,
+                              const std::string& blob) const {
     SubtreeData d;
-    d.nodes.resize(r.nodeCount);
-    d.triangles.resize(r.triangleCount);
-    d.normals.resize(size_t(r.triangleCount) * 3);
-    if (hasTexcoords()) d.texcoords.resize(size_t(r.triangleCount) * 3);
-    const std::string what = path_.string() + ": reading subtree " + std::to_string(index);
-    uint64_t at = r.offset;
+    d.nodes.resize(nodeCount);
+    d.triangles.resize(triangleCount);
+    d.normals.resize(size_t(triangleCount) * 3);
+    if (hasTexcoords()) d.texcoords.resize(size_t(triangleCount) * 3);
+    const std::string what = path_.string() + ": reading " + blob;
+    uint64_t at = offset;
     bool fail = injectedReadError();
     auto read = [&](void* data, uint64_t bytes) {
         readExact(fd_, data, bytes, at, what, std::exchange(fail, false));
@@ -192,13 +254,13 @@ SubtreeData ChsFile::readSubtree(uint32_t index) const {
     sum = chsChecksum(d.triangles.data(), d.triangles.size() * sizeof(TriangleGpu), sum);
     sum = chsChecksum(d.normals.data(), d.normals.size() * sizeof(glm::vec3), sum);
     sum = chsChecksum(d.texcoords.data(), d.texcoords.size() * sizeof(glm::vec2), sum);
-    if (sum != r.checksum) throw InputError(path_.string() + ": corrupted prepared scene (subtree " + std::to_string(index) + " checksum mismatch)");
+    if (sum != checksum) throw InputError(path_.string() + ": corrupted prepared scene (" + blob + " checksum mismatch)");
     // Local indices in range (a checksum collision must not turn into out-of-bounds GPU reads).
-    for (uint32_t k = 0; k < r.nodeCount; ++k) {
+    for (uint32_t k = 0; k < nodeCount; ++k) {
         const BvhNodeGpu& n = d.nodes[k];
-        const bool ok = n.triCount == 0 ? (n.leftFirst > k && uint64_t(n.leftFirst) + 1 < r.nodeCount)
-                                        : uint64_t(n.leftFirst) + n.triCount <= r.triangleCount;
-        if (!ok) throw InputError(path_.string() + ": corrupted prepared scene (subtree " + std::to_string(index) + " node " + std::to_string(k) + ")");
+        const bool ok = n.triCount == 0 ? (n.leftFirst > k && uint64_t(n.leftFirst) + 1 < nodeCount)
+                                        : uint64_t(n.leftFirst) + n.triCount <= triangleCount;
+        if (!ok) throw InputError(path_.string() + ": corrupted prepared scene (" + blob + " node " + std::to_string(k) + ")");
     }
     return d;
 }
@@ -219,7 +281,7 @@ void loadMetadata(const ChsFile& chs, const std::filesystem::path& file, LoadedP
     for (const ChsMaterialRecord& m : chs.materials()) {
         Material material;
         material.baseColorFactor = {m.baseColor[0], m.baseColor[1], m.baseColor[2], m.baseColor[3]};
-        material.baseColorTexture = -1; // textures are not stored in .chs version 1
+        material.baseColorTexture = -1; // textures are not stored in .chs files
         material.name.assign(m.name, strnlen(m.name, sizeof(m.name)));
         scene.materials.push_back(material);
     }
@@ -335,6 +397,19 @@ ChsFileSummary summarize(const ChsFile& file) {
         s.subtreeBytes += r.bytes;
     }
     s.meanTriangles = double(file.header().triangleCount) / double(file.subtrees().size());
+    const uint32_t levels = file.lodLevels();
+    s.proxyTrianglesPerLevel.assign(levels, 0);
+    s.proxiesPerLevel.assign(levels, 0);
+    for (uint32_t i = 0; i < file.subtrees().size(); ++i) {
+        for (uint32_t l = 1; l <= levels; ++l) {
+            const ChsLodRecord& r = file.lodRecord(i, l);
+            if (r.nodeCount == 0) continue;
+            s.proxyBytes += r.bytes;
+            ++s.proxies;
+            ++s.proxiesPerLevel[l - 1];
+            s.proxyTrianglesPerLevel[l - 1] += r.triangleCount;
+        }
+    }
     return s;
 }
 

@@ -44,11 +44,19 @@ public:
     const std::string& source() const { return source_; } // generator spec or file the scene was prepared from
     const std::filesystem::path& path() const { return path_; }
     bool hasTexcoords() const { return (header_.flags & kChsFlagTexcoords) != 0; }
+    // LOD proxies (version 2, lod_proxies.h): levels per subtree (0 = none), the directory's header, and the record
+    // of one (subtree, level >= 1); a record with nodeCount 0 holds no proxy. lodRecord throws InputError out of range.
+    uint32_t lodLevels() const { return (header_.flags & kChsFlagLod) ? lod_.levels : 0u; }
+    const ChsLodHeader& lodHeader() const { return lod_; }
+    const ChsLodRecord& lodRecord(uint32_t subtree, uint32_t level) const;
     AreaLight light() const;
 
     // Reads and verifies subtree `index` (thread-safe: pread). Throws InputError on a checksum mismatch or
     // out-of-range local indices.
     SubtreeData readSubtree(uint32_t index) const;
+    // Level `level` of subtree `index`: 0 = the subtree, >= 1 its LOD proxy (same layout; InputError when the file
+    // holds none at that level).
+    SubtreeData readSubtree(uint32_t index, uint32_t level) const;
     // Reads one node (local index) of subtree `index` without the rest of the blob (thread-safe: pread), e.g.
     // its root and the root's children for the culling hierarchy's tighter bounds (CHC+RT §5.1). Not
     // checksummed: only boxes and counts are used; throws InputError for an out-of-range index.
@@ -56,6 +64,8 @@ public:
 
 private:
     void validate(); // header, sizes, metadata and structure; throws InputError
+    SubtreeData readBlob(uint64_t offset, uint32_t nodeCount, uint32_t triangleCount, uint64_t checksum,
+                         const std::string& blob) const;
     std::filesystem::path path_;
     int fd_ = -1;
     ChsHeader header_{};
@@ -63,6 +73,8 @@ private:
     std::vector<ChsSubtreeRecord> subtrees_;
     std::vector<ChsMaterialRecord> materials_;
     std::string source_;
+    ChsLodHeader lod_{};
+    std::vector<ChsLodRecord> lodRecords_; // lod_.levels per subtree, directory order
 };
 
 // Loads a whole prepared scene in core (when it fits): a Scene (3 unshared vertices per triangle, triangle i =
@@ -99,6 +111,10 @@ struct ChsFileSummary {
     double meanTriangles = 0.0;
     uint32_t maxHeight = 0;
     uint64_t subtreeBytes = 0;
+    uint64_t proxyBytes = 0;    // LOD proxies (0 without)
+    uint64_t proxies = 0;       // kept proxy levels
+    std::vector<uint64_t> proxyTrianglesPerLevel; // per level 1 ... lodLevels(): triangles of its kept proxies
+    std::vector<uint64_t> proxiesPerLevel;        // per level: subtrees with a proxy at that level
 };
 ChsFileSummary summarize(const ChsFile& file);
 

@@ -10,6 +10,11 @@
 // global), then per triangle the three vertex normals and, when the scene has them, three texture coordinates.
 // An upload rebases the local indices by the slot's first node / triangle.
 //
+// Level-of-detail proxies (version 2, flag kChsFlagLod; issue #19, renderer/outofcore/lod_proxies.h): each subtree's
+// proxy levels follow its blob, each a blob of the same layout (so uploads and traversal are the subtree's); the
+// metadata ends with a ChsLodHeader and one ChsLodRecord per (subtree, level), subtree-major in directory order.
+// Files without proxies are written as version 1, byte for byte as before; both versions are read.
+//
 // All integers little-endian (the only platform this runs on); records are plain structs with fixed sizes.
 #include "renderer/bvh/bvh.h"
 
@@ -20,10 +25,12 @@
 namespace chcrt::outofcore {
 
 inline constexpr char kChsMagic[8] = {'C', 'H', 'C', 'R', 'T', 'S', 'C', 'N'};
-inline constexpr uint32_t kChsVersion = 1;
+inline constexpr uint32_t kChsVersion = 1;    // without LOD proxies
+inline constexpr uint32_t kChsVersionLod = 2; // with LOD proxies (kChsFlagLod)
 inline constexpr uint32_t kChsNoSubtree = 0xffffffffu;
 inline constexpr uint32_t kChsFlagTexcoords = 1u << 0;
 inline constexpr uint32_t kChsFlagCamera = 1u << 1;
+inline constexpr uint32_t kChsFlagLod = 1u << 2; // version 2: LOD proxies and their directory
 
 struct ChsHeader {
     char magic[8];
@@ -83,6 +90,29 @@ struct ChsMaterialRecord {
     char name[28];
 };
 static_assert(sizeof(ChsMaterialRecord) == 48);
+
+// The LOD directory's header (after the source spec, with kChsFlagLod).
+struct ChsLodHeader {
+    uint32_t levels;            // proxy levels per subtree (1 ... levels; level 0 = the subtree itself)
+    uint32_t coarsestRatio;     // the coarsest level aimed at 1 / coarsestRatio of the subtree's triangles
+    uint32_t maxProxyNodes;     // largest proxy of any level (the GPU cache's proxy slots)
+    uint32_t maxProxyTriangles;
+    uint64_t proxyBytes;        // all proxy blobs
+    uint64_t reserved;
+};
+static_assert(sizeof(ChsLodHeader) == 32);
+
+// One proxy level of one subtree; nodeCount 0 = the level was not kept (the subtree at the finer level is used).
+struct ChsLodRecord {
+    uint64_t offset;
+    uint64_t bytes;
+    uint64_t checksum;
+    uint32_t nodeCount;
+    uint32_t triangleCount;
+    float errorWorld;   // geometric error bound in world units (lod_proxies.h)
+    uint32_t reserved;
+};
+static_assert(sizeof(ChsLodRecord) == 40);
 
 // Bytes of a subtree blob.
 inline uint64_t chsSubtreeBytes(uint64_t nodes, uint64_t triangles, bool texcoords) {

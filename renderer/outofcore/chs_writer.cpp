@@ -1,6 +1,7 @@
 #include "renderer/outofcore/chs_writer.h"
 
 #include "renderer/core/error.h"
+#include "renderer/outofcore/lod_proxies.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -199,6 +200,9 @@ ChsWriter::ChsWriter(const std::filesystem::path& file, const ChsWriterOptions& 
     if (options.subtreeTriangles == 0 || options.subtreeHeight == 0) {
         throw InputError("prepare: --subtree-triangles and --subtree-height must be positive");
     }
+    if (options.lodLevels > kMaxLodLevels) {
+        throw InputError("prepare: --lod-levels must be at most " + std::to_string(kMaxLodLevels));
+    }
     if (options.subtreeHeight >= CHCRT_MAX_BVH_DEPTH) {
         throw InputError("prepare: --subtree-height must be below " + std::to_string(CHCRT_MAX_BVH_DEPTH));
     }
@@ -233,6 +237,19 @@ void ChsWriter::checkChunk(const Scene& scene, uint64_t idOffset) {
     }
 }
 
+uint64_t ChsWriter::writeBlob(const std::vector<BvhNodeGpu>& nodes, const std::vector<TriangleGpu>& triangles,
+                              const std::vector<glm::vec3>& normals, const std::vector<glm::vec2>& texcoords) {
+    uint64_t sum = chsChecksum(nodes.data(), nodes.size() * sizeof(BvhNodeGpu));
+    sum = chsChecksum(triangles.data(), triangles.size() * sizeof(TriangleGpu), sum);
+    sum = chsChecksum(normals.data(), normals.size() * sizeof(glm::vec3), sum);
+    sum = chsChecksum(texcoords.data(), texcoords.size() * sizeof(glm::vec2), sum);
+    write(nodes.data(), nodes.size() * sizeof(BvhNodeGpu));
+    write(triangles.data(), triangles.size() * sizeof(TriangleGpu));
+    write(normals.data(), normals.size() * sizeof(glm::vec3));
+    write(texcoords.data(), texcoords.size() * sizeof(glm::vec2));
+    return sum;
+}
+
 uint32_t ChsWriter::writeSubtree(const SubtreeBlob& blob, uint32_t height) {
     ChsSubtreeRecord record{};
     record.offset = offset_;
@@ -241,22 +258,38 @@ uint32_t ChsWriter::writeSubtree(const SubtreeBlob& blob, uint32_t height) {
     record.height = height;
     setBounds(record.boundsMin, record.boundsMax, blob.nodes[0].boundsMin, blob.nodes[0].boundsMax);
     const size_t before = offset_;
-    uint64_t sum = chsChecksum(blob.nodes.data(), blob.nodes.size() * sizeof(BvhNodeGpu));
-    sum = chsChecksum(blob.tris.data(), blob.tris.size() * sizeof(TriangleGpu), sum);
-    sum = chsChecksum(blob.normals.data(), blob.normals.size() * sizeof(glm::vec3), sum);
-    sum = chsChecksum(blob.uvs.data(), blob.uvs.size() * sizeof(glm::vec2), sum);
-    write(blob.nodes.data(), blob.nodes.size() * sizeof(BvhNodeGpu));
-    write(blob.tris.data(), blob.tris.size() * sizeof(TriangleGpu));
-    write(blob.normals.data(), blob.normals.size() * sizeof(glm::vec3));
-    write(blob.uvs.data(), blob.uvs.size() * sizeof(glm::vec2));
+    record.checksum = writeBlob(blob.nodes, blob.tris, blob.normals, blob.uvs);
     record.bytes = offset_ - before;
-    record.checksum = sum;
+    subtreeBytes_ += record.bytes;
     records_.push_back(record);
     triangles_ += blob.tris.size();
     nodes_ += blob.nodes.size();
     maxNodes_ = std::max(maxNodes_, uint32_t(blob.nodes.size()));
     maxTriangles_ = std::max(maxTriangles_, uint32_t(blob.tris.size()));
+    writeProxies(blob);
     return uint32_t(records_.size() - 1);
+}
+
+// The subtree's LOD proxies right after it (lod_proxies.h): a far view that uses a subtree's proxy reads only it.
+void ChsWriter::writeProxies(const SubtreeBlob& blob) {
+    if (options_.lodLevels == 0) return;
+    const std::vector<LodProxy> proxies = buildLodProxies(blob.tris, blob.normals, blob.uvs, options_.lodLevels);
+    for (const LodProxy& p : proxies) {
+        ChsLodRecord r{};
+        r.errorWorld = p.errorWorld;
+        if (!p.empty()) {
+            r.offset = offset_;
+            r.nodeCount = uint32_t(p.nodes.size());
+            r.triangleCount = uint32_t(p.triangles.size());
+            r.checksum = writeBlob(p.nodes, p.triangles, p.normals, p.texcoords);
+            r.bytes = offset_ - r.offset;
+            proxyBytes_ += r.bytes;
+            ++proxyCount_;
+            maxProxyNodes_ = std::max(maxProxyNodes_, r.nodeCount);
+            maxProxyTriangles_ = std::max(maxProxyTriangles_, r.triangleCount);
+        }
+        lodRecords_.push_back(r);
+    }
 }
 
 void ChsWriter::addChunk(const Scene& scene, const Bvh& bvh, uint64_t idOffset, const glm::vec3& translation) {
@@ -320,17 +353,27 @@ uint64_t ChsWriter::finish(const ChsSceneInfo& info) {
     chunks_.clear();
     // Directory in increasing upper-node order (the order of SubtreePartition::roots() over the loaded BVH,
     // whose first nodes are the upper nodes), whatever order the parts were written in.
-    std::vector<ChsSubtreeRecord> sorted = records_;
-    std::sort(sorted.begin(), sorted.end(),
-              [](const ChsSubtreeRecord& a, const ChsSubtreeRecord& b) { return a.upperNode < b.upperNode; });
+    std::vector<uint32_t> order(records_.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(),
+              [&](uint32_t a, uint32_t b) { return records_[a].upperNode < records_[b].upperNode; });
+    std::vector<ChsSubtreeRecord> sorted;
+    std::vector<ChsLodRecord> sortedLod; // each subtree's levels move with it
+    const uint32_t levels = options_.lodLevels;
+    for (uint32_t i : order) {
+        sorted.push_back(records_[i]);
+        for (uint32_t l = 0; l < levels; ++l) sortedLod.push_back(lodRecords_[size_t(i) * levels + l]);
+    }
     records_ = std::move(sorted);
+    lodRecords_ = std::move(sortedLod);
     for (uint32_t i = 0; i < records_.size(); ++i) upper[records_[i].upperNode].subtree = i;
 
     ChsHeader h{};
     std::memcpy(h.magic, kChsMagic, sizeof(h.magic));
-    h.version = kChsVersion;
+    const bool lod = levels != 0;
+    h.version = lod ? kChsVersionLod : kChsVersion;
     h.headerBytes = sizeof(ChsHeader);
-    h.flags = (texcoords_ ? kChsFlagTexcoords : 0u) | (info.hasCamera ? kChsFlagCamera : 0u);
+    h.flags = (texcoords_ ? kChsFlagTexcoords : 0u) | (info.hasCamera ? kChsFlagCamera : 0u) | (lod ? kChsFlagLod : 0u);
     h.subtreeCount = uint32_t(records_.size());
     h.upperNodeCount = uint32_t(upper.size());
     h.materialCount = uint32_t(info.materials.size());
@@ -363,10 +406,20 @@ uint64_t ChsWriter::finish(const ChsSceneInfo& info) {
     sum = chsChecksum(records_.data(), records_.size() * sizeof(ChsSubtreeRecord), sum);
     sum = chsChecksum(materials.data(), materials.size() * sizeof(ChsMaterialRecord), sum);
     sum = chsChecksum(info.source.data(), info.source.size(), sum);
+    ChsLodHeader lodHeader{};
+    if (lod) {
+        lodHeader = {levels, kLodCoarsestRatio, maxProxyNodes_, maxProxyTriangles_, proxyBytes_, 0};
+        sum = chsChecksum(&lodHeader, sizeof(lodHeader), sum);
+        sum = chsChecksum(lodRecords_.data(), lodRecords_.size() * sizeof(ChsLodRecord), sum);
+    }
     write(upper.data(), upper.size() * sizeof(ChsUpperNode));
     write(records_.data(), records_.size() * sizeof(ChsSubtreeRecord));
     write(materials.data(), materials.size() * sizeof(ChsMaterialRecord));
     write(info.source.data(), info.source.size());
+    if (lod) {
+        write(&lodHeader, sizeof(lodHeader));
+        write(lodRecords_.data(), lodRecords_.size() * sizeof(ChsLodRecord));
+    }
     h.metaBytes = offset_ - h.metaOffset;
     h.metaChecksum = sum;
     h.fileBytes = offset_;

@@ -21,6 +21,7 @@ struct SubtreeBlob; // one termination subtree as written (chs_writer.cpp)
 struct ChsWriterOptions {
     uint32_t subtreeTriangles = 1u << 16;
     uint32_t subtreeHeight = 24;
+    uint32_t lodLevels = 0; // LOD proxy levels per subtree (lod_proxies.h); 0 = none, a version 1 file
 };
 
 struct ChsSceneInfo {
@@ -49,6 +50,9 @@ public:
 
     uint64_t triangleCount() const { return triangles_; }
     uint32_t subtreeCount() const { return uint32_t(records_.size()); }
+    uint64_t subtreeBytes() const { return subtreeBytes_; } // all subtree blobs
+    uint64_t proxyBytes() const { return proxyBytes_; }     // all LOD proxy blobs
+    uint64_t proxyCount() const { return proxyCount_; }     // kept proxy levels
 
 private:
     struct Chunk {
@@ -57,8 +61,12 @@ private:
     void write(const void* data, size_t bytes);
     // Checks a chunk against the earlier ones (texture coordinates) and the 32-bit triangle ids.
     void checkChunk(const Scene& scene, uint64_t idOffset);
-    // Appends the subtree and its directory record; returns its index in the directory.
+    // Appends the subtree and its directory record, then its LOD proxies; returns its index in the directory.
     uint32_t writeSubtree(const SubtreeBlob& blob, uint32_t height);
+    // Appends a blob (nodes, triangles, normals, texture coordinates); returns its checksum.
+    uint64_t writeBlob(const std::vector<BvhNodeGpu>& nodes, const std::vector<TriangleGpu>& triangles,
+                       const std::vector<glm::vec3>& normals, const std::vector<glm::vec2>& texcoords);
+    void writeProxies(const SubtreeBlob& blob);
 
     std::filesystem::path file_, temp_;
     RemoveOnSignal removeTempOnSignal_;
@@ -71,6 +79,9 @@ private:
     bool texcoords_ = false;
     bool texcoordsKnown_ = false;
     std::vector<ChsSubtreeRecord> records_;
+    std::vector<ChsLodRecord> lodRecords_; // options_.lodLevels per subtree, in the order of records_
+    uint64_t subtreeBytes_ = 0, proxyBytes_ = 0, proxyCount_ = 0;
+    uint32_t maxProxyNodes_ = 0, maxProxyTriangles_ = 0;
     std::vector<Chunk> chunks_;
     bool finished_ = false;
 };

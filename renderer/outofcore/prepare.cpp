@@ -78,7 +78,7 @@ PrepareReport prepareScene(const std::string& sceneArg, const std::filesystem::p
     }
     const uint64_t copies = uint64_t(gridX) * gridZ;
     const uint64_t budgetTriangles = options.memoryBytes / kPrepareBytesPerTriangle;
-    ChsWriter writer(output, {options.subtreeTriangles, options.subtreeHeight});
+    ChsWriter writer(output, {options.subtreeTriangles, options.subtreeHeight, options.lodLevels});
     PrepareReport report;
     ProceduralSpec spec;
     const bool procedural = parseProceduralSpec(scene, spec);
@@ -156,6 +156,9 @@ PrepareReport prepareScene(const std::string& sceneArg, const std::filesystem::p
     }
     report.triangles = writer.triangleCount();
     report.subtrees = writer.subtreeCount();
+    report.subtreeBytes = writer.subtreeBytes();
+    report.proxyBytes = writer.proxyBytes();
+    report.proxies = writer.proxyCount();
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return report;
 }

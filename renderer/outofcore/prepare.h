@@ -8,6 +8,7 @@
 // and options (single-threaded BVH builds are not required: the builder is deterministic).
 #include "renderer/bvh/bvh.h"
 #include "renderer/core/progress.h"
+#include "renderer/outofcore/lod_proxies.h"
 
 #include <cstdint>
 #include <filesystem>
@@ -29,6 +30,7 @@ struct PrepareOptions {
     uint64_t memoryBytes = 2048ull << 20;
     uint32_t subtreeTriangles = kDefaultSubtreeTriangles;
     uint32_t subtreeHeight = kDefaultSubtreeHeight;
+    uint32_t lodLevels = kDefaultLodLevels; // LOD proxy levels per subtree (lod_proxies.h); 0 = none (version 1 file)
     uint32_t gridX = 1, gridZ = 1; // copies of the scene (any scene; a city grid repeats the whole city)
     BvhBuildOptions bvh;
 };
@@ -38,6 +40,9 @@ struct PrepareReport {
     uint32_t subtrees = 0;
     uint32_t chunks = 0;
     uint64_t fileBytes = 0;
+    uint64_t subtreeBytes = 0; // the subtrees' blobs
+    uint64_t proxyBytes = 0;   // the LOD proxies' blobs
+    uint64_t proxies = 0;      // kept proxy levels
     double seconds = 0.0;
 };
 

@@ -4,8 +4,10 @@ chcrt_add_library(chcrt_outofcore
   outofcore/chs_checksum.cpp
   outofcore/chs_writer.cpp
   outofcore/chs_file.cpp
+  outofcore/lod_proxies.cpp
   outofcore/prepare.cpp
   outofcore/subtree_store.cpp
   outofcore/gpu_cache_slots.cpp
 )
-target_link_libraries(chcrt_outofcore PUBLIC chcrt_bvh chcrt_scene chcrt_procedural chcrt_core)
+target_link_libraries(chcrt_outofcore PUBLIC chcrt_bvh chcrt_scene chcrt_procedural chcrt_core
+  PRIVATE meshoptimizer::meshoptimizer)

@@ -14,7 +14,7 @@ SubtreeStore::~SubtreeStore() {
 }
 
 void SubtreeStore::evictLeastRecent() {
-    const uint32_t victim = lru_.back();
+    const uint64_t victim = lru_.back();
     lru_.pop_back();
     const Entry& entry = entries_.at(victim);
     const uint64_t bytes = entry.data->bytes();
@@ -37,13 +37,14 @@ bool SubtreeStore::prefetchFits(uint64_t bytes) const {
     return room >= bytes;
 }
 
-std::shared_ptr<const SubtreeData> SubtreeStore::insert(uint32_t subtree, std::shared_ptr<const SubtreeData> data,
+std::shared_ptr<const SubtreeData> SubtreeStore::insert(uint64_t key, std::shared_ptr<const SubtreeData> data,
                                                         bool prefetched) {
     const uint64_t bytes = data->bytes();
     ++stats_.misses;
     if (prefetched) ++stats_.prefetched;
-    stats_.bytesRead += file_.subtrees()[subtree].bytes;
-    const auto existing = entries_.find(subtree);
+    const auto subtree = uint32_t(key), level = uint32_t(key >> 32);
+    stats_.bytesRead += level == 0 ? file_.subtrees()[subtree].bytes : file_.lodRecord(subtree, level).bytes;
+    const auto existing = entries_.find(key);
     if (existing != entries_.end()) return existing->second.data; // a concurrent read won
     if (bytes > budget_ || (prefetched && !prefetchFits(bytes))) {
         // Not kept: larger than the budget, or a prefetch whose room meanwhile went to the frame's own reads.
@@ -51,19 +52,20 @@ std::shared_ptr<const SubtreeData> SubtreeStore::insert(uint32_t subtree, std::s
         return data;
     }
     while (stats_.residentBytes + bytes > budget_ && !lru_.empty()) evictLeastRecent();
-    lru_.push_front(subtree);
-    entries_[subtree] = {data, lru_.begin(), frame_, prefetched};
+    lru_.push_front(key);
+    entries_[key] = {data, lru_.begin(), frame_, prefetched};
     stats_.residentBytes += bytes;
     stats_.peakResidentBytes = std::max(stats_.peakResidentBytes, stats_.residentBytes);
     return data;
 }
 
-std::shared_ptr<const SubtreeData> SubtreeStore::get(uint32_t subtree) {
+std::shared_ptr<const SubtreeData> SubtreeStore::get(uint32_t subtree, uint32_t level) {
+    const uint64_t key = keyOf(subtree, level);
     {
         std::unique_lock lock(mutex_);
-        // The prefetch thread is reading it: wait rather than read it a second time.
-        readDone_.wait(lock, [&] { return inFlight_ != subtree; });
-        const auto it = entries_.find(subtree);
+        // The prefetch thread is reading it (prefetches read level 0): wait rather than read it a second time.
+        readDone_.wait(lock, [&] { return level != 0 || inFlight_ != subtree; });
+        const auto it = entries_.find(key);
         if (it != entries_.end()) {
             Entry& entry = it->second;
             ++stats_.hits;
@@ -78,9 +80,9 @@ std::shared_ptr<const SubtreeData> SubtreeStore::get(uint32_t subtree) {
     }
     // Read outside the lock (pread is thread-safe); a concurrent miss on the same subtree reads it twice, and
     // the first insert wins.
-    auto data = std::make_shared<const SubtreeData>(file_.readSubtree(subtree));
+    auto data = std::make_shared<const SubtreeData>(file_.readSubtree(subtree, level));
     const std::lock_guard lock(mutex_);
-    return insert(subtree, std::move(data), false);
+    return insert(key, std::move(data), false);
 }
 
 void SubtreeStore::prefetch(std::span<const uint32_t> subtrees, uint64_t maxBytes) {
@@ -89,7 +91,7 @@ void SubtreeStore::prefetch(std::span<const uint32_t> subtrees, uint64_t maxByte
         queue_.clear();
         uint64_t queuedBytes = 0;
         for (uint32_t s : subtrees) {
-            if (s >= file_.subtrees().size() || s == inFlight_ || entries_.count(s) != 0) continue;
+            if (s >= file_.subtrees().size() || s == inFlight_ || entries_.count(keyOf(s, 0)) != 0) continue;
             const uint64_t bytes = file_.subtrees()[s].bytes;
             if (bytes > maxBytes - queuedBytes) break; // nearest first: the rest waits for a later list
             queuedBytes += bytes;
@@ -112,7 +114,7 @@ void SubtreeStore::advanceFrame() {
 
 bool SubtreeStore::contains(uint32_t subtree) const {
     const std::lock_guard lock(mutex_);
-    return entries_.count(subtree) != 0;
+    return entries_.count(keyOf(subtree, 0)) != 0;
 }
 
 void SubtreeStore::prefetchLoop() {
@@ -123,7 +125,7 @@ void SubtreeStore::prefetchLoop() {
         if (stopping_) return;
         const uint32_t subtree = queue_.front();
         queue_.pop_front();
-        if (entries_.count(subtree) != 0) continue;
+        if (entries_.count(keyOf(subtree, 0)) != 0) continue;
         // The record's size is the decoded size to within the blob's padding: checked before reading, so that a
         // prefetch that could not be kept costs no read.
         if (!prefetchFits(file_.subtrees()[subtree].bytes)) {
@@ -140,7 +142,7 @@ void SubtreeStore::prefetchLoop() {
             // Reported by the get() that needs it.
         }
         lock.lock();
-        if (data) insert(subtree, std::move(data), true);
+        if (data) insert(keyOf(subtree, 0), std::move(data), true);
         inFlight_ = kNone;
         busy_ = false;
         readDone_.notify_all();

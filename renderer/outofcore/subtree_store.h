@@ -49,8 +49,9 @@ public:
     ~SubtreeStore(); // stops the prefetch thread
     SubtreeStore(const SubtreeStore&) = delete;
     SubtreeStore& operator=(const SubtreeStore&) = delete;
-    // Thread-safe. Throws InputError on a corrupted subtree.
-    std::shared_ptr<const SubtreeData> get(uint32_t subtree);
+    // Thread-safe. Throws InputError on a corrupted subtree. `level` >= 1: its LOD proxy (ChsFile::readSubtree),
+    // kept under the same budget. Prefetches read subtrees (level 0) only.
+    std::shared_ptr<const SubtreeData> get(uint32_t subtree, uint32_t level = 0);
     const ChsFile& file() const { return file_; }
     uint64_t budgetBytes() const { return budget_; }
     SubtreeStoreStats stats() const;
@@ -62,24 +63,25 @@ public:
     void waitForPrefetch();
     // A new frame begins: subtrees used from the previous frame on are kept from prefetch evictions.
     void advanceFrame();
-    bool contains(uint32_t subtree) const;
+    bool contains(uint32_t subtree) const; // the subtree itself (level 0)
 
 private:
     struct Entry {
         std::shared_ptr<const SubtreeData> data;
-        std::list<uint32_t>::iterator position;
+        std::list<uint64_t>::iterator position;
         uint64_t usedFrame = 0;        // frame of its last get() (or of its prefetch)
         bool prefetchedUnused = false; // read by the prefetch thread, no get() since
     };
     const ChsFile& file_;
     uint64_t budget_;
     mutable std::mutex mutex_;
-    std::list<uint32_t> lru_; // most recently used first
-    std::unordered_map<uint32_t, Entry> entries_;
+    static uint64_t keyOf(uint32_t subtree, uint32_t level) { return uint64_t(level) << 32 | subtree; }
+    std::list<uint64_t> lru_; // keys (keyOf), most recently used first
+    std::unordered_map<uint64_t, Entry> entries_;
     SubtreeStoreStats stats_;
     uint64_t frame_ = 1;
     // The store's locked operations (mutex_ held).
-    std::shared_ptr<const SubtreeData> insert(uint32_t subtree, std::shared_ptr<const SubtreeData> data, bool prefetched);
+    std::shared_ptr<const SubtreeData> insert(uint64_t key, std::shared_ptr<const SubtreeData> data, bool prefetched);
     void evictLeastRecent();
     bool evictableForPrefetch(const Entry& entry) const { return entry.usedFrame + 1 < frame_; }
     bool prefetchFits(uint64_t bytes) const; // room for `bytes` without evicting a recently used subtree

@@ -20,7 +20,12 @@ using outofcore::ChsHeader;
 // Opens the file and reads every subtree (what must fail for any corruption).
 void openAndReadAll(const std::filesystem::path& file) {
     const ChsFile chs(file);
-    for (uint32_t i = 0; i < chs.header().subtreeCount; ++i) chs.readSubtree(i);
+    for (uint32_t i = 0; i < chs.header().subtreeCount; ++i) {
+        chs.readSubtree(i);
+        for (uint32_t level = 1; level <= chs.lodLevels(); ++level) { // LOD proxies (issue #19) are checksummed too
+            if (chs.lodRecord(i, level).nodeCount != 0) chs.readSubtree(i, level);
+        }
+    }
 }
 
 // Rays from points around and inside the scene towards random points of it.
@@ -148,7 +153,7 @@ TEST(ChsFile, VersionMismatchIsRefusedWithClearMessage) {
     std::vector<char> bytes = test::readBytes(file);
     ChsHeader h;
     std::memcpy(&h, bytes.data(), sizeof(h));
-    h.version = outofcore::kChsVersion + 1;
+    h.version = outofcore::kChsVersionLod + 1;
     h.headerChecksum = outofcore::chsChecksum(&h, offsetof(ChsHeader, headerChecksum));
     std::memcpy(bytes.data(), &h, sizeof(h));
     test::writeBytes(file, bytes);

@@ -86,6 +86,12 @@ void runExactness(outofcore::CachePolicy policy) {
     const outofcore::OutOfCoreStats s = tracer.snapshot();
     EXPECT_GT(s.queries, 0u);
     EXPECT_EQ(s.uploadedBvhBytes + s.uploadedGeometryBytes, c.uploadedNodeBytes + c.uploadedTriangleBytes);
+    // The file holds LOD proxies (prepare's default); an exact tracer never serves one (issue #19).
+    ASSERT_GT(tracer.file().lodLevels(), 0u);
+    EXPECT_FALSE(tracer.lodEnabled());
+    EXPECT_EQ(c.proxyUploads, 0u);
+    EXPECT_EQ(c.proxySlots, 0u);
+    for (uint32_t level = 1; level < outofcore::kLodStatLevels; ++level) EXPECT_EQ(c.requestsPerLevel[level], 0u);
 }
 
 TEST_F(OutOfCoreTracerTest, HitsEqualInCorePureBvhWithLruEvictions) { runExactness(outofcore::CachePolicy::Lru); }
