@@ -2,7 +2,8 @@
 // node, summarise, and load the whole scene in core and as a proxy. Checksums would stop nearly every mutation at
 // the first check, so the harness first recomputes each checksum whose range lies inside the input (header,
 // metadata, subtree blobs): the structural validation behind them is what is fuzzed. The checksum checks
-// themselves are covered by the seeds as they are and by tests/outofcore/chs_file_test.cpp.
+// themselves are covered by the seeds as they are and by tests/outofcore/chs_file_test.cpp. Version 2 files (LOD
+// proxies) also get their proxy blobs' checksums and the LOD directory's share of the metadata checksum recomputed.
 #include "renderer/outofcore/chs_file.h"
 #include "tests/fuzz/fuzz_input.h"
 
@@ -16,6 +17,22 @@ using namespace chcrt;
 using namespace chcrt::outofcore;
 
 bool inside(uint64_t offset, uint64_t bytes, uint64_t size) { return offset <= size && bytes <= size - offset; }
+
+// A subtree or proxy blob's checksum (ChsFile::readBlob's ranges), or false when the blob is not inside the input.
+bool blobChecksum(const std::vector<uint8_t>& b, uint64_t offset, uint64_t nodeCount, uint64_t triangleCount, bool uv,
+                  uint64_t& sum) {
+    const uint64_t nodes = nodeCount * sizeof(BvhNodeGpu);
+    const uint64_t tris = triangleCount * sizeof(TriangleGpu);
+    const uint64_t normals = triangleCount * 3 * sizeof(glm::vec3);
+    const uint64_t uvs = uv ? triangleCount * 3 * sizeof(glm::vec2) : 0;
+    if (!inside(offset, nodes + tris + normals + uvs, b.size())) return false;
+    const uint8_t* blob = b.data() + offset;
+    sum = chsChecksum(blob, nodes);
+    sum = chsChecksum(blob + nodes, tris, sum);
+    sum = chsChecksum(blob + nodes + tris, normals, sum);
+    sum = chsChecksum(blob + nodes + tris + normals, uvs, sum);
+    return true;
+}
 
 void fixChecksums(std::vector<uint8_t>& b) {
     if (b.size() < sizeof(ChsHeader)) return;
@@ -32,23 +49,31 @@ void fixChecksums(std::vector<uint8_t>& b) {
             ChsSubtreeRecord r;
             uint8_t* at = b.data() + h.metaOffset + upperBytes + uint64_t(i) * sizeof(ChsSubtreeRecord);
             std::memcpy(&r, at, sizeof(r));
-            const uint64_t nodes = uint64_t(r.nodeCount) * sizeof(BvhNodeGpu);
-            const uint64_t tris = uint64_t(r.triangleCount) * sizeof(TriangleGpu);
-            const uint64_t normals = uint64_t(r.triangleCount) * 3 * sizeof(glm::vec3);
-            const uint64_t uvs = uv ? uint64_t(r.triangleCount) * 3 * sizeof(glm::vec2) : 0;
-            if (!inside(r.offset, nodes + tris + normals + uvs, b.size())) continue;
-            const uint8_t* blob = b.data() + r.offset;
-            uint64_t sum = chsChecksum(blob, nodes);
-            sum = chsChecksum(blob + nodes, tris, sum);
-            sum = chsChecksum(blob + nodes + tris, normals, sum);
-            sum = chsChecksum(blob + nodes + tris + normals, uvs, sum);
-            r.checksum = sum;
-            std::memcpy(at, &r, sizeof(r));
+            if (blobChecksum(b, r.offset, r.nodeCount, r.triangleCount, uv, r.checksum)) std::memcpy(at, &r, sizeof(r));
         }
         uint64_t sum = chsChecksum(meta, upperBytes);
         sum = chsChecksum(meta + upperBytes, recordBytes, sum);
         sum = chsChecksum(meta + upperBytes + recordBytes, materialBytes, sum);
         sum = chsChecksum(meta + upperBytes + recordBytes + materialBytes, h.sourceBytes, sum);
+        // The LOD directory (version 2) follows the source spec: its header, then levels records per subtree.
+        const uint64_t lodAt = h.metaOffset + metaBytes;
+        if ((h.flags & kChsFlagLod) != 0 && inside(lodAt, sizeof(ChsLodHeader), b.size())) {
+            ChsLodHeader lod;
+            std::memcpy(&lod, b.data() + lodAt, sizeof(lod));
+            const uint64_t lodRecordBytes = uint64_t(h.subtreeCount) * lod.levels * sizeof(ChsLodRecord);
+            if (lod.levels <= 8 && inside(lodAt + sizeof(lod), lodRecordBytes, b.size())) {
+                uint8_t* records = b.data() + lodAt + sizeof(lod);
+                for (uint64_t k = 0; k < lodRecordBytes / sizeof(ChsLodRecord); ++k) {
+                    ChsLodRecord r;
+                    std::memcpy(&r, records + k * sizeof(r), sizeof(r));
+                    if (blobChecksum(b, r.offset, r.nodeCount, r.triangleCount, uv, r.checksum)) {
+                        std::memcpy(records + k * sizeof(r), &r, sizeof(r));
+                    }
+                }
+                sum = chsChecksum(&lod, sizeof(lod), sum);
+                sum = chsChecksum(records, lodRecordBytes, sum);
+            }
+        }
         h.metaChecksum = sum;
     }
     h.headerChecksum = chsChecksum(&h, offsetof(ChsHeader, headerChecksum));
@@ -69,6 +94,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         for (uint32_t i = 0; i < chs.subtrees().size(); ++i) {
             (void)chs.readSubtreeNode(i, 0);
             (void)chs.readSubtree(i);
+            for (uint32_t level = 1; level <= chs.lodLevels(); ++level) {
+                if (chs.lodRecord(i, level).nodeCount != 0) (void)chs.readSubtree(i, level);
+            }
         }
     });
     chcrt::fuzz::expectOnlyInputErrors([&] { (void)loadPreparedSceneProxy(file); });

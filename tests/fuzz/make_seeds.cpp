@@ -171,13 +171,18 @@ void textSeeds(const fs::path& root) {
 }
 
 void chsSeeds(const fs::path& dir, const fs::path& scratch) {
-    for (const char* scene : {"closed-box", "plane-and-box"}) {
+    // Version 1 (no LOD proxies) from the two small scenes, version 2 (a LOD directory and proxy blobs) from a city
+    // small enough to stay a quick seed.
+    for (const auto& [scene, lodLevels] : {std::pair<const char*, uint32_t>{"closed-box", 0u}, {"plane-and-box", 0u},
+                                           {"city:600", 2u}}) {
         outofcore::PrepareOptions options;
-        options.subtreeTriangles = 4;
+        options.subtreeTriangles = lodLevels == 0 ? 4 : 200;
         options.memoryBytes = 64ull << 20;
-        const fs::path file = scratch / (std::string(scene) + ".chs");
+        options.lodLevels = lodLevels;
+        const std::string name = std::string(scene) == "city:600" ? "city-600-lod" : scene;
+        const fs::path file = scratch / (name + ".chs");
         outofcore::prepareScene(scene, file, options);
-        write(dir / ("seed_" + std::string(scene) + ".chs"), read(file));
+        write(dir / ("seed_" + name + ".chs"), read(file));
     }
 }
 
