@@ -26,8 +26,7 @@ GpuSubtreeCache::GpuSubtreeCache(SubtreeStore& store, const GpuCacheOptions& opt
     GLint maxTexels = 0;
     glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
     GpuCacheLimits limits{uint64_t(std::max(maxTexels, 0)), queryGpuMemory().availableBytes};
-    uint64_t budget = options.budgetBytes;
-    if (limits.availableGpuBytes != 0) budget = std::min(budget, limits.availableGpuBytes / 4 * 3);
+    const uint64_t budget = gpuCacheBudget(options.budgetBytes, limits);
     Pool subtrees;
     subtrees.slotNodes = h.maxSubtreeNodes;
     subtrees.slotTriangles = std::max(1u, h.maxSubtreeTriangles);

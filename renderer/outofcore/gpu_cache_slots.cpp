@@ -6,13 +6,15 @@
 
 namespace chcrt::outofcore {
 
+uint64_t gpuCacheBudget(uint64_t budgetBytes, const GpuCacheLimits& limits) {
+    return limits.availableGpuBytes != 0 ? std::min(budgetBytes, limits.availableGpuBytes / 4 * 3) : budgetBytes;
+}
+
 uint64_t gpuCacheSlots(uint64_t budgetBytes, uint64_t slotNodes, uint64_t slotTriangles, uint64_t subtrees,
                        const GpuCacheLimits& limits) {
     const uint64_t slotBytes = slotNodes * sizeof(gpu::BvhNodeGpu) + slotTriangles * sizeof(gpu::TriangleGpu);
     if (slotBytes == 0) return 0;
-    uint64_t budget = budgetBytes;
-    if (limits.availableGpuBytes != 0) budget = std::min(budget, limits.availableGpuBytes / 4 * 3);
-    uint64_t slots = std::min(budget / slotBytes, subtrees);
+    uint64_t slots = std::min(gpuCacheBudget(budgetBytes, limits) / slotBytes, subtrees);
     if (limits.maxTextureBufferTexels != 0) {
         if (slotNodes != 0) slots = std::min(slots, limits.maxTextureBufferTexels / (slotNodes * CHCRT_BVH_TEXELS_PER_NODE));
         if (slotTriangles != 0) {

@@ -14,6 +14,10 @@ struct GpuCacheLimits {
     uint64_t availableGpuBytes = 0;
 };
 
+// The part of `budgetBytes` the cache may allocate: where GPU memory is reported, within three quarters of it (the
+// frame's targets and the driver need the rest).
+uint64_t gpuCacheBudget(uint64_t budgetBytes, const GpuCacheLimits& limits);
+
 // Slots of `slotNodes` nodes and `slotTriangles` triangles: as many as `budgetBytes` holds, at most one per subtree
 // (`subtrees`), at most what one texture buffer addresses, and, where GPU memory is reported, within three quarters
 // of it (the frame's targets and the driver need the rest). 0 when the budget holds no slot.
