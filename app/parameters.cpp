@@ -478,6 +478,11 @@ std::vector<Parameter> describeChcrt() {
                  "CHC+RT bounds-only: test each ray's triangle of the previous frame first (hit hints)")
             .checkbox("hit hints")
             .onOff(FIELD(chcrt.hitHints)),
+        Describe(Area::Chcrt, "--chcrt-hint-pass", "chcrtHintPass",
+                 "CHC+RT with hit hints: visit the hinted leaves in a pass of their own, then trace only the rays left "
+                 "(compacted)")
+            .checkbox("hint pass")
+            .onOff(FIELD(chcrt.hintPass)),
     };
 }
 

@@ -220,6 +220,8 @@ nlohmann::json chcrtStatsJson(const ChcrtStats& s, double frames) {
                            {"cells_drawn", s.cellsDrawn},
                            {"cell_entries", s.cellEntries},
                            {"cells_whole_tree", s.cellsWholeTree},
+                           {"hint_passes", s.hintPasses},
+                           {"hint_rays_left", s.hintRaysLeft},
                            {"bounds_ms", s.boundsMs},
                            {"decide_ms", s.decideMs},
                            {"cell_list_ms", s.cellListMs},

@@ -15,23 +15,27 @@ void CellTraversal::begin(int cellsX, int cellsY, int cellSize) {
     entries_.clear();
 }
 
-const ShaderProgram& CellTraversal::program(bool anyHit, const std::string& debugDefine) {
-    auto it = programs_.find({debugDefine, anyHit});
+const ShaderProgram& CellTraversal::program(bool anyHit, const std::string& debugDefine, bool compacted) {
+    const ProgramKey key{debugDefine, anyHit, compacted};
+    auto it = programs_.find(key);
     if (it != programs_.end()) return it->second;
     std::vector<ShaderDefine> defines = defines_(anyHit);
     defines.push_back({"TRACE_ANY_HIT", anyHit ? "1" : "0"});
     if (!debugDefine.empty()) defines.push_back({debugDefine, "1"});
-    if (compute()) defines.push_back({"CHCRT_CELL_SIZE", std::to_string(computeCellSize_)});
-    ShaderProgram program = compute() ? ShaderProgram({{GL_COMPUTE_SHADER, "culling/chcrt_cells.comp.glsl"}}, defines)
-                                      : ShaderProgram({{GL_VERTEX_SHADER, "culling/chcrt_cells.vert.glsl"},
-                                                       {GL_FRAGMENT_SHADER, "culling/chcrt_cells.frag.glsl"}},
-                                                      defines);
-    return programs_.emplace(std::make_pair(debugDefine, anyHit), std::move(program)).first->second;
+    if (compute() && !compacted) defines.push_back({"CHCRT_CELL_SIZE", std::to_string(computeCellSize_)});
+    ShaderProgram program =
+        compacted   ? ShaderProgram({{GL_COMPUTE_SHADER, "culling/chcrt_cells_compact.comp.glsl"}}, defines)
+        : compute() ? ShaderProgram({{GL_COMPUTE_SHADER, "culling/chcrt_cells.comp.glsl"}}, defines)
+                    : ShaderProgram({{GL_VERTEX_SHADER, "culling/chcrt_cells.vert.glsl"},
+                                     {GL_FRAGMENT_SHADER, "culling/chcrt_cells.frag.glsl"}},
+                                    defines);
+    return programs_.emplace(key, std::move(program)).first->second;
 }
 
-void CellTraversal::compile() {
-    program(false, "");
-    program(true, "");
+void CellTraversal::compile(bool compacted) {
+    program(false, "", false);
+    program(true, "", false);
+    if (compacted) program(true, "", true);
     if (!compute() && !maskProgram_.valid()) maskProgram_ = makeMaskProgram();
 }
 
@@ -60,6 +64,24 @@ void CellTraversal::drawPoints(const ShaderProgram& program, int width, int heig
 uint32_t CellTraversal::draw(bool anyHit, const std::string& debugDefine, int width, int height,
                              GLuint maskFramebuffer, bool writeMask) {
     if (entries_.empty()) return 0;
+    uploadLists(debugDefine);
+    drawMaskAndCells(anyHit, debugDefine, width, height, maskFramebuffer, writeMask,
+                     [&](const ShaderProgram& p) { drawPoints(p, width, height); });
+    return uint32_t(drawCells_.size());
+}
+
+uint32_t CellTraversal::drawCompacted(bool anyHit, const std::string& debugDefine) {
+    if (entries_.empty()) return 0; // no cell has work: every listed ray keeps its miss
+    uploadLists(debugDefine);
+    const ShaderProgram& p = program(anyHit, debugDefine, true);
+    p.use();
+    p.set("cellsX", cellsX_);
+    p.set("cellSize", cellSize_);
+    glDispatchComputeIndirect(0);
+    return uint32_t(drawCells_.size());
+}
+
+void CellTraversal::uploadLists(const std::string& debugDefine) {
     // Counting sort by cell (stable: a cell's entries keep the order of add() among equal bounds).
     const size_t cells = size_t(cellsX_) * size_t(cellsY_);
     counts_.assign(cells + 1, 0u);
@@ -110,10 +132,7 @@ uint32_t CellTraversal::draw(bool anyHit, const std::string& debugDefine, int wi
     glBindTextureUnit(CHCRT_UNIT_CULLING_CELL_ROOTS, b.roots.texture.id());
     glBindTextureUnit(CHCRT_UNIT_CULLING_DRAW_CELLS, b.drawCells.texture.id());
     if (withIds) glBindTextureUnit(CHCRT_UNIT_CULLING_CELL_IDS, b.ids.texture.id());
-    drawMaskAndCells(anyHit, debugDefine, width, height, maskFramebuffer, writeMask,
-                     [&](const ShaderProgram& p) { drawPoints(p, width, height); });
     entries_.clear();
-    return uint32_t(drawCells_.size());
 }
 
 void CellTraversal::drawIndirect(bool anyHit, const std::string& debugDefine, int width, int height, int cellsX,
@@ -132,7 +151,7 @@ void CellTraversal::drawMaskAndCells(bool anyHit, const std::string& debugDefine
                                      GLuint maskFramebuffer, bool writeMask,
                                      const std::function<void(const ShaderProgram&)>& issue) {
     if (compute()) {
-        issue(program(anyHit, debugDefine));
+        issue(program(anyHit, debugDefine, false));
         return;
     }
     glBindFramebuffer(GL_FRAMEBUFFER, maskFramebuffer);
@@ -149,7 +168,7 @@ void CellTraversal::drawMaskAndCells(bool anyHit, const std::string& debugDefine
     }
     glDepthFunc(GL_LESS); // passes where the mask holds 1
     glDepthMask(GL_FALSE);
-    issue(program(anyHit, debugDefine));
+    issue(program(anyHit, debugDefine, false));
     glDisable(GL_PROGRAM_POINT_SIZE);
 }
 

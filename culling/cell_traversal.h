@@ -15,6 +15,7 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -48,8 +49,9 @@ public:
         listLimit_ = limit;
     }
     uint32_t wholeTreeCells() const { return wholeTreeCells_; } // cells that did so in the last draw
-    // Compiles the programs of both ray kinds and the mask program now (they are otherwise compiled on first use).
-    void compile();
+    // Compiles the programs of both ray kinds and the mask program now (they are otherwise compiled on first use);
+    // `compacted`: also drawCompacted's program for any-hit rays.
+    void compile(bool compacted);
 
     // Uploads the lists and traverses them into `maskFramebuffer` (a depth-only target of the ray set's size whose
     // depth is 1 where a ray is to be traced), with the ray textures, hit image and BVH buffers bound. `writeMask`:
@@ -57,6 +59,10 @@ public:
     // the first). `debugDefine` names a debug image variant ("" = none). Returns the number of cells with work.
     uint32_t draw(bool anyHit, const std::string& debugDefine, int width, int height, GLuint maskFramebuffer,
                   bool writeMask);
+    // The same as a compute dispatch over the rays the hint pass left (hint_pass.h; its compaction buffer bound as
+    // the shader storage and dispatch-indirect buffer): each traverses the list of its cell. Returns the cells with
+    // work.
+    uint32_t drawCompacted(bool anyHit, const std::string& debugDefine);
     // The same for lists decided on the GPU (gpu_cell_lists.h): the list texture units and the indirect draw of the
     // cells with work are bound already; cellsX / cellSize describe the grid.
     void drawIndirect(bool anyHit, const std::string& debugDefine, int width, int height, int cellsX, int cellSize,
@@ -70,7 +76,10 @@ private:
     struct Buffers {
         TextureBuffer headers, roots, ids, drawCells;
     };
-    const ShaderProgram& program(bool anyHit, const std::string& debugDefine);
+    // The cell pass variant: `compacted` = chcrt_cells_compact.comp.glsl, else the fragment or compute pass per cell.
+    const ShaderProgram& program(bool anyHit, const std::string& debugDefine, bool compacted);
+    // Sorts the entries into per-cell lists, uploads and binds them (texture units CHCRT_UNIT_CULLING_CELL_*).
+    void uploadLists(const std::string& debugDefine);
     void drawPoints(const ShaderProgram& program, int width, int height) const;
     // The mask (when asked for) and the traversal of the cells `issue` draws, into `maskFramebuffer`; compute passes
     // need no mask (finished and inactive rays return at once) and no framebuffer.
@@ -81,7 +90,8 @@ private:
 
     Defines defines_;
     int computeCellSize_ = 0;
-    std::map<std::pair<std::string, bool>, ShaderProgram> programs_;
+    using ProgramKey = std::tuple<std::string, bool, bool>; // debug define, any-hit, compacted
+    std::map<ProgramKey, ShaderProgram> programs_;
     ShaderProgram maskProgram_;
     int cellsX_ = 0, cellsY_ = 0, cellSize_ = 0;
     std::vector<Entry> entries_, sorted_;

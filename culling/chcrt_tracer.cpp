@@ -86,6 +86,7 @@ ChcrtOptions recommendedChcrtOptions(const RendererTraits& renderer) {
     options.adaptiveHeights = {10, 14};
     options.cellListLimit = 64;
     options.hitHints = true;
+    options.hintPass = true;
     // The renderer's part (chcrt_tracer.h says why): lists decided on the GPU and traced in compute dispatches on
     // GPUs, decided on the CPU and traced in fragment passes on software rasterisers.
     options.queries = renderer.software ? ChcrtQueries::BoundsOnly : ChcrtQueries::BoundsGpu;
@@ -209,6 +210,8 @@ ChcrtStats& ChcrtStats::operator+=(const ChcrtStats& o) {
     cellsDrawn += o.cellsDrawn;
     cellEntries += o.cellEntries;
     cellsWholeTree += o.cellsWholeTree;
+    hintPasses += o.hintPasses;
+    hintRaysLeft += o.hintRaysLeft;
     boundsCulledPieces += o.boundsCulledPieces;
     boundsCulledFrustum += o.boundsCulledFrustum;
     boundsReached += o.boundsReached;
@@ -294,7 +297,9 @@ void ChcrtTracer::compilePrograms() {
             return defines;
         }, options_.computeCellPass ? options_.bounds.cellSize : 0);
         if (wholeTree) cells_->setWholeTree(0u, options_.cellListLimit);
-        cells_->compile();
+        const bool hintPass = hints && options_.hintPass && options_.queries == ChcrtQueries::BoundsOnly;
+        cells_->compile(hintPass);
+        if (hintPass) hintPass_ = std::make_unique<HintPass>(options_.computeCellPass, options_.bounds.cellSize);
     }
     if (options_.queries == ChcrtQueries::BoundsGpu && !gpuLists_) {
         gpuLists_ = std::make_unique<GpuCellLists>(hierarchy_, options_.bounds.pieces);
@@ -399,13 +404,31 @@ GLuint ChcrtTracer::hintImageFor(const TraceRequest& request, int width, int hei
         glGetTextureLevelParameteriv(hint.id(), 0, GL_TEXTURE_WIDTH, &w);
         glGetTextureLevelParameteriv(hint.id(), 0, GL_TEXTURE_HEIGHT, &h);
     }
-    if (hint.id() == 0 || w != width || h != height) {
+    hintsFresh_ = hint.id() == 0 || w != width || h != height;
+    if (hintsFresh_) {
         hint = createTexture2D(width, height, GL_R32UI);
         const GLuint none = CHCRT_NO_HIT_ID;
         glClearTexImage(hint.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
     }
     return hint.id();
+}
+
+bool ChcrtTracer::hintPassDue(const TraceRequest& request) {
+    if (!options_.hintPass) return false;
+    if (hintsFresh_) { // no hint yet: every ray would be left; the next trace has the hints of this one
+        hintPassSkipped_[rayStateKey(request)] = options_.hintPassRetryInterval - 1;
+        return false;
+    }
+    const auto it = hintPassSkipped_.find(rayStateKey(request));
+    if (it == hintPassSkipped_.end()) return true;
+    return ++it->second >= options_.hintPassRetryInterval;
+}
+
+void ChcrtTracer::recordHintPass(const TraceRequest& request, uint32_t raysLeft, int width, int height) {
+    const uint64_t key = rayStateKey(request);
+    if (double(raysLeft) > options_.hintPassMaxLeft * double(width) * double(height)) hintPassSkipped_[key] = 0;
+    else hintPassSkipped_.erase(key);
 }
 
 GLuint ChcrtTracer::maskFramebufferFor(GLuint depthTexture) {

@@ -23,11 +23,12 @@ namespace {
 using Clock = std::chrono::steady_clock;
 } // namespace
 
-void ChcrtTracer::updateBounds(const RayTextures& rays, GLuint hitImage, bool anyHit, int width, int height) {
+void ChcrtTracer::updateBounds(const RayTextures& rays, GLuint hitImage, bool anyHit, int width, int height,
+                               GLuint cellMarks) {
     const auto start = Clock::now();
     const CullingHierarchy::Node& root = hierarchy_.nodes[0];
     rayExtent_->update(rays.origin.id(), rays.direction.id(), hitImage, anyHit, width, height, root.boxMin,
-                       root.boxMax);
+                       root.boxMax, cellMarks);
     // The reduction bound the hit image read-only and its own program: restore what the passes expect.
     if (hitImage != 0) glBindImageTexture(CHCRT_CULLING_IMAGE_HIT, hitImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32UI);
     mode_ = Mode::None;
@@ -124,7 +125,7 @@ std::string ChcrtTracer::debugDefineOfKind() const {
 }
 
 void ChcrtTracer::intersectCells(std::vector<Scheduled>& work, bool anyHit, const RayTextures& rays,
-                                 HitTargets& hits, bool firstRound, int width, int height) {
+                                 HitTargets& hits, bool firstRound, bool compacted, int width, int height) {
     if (work.empty()) return;
     // Nearest to the camera first (residency rounds make the near ones resident first); duplicates adjacent.
     std::sort(work.begin(), work.end(), [](const Scheduled& a, const Scheduled& b) {
@@ -164,7 +165,8 @@ void ChcrtTracer::intersectCells(std::vector<Scheduled>& work, bool anyHit, cons
         last_.cellEntries += cells_->entryCount();
         last_.subtreesScheduled += resident.size();
         beginPassTimer();
-        last_.cellsDrawn += cells_->draw(anyHit, debugDefine, width, height, maskFramebuffer, writeMask);
+        last_.cellsDrawn += compacted ? cells_->drawCompacted(anyHit, debugDefine)
+                                      : cells_->draw(anyHit, debugDefine, width, height, maskFramebuffer, writeMask);
         endPassTimer();
         last_.cellsWholeTree += cells_->wholeTreeCells();
         last_.cellListMs += millisecondsSince(listStart); // CPU: lists, sorting, uploads, submitting the draw (not its GPU work)
@@ -186,9 +188,23 @@ bool ChcrtTracer::traceBounded(const TraceRequest& request, const RayTextures& r
     // hits there.
     const GLuint hintImage = hintImageFor(request, width, height);
     if (hintImage != 0) glBindImageTexture(CHCRT_CULLING_IMAGE_HINT, hintImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+    // The hint pass (hint_pass.h): hinted leaves first, for every ray, in a pass of their own; the rays they finish
+    // leave the reduction, and the rest are traced in one compacted dispatch. It records no subtree ids or list
+    // lengths, so those debug images keep the visits in the cell pass. Needs one round (no previous front).
+    const bool hintPass = hintImage != 0 && hintPass_ && !options_.boundsPreviousFront &&
+                          debugKind_ != ChcrtDebugImage::Subtrees && debugKind_ != ChcrtDebugImage::Batches &&
+                          hintPassDue(request);
+    if (hintPass) {
+        beginPassTimer();
+        hintPass_->run(width, height, maskFramebufferFor(rays.active.id()), debugKind_ == ChcrtDebugImage::Cost);
+        endPassTimer();
+        ++last_.shaderCalls;
+        ++last_.hintPasses;
+    }
     // Before any hit, a ray reaches its whole segment (clipped to the scene): bounded rays (shadow, AO) already
-    // leave most of the scene out, and every cell's lists get their entry bounds.
-    updateBounds(rays, 0, anyHit, width, height);
+    // leave most of the scene out, and every cell's lists get their entry bounds. After the hint pass, any-hit rays
+    // it finished are left out.
+    updateBounds(rays, hintPass ? hits.hit.id() : 0, anyHit, width, height, hintPass ? hintPass_->cellMarks() : 0);
 
     // Phase 1 (Algorithm 1, lines 1-4): intersect the previously visible leaves that the rays can reach.
     std::vector<int32_t> visibleLeaves, invisibleLeaves;
@@ -200,7 +216,7 @@ bool ChcrtTracer::traceBounded(const TraceRequest& request, const RayTextures& r
             if (mayHit(state.pair(p))) schedule(state, p, work);
             else ++last_.leavesSkippedExtent;
         }
-        intersectCells(work, anyHit, rays, hits, true, width, height);
+        intersectCells(work, anyHit, rays, hits, true, false, width, height);
         glFinish();
     }
     last_.phase1Ms = millisecondsSince(start);
@@ -223,8 +239,12 @@ bool ChcrtTracer::traceBounded(const TraceRequest& request, const RayTextures& r
     last_.phase2Ms = millisecondsSince(start);
 
     start = Clock::now();
-    intersectCells(newlyVisible, anyHit, rays, hits, !phase1, width, height);
+    intersectCells(newlyVisible, anyHit, rays, hits, !phase1, hintPass, width, height);
     endTrace(state, width, height);
+    if (hintPass) {
+        last_.hintRaysLeft = hintPass_->raysLeft();
+        recordHintPass(request, uint32_t(last_.hintRaysLeft), width, height);
+    }
     last_.phase3Ms = millisecondsSince(start);
     return warm;
 }

@@ -29,8 +29,8 @@ RayBoundsGrid::RayBoundsGrid(const RayBoundsOptions& options) : options_(options
 }
 
 void RayBoundsGrid::update(GLuint origins, GLuint directions, GLuint hitImage, bool anyHit, int width, int height,
-                           glm::vec3 sceneMin, glm::vec3 sceneMax) {
-    reduce(origins, directions, hitImage, anyHit, width, height, sceneMin, sceneMax);
+                           glm::vec3 sceneMin, glm::vec3 sceneMax, GLuint cellMarks) {
+    reduce(origins, directions, hitImage, anyHit, width, height, sceneMin, sceneMax, cellMarks);
     const int cell = options_.cellSize;
     const size_t values = size_t((width + cell - 1) / cell) * size_t((height + cell - 1) / cell) *
                           size_t(CHCRT_CULLING_BOUNDS_STRIDE(options_.pieces));
@@ -40,13 +40,14 @@ void RayBoundsGrid::update(GLuint origins, GLuint directions, GLuint hitImage, b
 }
 
 void RayBoundsGrid::reduce(GLuint origins, GLuint directions, GLuint hitImage, bool anyHit, int width, int height,
-                           glm::vec3 sceneMin, glm::vec3 sceneMax) {
+                           glm::vec3 sceneMin, glm::vec3 sceneMax, GLuint cellMarks) {
     const int variant = hitImage == 0 ? 0 : (anyHit ? 2 : 1);
-    ShaderProgram& program = programs_[variant];
+    ShaderProgram& program = programs_[variant][cellMarks != 0 ? 1 : 0];
     if (!program.valid()) {
         program = ShaderProgram({{GL_COMPUTE_SHADER, "culling/ray_bounds.comp.glsl"}},
                                 {{"CHCRT_BOUNDS_WITH_HITS", variant != 0 ? "1" : "0"},
                                  {"TRACE_ANY_HIT", variant == 2 ? "1" : "0"},
+                                 {"CHCRT_BOUNDS_CELL_MARKS", cellMarks != 0 ? "1" : "0"},
                                  {"CHCRT_BOUNDS_PIECES", std::to_string(options_.pieces)},
                                  {"CHCRT_BOUNDS_CELL", std::to_string(options_.cellSize)}});
     }
@@ -66,6 +67,7 @@ void RayBoundsGrid::reduce(GLuint origins, GLuint directions, GLuint hitImage, b
     glBindTextureUnit(CHCRT_UNIT_RAY_DIRECTION, directions);
     if (hitImage != 0) glBindImageTexture(CHCRT_CULLING_IMAGE_HIT, hitImage, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32UI);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, CHCRT_CULLING_BOUNDS_BUFFER, buffer_.id());
+    if (cellMarks != 0) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, CHCRT_CULLING_COMPACT_CELLS, cellMarks);
     glDispatchCompute(GLuint((cellsX + 7) / 8), GLuint((cellsY + 7) / 8), 1); // an invocation per cell
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
 }

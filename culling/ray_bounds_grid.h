@@ -48,13 +48,14 @@ public:
     // Reduces a width × height ray set (RayTextures' origin+tmin and direction+tmax textures) to cell boxes and
     // reads them back (waits for the GPU). `hitImage` (0: none) holds the hits found so far (RGBA32UI, the
     // hit-target layout); `anyHit` says whether rays with a hit are finished. Needs a current GL context (the first
-    // call compiles the reduction shader).
+    // call compiles the reduction shader). `cellMarks` (0: none): a buffer with a uint per cell, nonzero where a ray
+    // may be left to trace (the hint pass's, hint_pass.h); unmarked cells are empty without looking at their rays.
     void update(GLuint origins, GLuint directions, GLuint hitImage, bool anyHit, int width, int height,
-                glm::vec3 sceneMin, glm::vec3 sceneMax);
+                glm::vec3 sceneMin, glm::vec3 sceneMax, GLuint cellMarks = 0);
     // The reduction alone, into buffer() (CHCRT_CULLING_BOUNDS_* layout), for passes that read the grid on the GPU
     // (gpu_cell_lists.h): nothing is read back, the CPU side keeps its previous cells.
     void reduce(GLuint origins, GLuint directions, GLuint hitImage, bool anyHit, int width, int height,
-                glm::vec3 sceneMin, glm::vec3 sceneMax);
+                glm::vec3 sceneMin, glm::vec3 sceneMax, GLuint cellMarks = 0);
     GLuint buffer() const { return buffer_.id(); }
 
     // True when some ray of `tile`'s pixels may meet one of the `count` boxes (lower[i], upper[i]) before its hit;
@@ -111,7 +112,7 @@ private:
     void buildCoarse();
 
     RayBoundsOptions options_;
-    ShaderProgram programs_[3]; // without hits, with hits (closest hit), with hits (any hit)
+    ShaderProgram programs_[3][2]; // [without hits, with hits (closest hit), with hits (any hit)][cell marks]
     GlBuffer buffer_;
     size_t bufferBytes_ = 0;
     int cellsX_ = 0, cellsY_ = 0;

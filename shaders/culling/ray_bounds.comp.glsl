@@ -10,7 +10,8 @@
 // shared memory with barriers (one invocation per pixel) measured 40x slower on llvmpipe, whose work groups switch
 // coroutines at every barrier.
 // Host defines: CHCRT_BOUNDS_WITH_HITS (0 | 1), TRACE_ANY_HIT (0 | 1), CHCRT_BOUNDS_CELL (1..32, a power of two),
-// CHCRT_BOUNDS_PIECES (1 .. CHCRT_CULLING_BOUNDS_MAX_PIECES).
+// CHCRT_BOUNDS_PIECES (1 .. CHCRT_CULLING_BOUNDS_MAX_PIECES), CHCRT_BOUNDS_CELL_MARKS (0 | 1: skip the cells the hint
+// pass left unmarked).
 #include "shared/render_layout.h"
 #include "shared/bvh_layout.h"
 #include "shared/intersect.h"
@@ -28,6 +29,12 @@ layout(binding = CHCRT_CULLING_IMAGE_HIT, rgba32ui) uniform readonly uimage2D hi
 layout(std430, binding = CHCRT_CULLING_BOUNDS_BUFFER) writeonly buffer CellBounds {
     vec4 cellBounds[];
 };
+#if CHCRT_BOUNDS_CELL_MARKS
+// The hint pass's marks (culling/hint_pass.h): an unmarked cell has no ray left to trace, so it is empty.
+layout(std430, binding = CHCRT_CULLING_COMPACT_CELLS) readonly buffer CellMarks {
+    uint cellMarks[];
+};
+#endif
 
 uniform ivec2 raySize; // the ray set's size in pixels
 uniform vec3 sceneMin;
@@ -60,6 +67,11 @@ void main() {
     float segmentEnd = -big;
     ivec2 first = cell * CHCRT_BOUNDS_CELL;
     ivec2 end = min(first + CHCRT_BOUNDS_CELL, raySize);
+#if CHCRT_BOUNDS_CELL_MARKS
+    if (cellMarks[cell.y * cellCount.x + cell.x] == 0u) {
+        end = first; // written as an empty cell below
+    }
+#endif
     // At most 32² iterations, far below llvmpipe's 65,535-iteration loop cap.
     for (int y = first.y; y < end.y; ++y) {
         for (int x = first.x; x < end.x; ++x) {

@@ -70,6 +70,17 @@
 #define CHCRT_CULLING_GPU_DRAW_HEADER 64 // uints before the cells drawn (256 bytes: any texture-buffer offset alignment)
 #define CHCRT_CULLING_GPU_LIST_MAX 64
 
+// Hint pass (culling/hint_pass.h): shader storage binding of its compaction buffer. Layout (uints): an indirect
+// dispatch command (work groups of CHCRT_CULLING_COMPACT_GROUP rays, 1, 1), the number of rays listed, then from
+// CHCRT_CULLING_COMPACT_HEADER on the pixel of each ray left for the cell lists (x | y << 16). The pass that appends
+// a ray adds a work group whenever its slot starts one, so the command always covers exactly the rays listed.
+#define CHCRT_CULLING_COMPACT_BUFFER 5
+#define CHCRT_CULLING_COMPACT_GROUP 64
+#define CHCRT_CULLING_COMPACT_HEADER 4
+// And the binding of its cell marks (a uint per ray bounds cell: nonzero where the pass listed a ray), which let the
+// reduction after it skip the cells whose rays all ended at their hints.
+#define CHCRT_CULLING_COMPACT_CELLS 6
+
 // Boxes per occlusion query: §5.1 multi-queries of up to 8 pairs with tighter bounds (2 child boxes each).
 #define CHCRT_CULLING_MAX_QUERY_BOXES 16
 

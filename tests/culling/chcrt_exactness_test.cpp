@@ -35,6 +35,7 @@ struct ExactnessCase {
     uint32_t cellListLimit = 0; // BoundsOnly: longer cell lists traverse the whole BVH
     bool hitHints = false;      // BoundsOnly: any-hit rays visit the leaf of their previous hit first
     bool computeCellPass = false; // cell lists traced in compute dispatches instead of fragment passes
+    bool hintPass = false;      // hints visited in a pass of their own, the rays left traced compacted
 };
 
 class ChcrtExactnessTest : public RenderTest, public ::testing::WithParamInterface<ExactnessCase> {};
@@ -67,6 +68,7 @@ ChcrtOptions optionsOf(const ExactnessCase& c, const int& frame) {
     options.cellListLimit = c.cellListLimit;
     options.hitHints = c.hitHints;
     options.computeCellPass = c.computeCellPass;
+    options.hintPass = c.hintPass;
     if (c.adaptive) {
         options.adaptiveTiming = fixedAdaptiveTiming(frame);
         options.adaptiveProbeInterval = 1;
@@ -152,6 +154,13 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
             EXPECT_TRUE(bvh_.isLeaf(leaf)) << "hint " << leaf << " is not a leaf";
         }
         EXPECT_GT(recorded, leaves.size() / 20);
+        if (c.hintPass && c.queries == ChcrtQueries::BoundsOnly) {
+            // The hint pass ran on every culled any-hit trace and left some rays (not all) to the cell lists.
+            EXPECT_GT(chcrt.totalStats().hintPasses, 0u);
+            EXPECT_GT(chcrt.totalStats().hintRaysLeft, 0u);
+        } else {
+            EXPECT_EQ(chcrt.totalStats().hintPasses, 0u);
+        }
     } else {
         EXPECT_EQ(chcrt.hintTexture(shadow), 0u);
     }
@@ -358,49 +367,54 @@ TEST_F(RenderTest, RayBoundsShrunkBelowTheRoundingPadLoseHitsThatTheComparisonDe
 
 TEST_F(RenderTest, ArbitraryHitHintsKeepHitsExact) {
     // A hint only says where to look first: whatever leaf or inner node it names, the hits stay pure BVH's. The hint
-    // images of shadow and AO rays are overwritten with random nodes (leaves and inner nodes alike) before each trace.
+    // images of shadow and AO rays are overwritten with random nodes (leaves and inner nodes alike) before each trace,
+    // with the hints visited in the cell pass and in the hint pass.
     RenderSettings settings;
     settings.width = 96;
     settings.height = 72;
     Renderer& renderer = makeProceduralRenderer("city:60k", settings);
-    ChcrtOptions options;
-    options.partition.maxSubtreeHeight = 8;
-    options.pairs.minTileSize = 16;
-    options.adaptive = false;
-    options.queries = ChcrtQueries::BoundsOnly;
-    options.hitHints = true;
-    ChcrtTracer chcrt(bvh_, options);
-    const CameraPath path = proceduralNearPath(spec_);
-    std::mt19937 random(7);
-    std::uniform_int_distribution<uint32_t> node(0, uint32_t(bvh_.nodes.size() - 1));
-    std::vector<uint32_t> hints(size_t(settings.width) * size_t(settings.height));
-    size_t differing = 0, traced = 0;
-    FrameStats stats;
-    for (int frame = 0; frame < 3; ++frame) {
-        const Camera camera = path.cameraAtFrame(frame * 2);
-        renderer.renderGBuffer(camera, stats);
-        for (RayType type : {RayType::Shadow, RayType::Ao}) {
-            TraceRequest request;
-            request.rayType = type;
-            request.anyHit = true;
-            renderer.generateRayPass(camera, type, 0, stats);
-            renderer.useTracer(nullptr);
-            renderer.traceRayPass(camera, type, 0, stats);
-            const std::vector<Hit> reference = renderer.readHits(0);
-            if (GLuint texture = chcrt.hintTexture(request)) {
-                for (uint32_t& h : hints) h = random() % 4 == 0 ? CHCRT_NO_HIT_ID : node(random);
-                glTextureSubImage2D(texture, 0, 0, 0, settings.width, settings.height, GL_RED_INTEGER, GL_UNSIGNED_INT,
-                                    hints.data());
-                ++traced;
+    for (bool hintPass : {false, true}) {
+        ChcrtOptions options;
+        options.partition.maxSubtreeHeight = 8;
+        options.pairs.minTileSize = 16;
+        options.adaptive = false;
+        options.queries = ChcrtQueries::BoundsOnly;
+        options.hitHints = true;
+        options.hintPass = hintPass;
+        ChcrtTracer chcrt(bvh_, options);
+        const CameraPath path = proceduralNearPath(spec_);
+        std::mt19937 random(7);
+        std::uniform_int_distribution<uint32_t> node(0, uint32_t(bvh_.nodes.size() - 1));
+        std::vector<uint32_t> hints(size_t(settings.width) * size_t(settings.height));
+        size_t differing = 0, traced = 0;
+        FrameStats stats;
+        for (int frame = 0; frame < 3; ++frame) {
+            const Camera camera = path.cameraAtFrame(frame * 2);
+            renderer.renderGBuffer(camera, stats);
+            for (RayType type : {RayType::Shadow, RayType::Ao}) {
+                TraceRequest request;
+                request.rayType = type;
+                request.anyHit = true;
+                renderer.generateRayPass(camera, type, 0, stats);
+                renderer.useTracer(nullptr);
+                renderer.traceRayPass(camera, type, 0, stats);
+                const std::vector<Hit> reference = renderer.readHits(0);
+                if (GLuint texture = chcrt.hintTexture(request)) {
+                    for (uint32_t& h : hints) h = random() % 4 == 0 ? CHCRT_NO_HIT_ID : node(random);
+                    glTextureSubImage2D(texture, 0, 0, 0, settings.width, settings.height, GL_RED_INTEGER,
+                                        GL_UNSIGNED_INT, hints.data());
+                    ++traced;
+                }
+                renderer.useTracer(&chcrt);
+                renderer.traceRayPass(camera, type, 0, stats);
+                const std::vector<Hit> culled = renderer.readHits(0);
+                for (size_t i = 0; i < reference.size(); ++i) differing += !sameHit(reference[i], culled[i], true);
             }
-            renderer.useTracer(&chcrt);
-            renderer.traceRayPass(camera, type, 0, stats);
-            const std::vector<Hit> culled = renderer.readHits(0);
-            for (size_t i = 0; i < reference.size(); ++i) differing += !sameHit(reference[i], culled[i], true);
         }
+        EXPECT_EQ(traced, 4u) << "hint pass " << hintPass; // both ray sets, from their second trace on
+        EXPECT_EQ(differing, 0u) << "hint pass " << hintPass;
+        EXPECT_EQ(chcrt.totalStats().hintPasses > 0, hintPass);
     }
-    EXPECT_EQ(traced, 4u); // both ray sets, from their second trace on
-    EXPECT_EQ(differing, 0u);
 }
 
 TEST_F(RenderTest, GpuCellListsWithRayBoundsShrunkBelowTheRoundingPadLoseHits) {
@@ -514,7 +528,8 @@ std::string caseName(const ::testing::TestParamInfo<ExactnessCase>& info) {
                                                          "_pieces" + std::to_string(info.param.boundsPieces)) +
            (info.param.boundsPreviousFront ? "_front" : "") + (info.param.adaptiveHeights.empty() ? "" : "_heights") +
            (info.param.cellListLimit ? "_limit" + std::to_string(info.param.cellListLimit) : "") +
-           (info.param.hitHints ? "_hints" : "") + (info.param.computeCellPass ? "_compute" : "");
+           (info.param.hitHints ? "_hints" : "") + (info.param.computeCellPass ? "_compute" : "") +
+           (info.param.hintPass ? "_hintpass" : "");
 }
 
 // Subtree height 8, well below the BVH depth at 60k triangles, so that object-space splits happen; tiles small enough for
@@ -591,7 +606,18 @@ INSTANTIATE_TEST_SUITE_P(ProceduralScenes, ChcrtExactnessTest,
                                                          ChcrtQueries::BoundsGpu, 16, 2, false, {}, 0, false, true},
                                            // without a list limit the GPU's longest lists still go to the whole tree
                                            ExactnessCase{"interior:60k", 8, 16, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsGpu, 16, 2}),
+                                                         ChcrtQueries::BoundsGpu, 16, 2},
+                                           // the hint pass (fragment and compute), the rays left traced compacted:
+                                           // cells of 4 to 16 pixels, a list limit, the adaptive choice
+                                           ExactnessCase{"city:60k", 8, 16, true, 4, false, false, true, true,
+                                                         ChcrtQueries::BoundsOnly, 8, 4, false, {}, 0, true, false,
+                                                         true},
+                                           ExactnessCase{"interior:60k", 12, 16, true, 4, false, false, true, true,
+                                                         ChcrtQueries::BoundsOnly, 4, 4, false, {}, 12, true, true,
+                                                         true},
+                                           ExactnessCase{"plant:60k", 12, 16, true, 4, true, false, true, true,
+                                                         ChcrtQueries::BoundsOnly, 16, 4, false, {10}, 64, true, false,
+                                                         true}),
                          caseName);
 
 } // namespace

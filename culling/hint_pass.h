@@ -1,0 +1,45 @@
+#pragma once
+// CHC+RT hint pass (ours; culling/README.md "Hit hints", "The hint pass"): for an any-hit ray set with hit hints,
+// one compute pass visits every active ray's hinted leaf before the ray bounds reduction, and lists the rays that
+// it did not finish in a compaction buffer. Rays finished there drop out of the reduction (their cells' bounds
+// shrink or empty), and the cell lists are then traversed by one dispatch over the listed rays only
+// (CellTraversal::drawCompacted): when most rays of a cell hit their hints, a pass over all of them made each SIMD
+// group wait in every loop of the list traversal for its slowest ray. Same hits: the hint visit is the one the cell
+// pass made (shaders/culling/hint_leaf.glsl), and the rays left are traversed as before.
+#include "renderer/gl/gl_objects.h"
+#include "renderer/gl/shader.h"
+
+#include <cstdint>
+
+namespace chcrt {
+
+class HintPass {
+public:
+    // `compute`: the pass is a compute dispatch (GPUs); else a full-screen fragment pass behind the active-ray mask.
+    // `cellSize`: the ray bounds grid's cell edge (its marks are per cell). Compiles the pass's program now, so that
+    // no trace pays for it.
+    HintPass(bool compute, int cellSize);
+
+    // Visits the hinted leaves of a width × height ray set: the ray textures, the hit image (cleared) and the hint
+    // image must be bound as the cell passes bind them (culling_layout.h). `maskFramebuffer`: a depth-only target
+    // whose depth is 1 where a ray is active (the fragment pass tests it early). `debugCost`: add the visits' steps
+    // to the cost debug image (bound at CHCRT_CULLING_IMAGE_DEBUG). Leaves the compaction buffer bound as the shader
+    // storage buffer CHCRT_CULLING_COMPACT_BUFFER and as GL_DISPATCH_INDIRECT_BUFFER, ordered before later reads.
+    void run(int width, int height, GLuint maskFramebuffer, bool debugCost);
+    // The marks of the last run (a uint per ray bounds cell of `cellSize` pixels: nonzero where a ray was listed),
+    // for the reduction that follows it (RayBoundsGrid::update's `cellMarks`).
+    GLuint cellMarks() const { return marks_.id(); }
+    // Rays the last run left for the cell lists (reads back: call once the trace has finished).
+    uint32_t raysLeft() const;
+
+private:
+    const ShaderProgram& program(bool debugCost);
+
+    bool compute_ = false;
+    ShaderProgram programs_[2]; // [debugCost]; the debug variant compiled on first use
+    int cellSize_ = 8;
+    GlBuffer buffer_, marks_;
+    size_t capacity_ = 0, markCapacity_ = 0; // rays the buffer can list, cells the marks hold
+};
+
+} // namespace chcrt

@@ -1,0 +1,70 @@
+// CHC+RT hint pass (culling/hint_pass.h), the part shared by its compute pass (chcrt_hints.comp.glsl) and its
+// fragment pass (chcrt_hints.frag.glsl): every active any-hit ray visits the leaf of its hit hint (culling/README.md,
+// "Hit hints") before anything else of the trace. A hit there finishes the ray: it is stored, and the ray bounds
+// reduction that follows leaves the ray out. Every other active ray drops its hint (it no longer hits) and is
+// appended to the compaction buffer, so that the cell lists are traversed by a dispatch over exactly those rays
+// (chcrt_cells_compact.comp.glsl): when a few rays of a cell miss their hints, the others no longer wait for them
+// in every loop of the traversal, as SIMD lanes do in a pass over all rays. The cell of every listed ray is marked,
+// so that the reduction skips the cells left without a ray to trace.
+// Host defines: CHCRT_CULLING_DEBUG_COST (add the hint visits' steps to the cost debug image).
+#include "shared/render_layout.h"
+#include "shared/bvh_layout.h"
+#include "shared/culling_layout.h"
+#define TRACE_ANY_HIT 1
+#include "render/bvh_nodes.glsl"
+
+layout(binding = CHCRT_UNIT_RAY_ORIGIN) uniform sampler2D rayOrigins;
+layout(binding = CHCRT_UNIT_RAY_DIRECTION) uniform sampler2D rayDirections;
+layout(binding = CHCRT_CULLING_IMAGE_HIT, rgba32ui) uniform writeonly uimage2D hitImage;
+layout(binding = CHCRT_CULLING_IMAGE_HINT, r32ui) uniform uimage2D hintImage;
+#ifdef CHCRT_CULLING_DEBUG_COST
+layout(binding = CHCRT_CULLING_IMAGE_DEBUG, r32ui) uniform coherent uimage2D debugImage;
+#endif
+layout(std430, binding = CHCRT_CULLING_COMPACT_BUFFER) buffer Compaction {
+    uint dispatchGroups; // the indirect dispatch command: (dispatchGroups, 1, 1)
+    uint dispatchY;
+    uint dispatchZ;
+    uint listed; // rays listed in pixels[]
+    uint pixels[];
+};
+layout(std430, binding = CHCRT_CULLING_COMPACT_CELLS) writeonly buffer CellMarks {
+    uint cellMarks[];
+};
+
+uniform int cellsX;   // the ray bounds grid's cells per row
+uniform int cellSize; // and their edge in pixels
+
+#include "culling/hint_leaf.glsl"
+#include "culling/debug_cost.glsl"
+
+// The hint visit of the ray of `pixel`: stores a hit found there, or drops the hint and lists the ray.
+void visitHintOfPixel(ivec2 pixel) {
+    vec4 originTmin = texelFetch(rayOrigins, pixel, 0);
+    vec4 directionTmax = texelFetch(rayDirections, pixel, 0);
+    if (!(directionTmax.w > originTmin.w)) {
+        return; // inactive (NaN counts as inactive, as in every tracer)
+    }
+    TraceHit best = makeMiss(directionTmax.w);
+    TraceCost cost = TraceCost(0u, 0u, 0u, 0u);
+    uint hintLeaf = imageLoad(hintImage, pixel).x;
+    if (hintLeaf != CHCRT_NO_HIT_ID) {
+        visitHintLeaf(hintLeaf, originTmin.xyz, directionTmax.xyz, originTmin.w, best, cost);
+    }
+#ifdef CHCRT_CULLING_DEBUG_COST
+    addCostSteps(pixel, cost);
+#endif
+    if (best.triangleId != CHCRT_NO_HIT_ID) {
+        imageStore(hitImage, pixel, uvec4(floatBitsToUint(best.t), best.triangleId, floatBitsToUint(best.barycentrics)));
+        return; // finished; the hint stays
+    }
+    if (hintLeaf != CHCRT_NO_HIT_ID) {
+        imageStore(hintImage, pixel, uvec4(CHCRT_NO_HIT_ID)); // a hint that no longer hits is dropped
+    }
+    uint slot = atomicAdd(listed, 1u);
+    if (slot % uint(CHCRT_CULLING_COMPACT_GROUP) == 0u) {
+        atomicAdd(dispatchGroups, 1u);
+    }
+    pixels[slot] = uint(pixel.x) | (uint(pixel.y) << 16);
+    ivec2 cell = pixel / cellSize;
+    cellMarks[cell.y * cellsX + cell.x] = 1u; // every writer writes the same value: no atomic needed
+}
