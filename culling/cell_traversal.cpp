@@ -73,12 +73,16 @@ uint32_t CellTraversal::draw(bool anyHit, const std::string& debugDefine, int wi
 uint32_t CellTraversal::drawCompacted(bool anyHit, const std::string& debugDefine) {
     if (entries_.empty()) return 0; // no cell has work: every listed ray keeps its miss
     uploadLists(debugDefine);
+    dispatchCompacted(anyHit, debugDefine, cellsX_, cellSize_);
+    return uint32_t(drawCells_.size());
+}
+
+void CellTraversal::dispatchCompacted(bool anyHit, const std::string& debugDefine, int cellsX, int cellSize) {
     const ShaderProgram& p = program(anyHit, debugDefine, true);
     p.use();
-    p.set("cellsX", cellsX_);
-    p.set("cellSize", cellSize_);
+    p.set("cellsX", cellsX);
+    p.set("cellSize", cellSize);
     glDispatchComputeIndirect(0);
-    return uint32_t(drawCells_.size());
 }
 
 void CellTraversal::uploadLists(const std::string& debugDefine) {

@@ -63,6 +63,9 @@ public:
     // the shader storage and dispatch-indirect buffer): each traverses the list of its cell. Returns the cells with
     // work.
     uint32_t drawCompacted(bool anyHit, const std::string& debugDefine);
+    // The same over lists decided on the GPU (gpu_cell_lists.h, bound already), the compaction buffer bound as the
+    // dispatch-indirect buffer.
+    void dispatchCompacted(bool anyHit, const std::string& debugDefine, int cellsX, int cellSize);
     // The same for lists decided on the GPU (gpu_cell_lists.h): the list texture units and the indirect draw of the
     // cells with work are bound already; cellsX / cellSize describe the grid.
     void drawIndirect(bool anyHit, const std::string& debugDefine, int width, int height, int cellsX, int cellSize,

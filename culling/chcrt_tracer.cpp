@@ -297,7 +297,7 @@ void ChcrtTracer::compilePrograms() {
             return defines;
         }, options_.computeCellPass ? options_.bounds.cellSize : 0);
         if (wholeTree) cells_->setWholeTree(0u, options_.cellListLimit);
-        const bool hintPass = hints && options_.hintPass && options_.queries == ChcrtQueries::BoundsOnly;
+        const bool hintPass = hints && options_.hintPass;
         cells_->compile(hintPass);
         if (hintPass) hintPass_ = std::make_unique<HintPass>(options_.computeCellPass, options_.bounds.cellSize);
     }

@@ -338,6 +338,8 @@ private:
     // Whether this trace of the request's ray set runs the hint pass (options_.hintPass, and the ray set's last hint
     // pass left at most hintPassMaxLeft of its pixels, or a retry is due), and the record of a run.
     bool hintPassDue(const TraceRequest& request);
+    // Runs the hint pass when it is due for this trace (and the debug image allows it); whether it ran.
+    bool runHintPass(const TraceRequest& request, GLuint hintImage, int width, int height, const RayTextures& rays);
     void recordHintPass(const TraceRequest& request, uint32_t raysLeft, int width, int height);
     std::string debugDefineOfKind() const;
     void ensureDebugTexture(int width, int height);

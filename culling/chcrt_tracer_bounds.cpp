@@ -75,15 +75,20 @@ bool ChcrtTracer::traceBoundedGpu(const TraceRequest& request, const RayTextures
     beginTrace(rays, hits, width, height);
     const GLuint hintImage = hintImageFor(request, width, height);
     if (hintImage != 0) glBindImageTexture(CHCRT_CULLING_IMAGE_HINT, hintImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+    const bool hintPass = runHintPass(request, hintImage, width, height, rays);
     // The reduction and the lists are queued one after the other; the CPU waits for neither (the times below are
     // the CPU's, submitting them; the cell pass's GPU time is subtreePassMs).
     const auto boundsStart = Clock::now();
     const CullingHierarchy::Node& root = hierarchy_.nodes[0];
+    const GLuint hitImage = hintPass ? hits.hit.id() : 0, marks = hintPass ? hintPass_->cellMarks() : 0;
     if (debugKind_ == ChcrtDebugImage::Bounds) { // the bounds image needs the grid on the CPU
-        rayExtent_->update(rays.origin.id(), rays.direction.id(), 0, anyHit, width, height, root.boxMin, root.boxMax);
+        rayExtent_->update(rays.origin.id(), rays.direction.id(), hitImage, anyHit, width, height, root.boxMin,
+                           root.boxMax, marks);
     } else {
-        rayExtent_->reduce(rays.origin.id(), rays.direction.id(), 0, anyHit, width, height, root.boxMin, root.boxMax);
+        rayExtent_->reduce(rays.origin.id(), rays.direction.id(), hitImage, anyHit, width, height, root.boxMin,
+                           root.boxMax, marks);
     }
+    if (hitImage != 0) glBindImageTexture(CHCRT_CULLING_IMAGE_HIT, hitImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32UI);
     ++last_.boundsUpdates;
     last_.boundsMs += millisecondsSince(boundsStart);
     const auto listStart = Clock::now();
@@ -97,8 +102,13 @@ bool ChcrtTracer::traceBoundedGpu(const TraceRequest& request, const RayTextures
     start = Clock::now();
     mode_ = Mode::None;
     beginPassTimer();
-    cells_->drawIndirect(anyHit, debugDefineOfKind(), width, height, cellsX, cell, maskFramebufferFor(rays.active.id()),
-                         false);
+    if (hintPass) {
+        hintPass_->bindDispatch(); // the lists' build bound its own indirect commands
+        cells_->dispatchCompacted(anyHit, debugDefineOfKind(), cellsX, cell);
+    } else {
+        cells_->drawIndirect(anyHit, debugDefineOfKind(), width, height, cellsX, cell,
+                             maskFramebufferFor(rays.active.id()), false);
+    }
     endPassTimer();
     ++last_.shaderCalls;
     finishTrace(width, height);
@@ -111,8 +121,29 @@ bool ChcrtTracer::traceBoundedGpu(const TraceRequest& request, const RayTextures
     last_.boundsCulledFrustum = counters.culledFrustum;
     last_.boundsReached = counters.reached;
     last_.subtreesScheduled = counters.entries;
+    if (hintPass) {
+        last_.hintRaysLeft = hintPass_->raysLeft();
+        recordHintPass(request, uint32_t(last_.hintRaysLeft), width, height);
+    }
     last_.phase3Ms = millisecondsSince(start);
     return warm;
+}
+
+bool ChcrtTracer::runHintPass(const TraceRequest& request, GLuint hintImage, int width, int height,
+                              const RayTextures& rays) {
+    // The hint pass (hint_pass.h): hinted leaves first, for every ray, in a pass of their own; the rays they finish
+    // leave the reduction, and the rest are traced in one compacted dispatch. It records no subtree ids or list
+    // lengths, so those debug images keep the visits in the cell pass. Needs one round (no previous front).
+    const bool hintPass = hintImage != 0 && hintPass_ && !options_.boundsPreviousFront &&
+                          debugKind_ != ChcrtDebugImage::Subtrees && debugKind_ != ChcrtDebugImage::Batches &&
+                          hintPassDue(request);
+    if (!hintPass) return false;
+    beginPassTimer();
+    hintPass_->run(width, height, maskFramebufferFor(rays.active.id()), debugKind_ == ChcrtDebugImage::Cost);
+    endPassTimer();
+    ++last_.shaderCalls;
+    ++last_.hintPasses;
+    return true;
 }
 
 std::string ChcrtTracer::debugDefineOfKind() const {
@@ -188,19 +219,7 @@ bool ChcrtTracer::traceBounded(const TraceRequest& request, const RayTextures& r
     // hits there.
     const GLuint hintImage = hintImageFor(request, width, height);
     if (hintImage != 0) glBindImageTexture(CHCRT_CULLING_IMAGE_HINT, hintImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
-    // The hint pass (hint_pass.h): hinted leaves first, for every ray, in a pass of their own; the rays they finish
-    // leave the reduction, and the rest are traced in one compacted dispatch. It records no subtree ids or list
-    // lengths, so those debug images keep the visits in the cell pass. Needs one round (no previous front).
-    const bool hintPass = hintImage != 0 && hintPass_ && !options_.boundsPreviousFront &&
-                          debugKind_ != ChcrtDebugImage::Subtrees && debugKind_ != ChcrtDebugImage::Batches &&
-                          hintPassDue(request);
-    if (hintPass) {
-        beginPassTimer();
-        hintPass_->run(width, height, maskFramebufferFor(rays.active.id()), debugKind_ == ChcrtDebugImage::Cost);
-        endPassTimer();
-        ++last_.shaderCalls;
-        ++last_.hintPasses;
-    }
+    const bool hintPass = runHintPass(request, hintImage, width, height, rays);
     // Before any hit, a ray reaches its whole segment (clipped to the scene): bounded rays (shadow, AO) already
     // leave most of the scene out, and every cell's lists get their entry bounds. After the hint pass, any-hit rays
     // it finished are left out.

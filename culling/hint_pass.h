@@ -29,6 +29,8 @@ public:
     // The marks of the last run (a uint per ray bounds cell of `cellSize` pixels: nonzero where a ray was listed),
     // for the reduction that follows it (RayBoundsGrid::update's `cellMarks`).
     GLuint cellMarks() const { return marks_.id(); }
+    // Binds the compaction buffer as GL_DISPATCH_INDIRECT_BUFFER again (after a pass that bound another).
+    void bindDispatch() const { glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, buffer_.id()); }
     // Rays the last run left for the cell lists (reads back: call once the trace has finished).
     uint32_t raysLeft() const;
 

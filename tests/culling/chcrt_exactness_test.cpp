@@ -154,7 +154,7 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
             EXPECT_TRUE(bvh_.isLeaf(leaf)) << "hint " << leaf << " is not a leaf";
         }
         EXPECT_GT(recorded, leaves.size() / 20);
-        if (c.hintPass && c.queries == ChcrtQueries::BoundsOnly) {
+        if (c.hintPass) {
             // The hint pass ran on every culled any-hit trace and left some rays (not all) to the cell lists.
             EXPECT_GT(chcrt.totalStats().hintPasses, 0u);
             EXPECT_GT(chcrt.totalStats().hintRaysLeft, 0u);
@@ -617,6 +617,13 @@ INSTANTIATE_TEST_SUITE_P(ProceduralScenes, ChcrtExactnessTest,
                                                          true},
                                            ExactnessCase{"plant:60k", 12, 16, true, 4, true, false, true, true,
                                                          ChcrtQueries::BoundsOnly, 16, 4, false, {10}, 64, true, false,
+                                                         true},
+                                           // the hint pass before lists decided on the GPU (compute, as on GPUs, and
+                                           // fragment)
+                                           ExactnessCase{"city:60k", 8, 16, true, 4, false, false, true, true,
+                                                         ChcrtQueries::BoundsGpu, 8, 4, false, {}, 0, true, true, true},
+                                           ExactnessCase{"interior:60k", 12, 16, true, 4, false, false, true, true,
+                                                         ChcrtQueries::BoundsGpu, 4, 8, false, {}, 3, true, false,
                                                          true}),
                          caseName);
 
