@@ -392,13 +392,14 @@ bool ChcrtTracer::hintsAvailable() const {
 }
 
 GLuint ChcrtTracer::hintTexture(const TraceRequest& request) const {
-    const auto it = hints_.find(rayStateKey(request));
-    return it == hints_.end() ? 0 : it->second.id();
+    const auto it = hintStore_->find(rayStateKey(request));
+    return it == hintStore_->end() ? 0 : it->second.id();
 }
 
 GLuint ChcrtTracer::hintImageFor(const TraceRequest& request, int width, int height) {
+    hintsFresh_ = false;
     if (!hintsAvailable() || !request.anyHit) return 0;
-    GlTexture& hint = hints_[rayStateKey(request)];
+    GlTexture& hint = (*hintStore_)[rayStateKey(request)];
     GLint w = 0, h = 0;
     if (hint.id() != 0) {
         glGetTextureLevelParameteriv(hint.id(), 0, GL_TEXTURE_WIDTH, &w);
@@ -415,20 +416,17 @@ GLuint ChcrtTracer::hintImageFor(const TraceRequest& request, int width, int hei
 }
 
 bool ChcrtTracer::hintPassDue(const TraceRequest& request) {
-    if (!options_.hintPass) return false;
-    if (hintsFresh_) { // no hint yet: every ray would be left; the next trace has the hints of this one
-        hintPassSkipped_[rayStateKey(request)] = options_.hintPassRetryInterval - 1;
-        return false;
-    }
-    const auto it = hintPassSkipped_.find(rayStateKey(request));
-    if (it == hintPassSkipped_.end()) return true;
-    return ++it->second >= options_.hintPassRetryInterval;
+    if (!options_.hintPass || hintsFresh_) return false; // fresh: no hint yet, every ray would be left
+    HintPassRecord& record = (*hintPassRecords_)[adaptiveKey(request)];
+    if (record.misses < kHintPassMisses) return true;
+    return ++record.skipped >= options_.hintPassRetryInterval;
 }
 
 void ChcrtTracer::recordHintPass(const TraceRequest& request, uint32_t raysLeft, int width, int height) {
-    const uint64_t key = rayStateKey(request);
-    if (double(raysLeft) > options_.hintPassMaxLeft * double(width) * double(height)) hintPassSkipped_[key] = 0;
-    else hintPassSkipped_.erase(key);
+    HintPassRecord& record = (*hintPassRecords_)[adaptiveKey(request)];
+    record.skipped = 0;
+    const bool tooMany = double(raysLeft) > options_.hintPassMaxLeft * double(width) * double(height);
+    record.misses = tooMany ? record.misses + 1 : 0;
 }
 
 GLuint ChcrtTracer::maskFramebufferFor(GLuint depthTexture) {
@@ -804,6 +802,8 @@ ChcrtTracer& ChcrtTracer::armTracer(uint32_t arm) {
         options.adaptive = false;
         options.adaptiveHeights.clear();
         tracer = std::make_unique<ChcrtTracer>(*bvh_, options, name_);
+        tracer->hintStore_ = hintStore_;
+        tracer->hintPassRecords_ = hintPassRecords_;
     }
     return *tracer;
 }

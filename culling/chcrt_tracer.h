@@ -74,8 +74,9 @@ struct ChcrtOptions {
     bool hintPass = false;
     // The hint pass pays for itself where most rays end at their hints (city near, 256²: shadow rays, 5-10 % left,
     // traced 1.2x faster with it); where many rays have no hint (AO rays that escape: 45-60 % left) the pass over all
-    // rays costs more than the compaction saves. A ray set whose hint pass left more than this share of its pixels
-    // visits its hints in the cell pass instead, and tries the hint pass again every hintPassRetryInterval traces.
+    // rays costs more than the compaction saves. A ray kind whose hint passes left more than this share of the pixels
+    // twice in a row visits its hints in the cell pass instead, and tries the hint pass again every
+    // hintPassRetryInterval traces.
     double hintPassMaxLeft = 0.25;
     uint32_t hintPassRetryInterval = 16;
     // BoundsOnly and BoundsGpu: trace the cell lists in compute dispatches (a work group per cell) instead of fragment
@@ -335,8 +336,9 @@ private:
     // The hint image of the request's ray set (R32UI of the traced size, CHCRT_CULLING_IMAGE_HINT), made on first
     // use with no hints; 0 when the ray set has none (hints off, or closest-hit rays).
     GLuint hintImageFor(const TraceRequest& request, int width, int height);
-    // Whether this trace of the request's ray set runs the hint pass (options_.hintPass, and the ray set's last hint
-    // pass left at most hintPassMaxLeft of its pixels, or a retry is due), and the record of a run.
+    // Whether this trace of the request's ray set runs the hint pass (options_.hintPass, hints from an earlier trace,
+    // and its ray kind's recent hint passes left at most hintPassMaxLeft of the pixels, or a retry is due), and the
+    // record of a run.
     bool hintPassDue(const TraceRequest& request);
     // Runs the hint pass when it is due for this trace (and the debug image allows it); whether it ran.
     bool runHintPass(const TraceRequest& request, GLuint hintImage, int width, int height, const RayTextures& rays);
@@ -370,9 +372,24 @@ private:
     std::map<GLuint, GlFramebuffer> framebuffers_; // by depth texture id
     std::map<uint64_t, std::unique_ptr<VisibilityState>> states_;
     std::map<uint64_t, GlTexture> hints_; // hit hints per ray set (rayStateKey), hitHints only
-    // Per ray set (rayStateKey): traces since its hint pass last left too many rays; absent = the pass is due.
-    std::map<uint64_t, uint32_t> hintPassSkipped_;
+    // The hints this tracer reads and writes: its own, or for the tracers of adaptiveHeights those of the tracer that
+    // owns them. Hints name leaves of the one in-core BVH, whatever the termination height, so every arm continues
+    // from the hints of the last culled trace of the ray set; a probe of another height is then measured as it would
+    // run, not from cold hints.
+    std::map<uint64_t, GlTexture>* hintStore_ = &hints_;
+    // Per ray kind (adaptiveKey: whether hints finish most rays depends on the kind of ray in the scene, not on the
+    // sample or the height; shared with the adaptiveHeights tracers as the hints are): its hint passes in a row that
+    // left too many rays, and its traces since the last one. From kHintPassMisses such passes on (one may come from
+    // hints of an unrepresentative trace) the kind visits its hints in the cell pass, retrying every
+    // hintPassRetryInterval traces.
+    struct HintPassRecord {
+        uint32_t misses = 0, skipped = 0;
+    };
+    static constexpr uint32_t kHintPassMisses = 2;
+    std::map<uint64_t, HintPassRecord> ownHintPassRecords_;
+    std::map<uint64_t, HintPassRecord>* hintPassRecords_ = &ownHintPassRecords_;
     bool hintsFresh_ = false; // the last hintImageFor created (or cleared) its ray set's hints
+    bool hintPassRan_ = false, hintPassFirst_ = false; // the hint pass ran before; this trace ran it first
     std::map<uint64_t, AdaptiveChoice> adaptive_; // per ray kind
     std::unique_ptr<RayBoundsGrid> rayExtent_;    // with options_.rayExtentCulling or BoundsOnly, updated per trace
     std::unique_ptr<CellTraversal> cells_;        // BoundsOnly's and BoundsGpu's intersection rounds

@@ -70,12 +70,14 @@ bool ChcrtTracer::decideByBounds(int32_t first, VisibilityState& state, std::vec
 bool ChcrtTracer::traceBoundedGpu(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width,
                                   int height) {
     const bool anyHit = request.anyHit;
-    const bool warm = tracesRun_ > 1; // every trace is alike; the first compiles and fills caches
+    bool warm = tracesRun_ > 1; // every trace is alike; the first compiles and fills caches
     auto start = Clock::now();
     beginTrace(rays, hits, width, height);
     const GLuint hintImage = hintImageFor(request, width, height);
     if (hintImage != 0) glBindImageTexture(CHCRT_CULLING_IMAGE_HINT, hintImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+    warm = warm && !hintsFresh_; // a ray set's first trace has no hints yet: not a sample of culling's cost
     const bool hintPass = runHintPass(request, hintImage, width, height, rays);
+    warm = warm && !(hintPass && hintPassFirst_);
     // The reduction and the lists are queued one after the other; the CPU waits for neither (the times below are
     // the CPU's, submitting them; the cell pass's GPU time is subtreePassMs).
     const auto boundsStart = Clock::now();
@@ -138,6 +140,8 @@ bool ChcrtTracer::runHintPass(const TraceRequest& request, GLuint hintImage, int
                           debugKind_ != ChcrtDebugImage::Subtrees && debugKind_ != ChcrtDebugImage::Batches &&
                           hintPassDue(request);
     if (!hintPass) return false;
+    hintPassFirst_ = last_.hintPasses == 0 && !hintPassRan_; // its programs' first use (llvmpipe compiles variants then)
+    hintPassRan_ = true;
     beginPassTimer();
     hintPass_->run(width, height, maskFramebufferFor(rays.active.id()), debugKind_ == ChcrtDebugImage::Cost);
     endPassTimer();
@@ -212,14 +216,16 @@ bool ChcrtTracer::traceBounded(const TraceRequest& request, const RayTextures& r
     const bool anyHit = request.anyHit;
     VisibilityState& state = stateFor(request, width, height);
     // Without the previous front every trace is alike; only the first (compiling, filling caches) is not typical.
-    const bool warm = options_.boundsPreviousFront ? state.frame() > 0 : tracesRun_ > 1;
+    bool warm = options_.boundsPreviousFront ? state.frame() > 0 : tracesRun_ > 1;
     auto start = Clock::now();
     beginTrace(rays, hits, width, height);
     // Hit hints (any-hit ray sets): the cell passes first visit each ray's hinted leaf and record the leaves of new
     // hits there.
     const GLuint hintImage = hintImageFor(request, width, height);
     if (hintImage != 0) glBindImageTexture(CHCRT_CULLING_IMAGE_HINT, hintImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+    warm = warm && !hintsFresh_; // a ray set's first trace has no hints yet: not a sample of culling's cost
     const bool hintPass = runHintPass(request, hintImage, width, height, rays);
+    warm = warm && !(hintPass && hintPassFirst_);
     // Before any hit, a ray reaches its whole segment (clipped to the scene): bounded rays (shadow, AO) already
     // leave most of the scene out, and every cell's lists get their entry bounds. After the hint pass, any-hit rays
     // it finished are left out.

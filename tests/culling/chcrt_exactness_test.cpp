@@ -417,6 +417,47 @@ TEST_F(RenderTest, ArbitraryHitHintsKeepHitsExact) {
     }
 }
 
+// The hint pass's rule (ChcrtOptions::hintPassMaxLeft): a ray set's first trace has no hints and skips the pass; from
+// two passes in a row that left too many rays on, the kind skips it, retrying every hintPassRetryInterval traces. With
+// a share of 0 every pass leaves too many, with 1 none does; the hits stay pure BVH's either way.
+TEST_F(RenderTest, HintPassStopsWhereItLeavesTooManyRaysAndRetries) {
+    RenderSettings settings;
+    settings.width = 96;
+    settings.height = 72;
+    Renderer& renderer = makeProceduralRenderer("city:60k", settings);
+    const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
+    FrameStats stats;
+    renderer.renderGBuffer(camera, stats);
+    renderer.generateRayPass(camera, RayType::Shadow, 0, stats);
+    renderer.useTracer(nullptr);
+    renderer.traceRayPass(camera, RayType::Shadow, 0, stats);
+    const std::vector<Hit> reference = renderer.readHits(0);
+    for (double maxLeft : {0.0, 1.0}) {
+        ChcrtOptions options;
+        options.partition.maxSubtreeHeight = 8;
+        options.adaptive = false;
+        options.queries = ChcrtQueries::BoundsOnly;
+        options.hitHints = true;
+        options.hintPass = true;
+        options.hintPassMaxLeft = maxLeft;
+        options.hintPassRetryInterval = 3;
+        ChcrtTracer chcrt(bvh_, options);
+        renderer.useTracer(&chcrt);
+        std::vector<uint64_t> passes;
+        size_t differing = 0;
+        for (int trace = 0; trace < 7; ++trace) {
+            renderer.traceRayPass(camera, RayType::Shadow, 0, stats);
+            passes.push_back(chcrt.lastStats().hintPasses);
+            const std::vector<Hit> culled = renderer.readHits(0);
+            for (size_t i = 0; i < reference.size(); ++i) differing += !sameHit(reference[i], culled[i], true);
+        }
+        const std::vector<uint64_t> expected =
+            maxLeft == 0.0 ? std::vector<uint64_t>{0, 1, 1, 0, 0, 1, 0} : std::vector<uint64_t>{0, 1, 1, 1, 1, 1, 1};
+        EXPECT_EQ(passes, expected) << "hintPassMaxLeft " << maxLeft;
+        EXPECT_EQ(differing, 0u) << "hintPassMaxLeft " << maxLeft;
+    }
+}
+
 TEST_F(RenderTest, GpuCellListsWithRayBoundsShrunkBelowTheRoundingPadLoseHits) {
     // Negative control of the bounds-gpu cases: the GPU's lists from boxes that are too small must change hits.
     RenderSettings settings;
