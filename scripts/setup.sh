@@ -2,7 +2,8 @@
 # Sets up a Debian 12 machine for chcrt and builds it:
 #   1. installs the Debian packages the build and `chcrt report` need (python3-matplotlib for its figures,
 #      chromium for its page's test; clang-14 and libclang-rt-14-dev for the libFuzzer harnesses that
-#      scripts/fuzz.sh builds), only those that are missing (apt-get; as root, or through sudo when
+#      scripts/fuzz.sh builds; glslang-tools for the test that validates every shader variant with
+#      glslangValidator), only those that are missing (apt-get; as root, or through sudo when
 #      available — otherwise it prints the apt-get command to run and stops);
 #   2. configures (CMake + Ninja, Release) into build/ and builds everything.
 # Options (environment): CHCRT_BUILD_DIR (default build), CHCRT_WERROR=ON (warnings are errors; CI sets it),
@@ -16,7 +17,7 @@ packages=(
   libglfw3-dev libosmesa6-dev libegl-dev libegl1-mesa-dev libgl-dev libgl1-mesa-dri libopengl-dev
   libglm-dev libtinygltf-dev libstb-dev libtinyexr-dev libimgui-dev libopenimageio-dev openimageio-tools
   libembree-dev libtbb-dev libgtest-dev nlohmann-json3-dev libcli11-dev libmeshoptimizer-dev
-  xvfb xauth
+  xvfb xauth glslang-tools
   python3-matplotlib chromium
   clang-14 libclang-rt-14-dev
 )
