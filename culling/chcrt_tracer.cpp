@@ -1,6 +1,7 @@
 #include "culling/chcrt_tracer.h"
 
 #include "culling/bvh_subtree_source.h"
+#include "renderer/core/aabb.h"
 #include "renderer/core/error.h"
 #include "renderer/core/timing.h"
 #include "renderer/render/bvh_tracer.h"
@@ -396,8 +397,8 @@ GLuint ChcrtTracer::hintTexture(const TraceRequest& request) const {
     return it == hintStore_->end() ? 0 : it->second.id();
 }
 
-GLuint ChcrtTracer::hintImageFor(const TraceRequest& request, int width, int height) {
-    hintsFresh_ = false;
+GLuint ChcrtTracer::hintImageFor(const TraceRequest& request, int width, int height, bool& fresh) {
+    fresh = false;
     if (!hintsAvailable() || !request.anyHit) return 0;
     GlTexture& hint = (*hintStore_)[rayStateKey(request)];
     GLint w = 0, h = 0;
@@ -405,27 +406,27 @@ GLuint ChcrtTracer::hintImageFor(const TraceRequest& request, int width, int hei
         glGetTextureLevelParameteriv(hint.id(), 0, GL_TEXTURE_WIDTH, &w);
         glGetTextureLevelParameteriv(hint.id(), 0, GL_TEXTURE_HEIGHT, &h);
     }
-    hintsFresh_ = hint.id() == 0 || w != width || h != height;
-    if (hintsFresh_) {
+    if (hint.id() == 0 || w != width || h != height) {
         hint = createTexture2D(width, height, GL_R32UI);
         const GLuint none = CHCRT_NO_HIT_ID;
         glClearTexImage(hint.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+        fresh = true;
     }
     return hint.id();
 }
 
 bool ChcrtTracer::hintPassDue(const TraceRequest& request) {
-    if (!options_.hintPass || hintsFresh_) return false; // fresh: no hint yet, every ray would be left
     HintPassRecord& record = (*hintPassRecords_)[adaptiveKey(request)];
     if (record.misses < kHintPassMisses) return true;
     return ++record.skipped >= options_.hintPassRetryInterval;
 }
 
-void ChcrtTracer::recordHintPass(const TraceRequest& request, uint32_t raysLeft, int width, int height) {
+void ChcrtTracer::finishHintPass(const TraceRequest& request, int width, int height) {
+    last_.hintRaysLeft = hintPass_->raysLeft();
     HintPassRecord& record = (*hintPassRecords_)[adaptiveKey(request)];
     record.skipped = 0;
-    const bool tooMany = double(raysLeft) > options_.hintPassMaxLeft * double(width) * double(height);
+    const bool tooMany = double(last_.hintRaysLeft) > options_.hintPassMaxLeft * double(width) * double(height);
     record.misses = tooMany ? record.misses + 1 : 0;
 }
 
@@ -544,9 +545,8 @@ void ChcrtTracer::issueMultiQuery(const std::vector<int32_t>& pairs, const Visib
 void ChcrtTracer::schedule(const VisibilityState& state, int32_t pairIndex, std::vector<Scheduled>& out) const {
     const QueryPair& pair = state.pair(pairIndex);
     const CullingHierarchy::Node& node = hierarchy_.nodes[pair.bvhNode];
-    const glm::vec3 nearest = glm::clamp(eye_, node.boxMin, node.boxMax);
-    const glm::vec3 d = nearest - eye_;
-    out.push_back(Scheduled{pair.tile, node.subtree, d.x * d.x + d.y * d.y + d.z * d.z, SubtreeSource::kNotResident});
+    out.push_back(Scheduled{pair.tile, node.subtree, squaredDistanceToBox(eye_, node.boxMin, node.boxMax),
+                            SubtreeSource::kNotResident});
 }
 
 void ChcrtTracer::readPixelsOf(const Tile& tile) {

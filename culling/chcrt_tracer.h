@@ -334,15 +334,18 @@ private:
     // Whether traces of any-hit ray sets use hit hints: hitHints, bounds-decided cell lists and the in-core BVH.
     bool hintsAvailable() const;
     // The hint image of the request's ray set (R32UI of the traced size, CHCRT_CULLING_IMAGE_HINT), made on first
-    // use with no hints; 0 when the ray set has none (hints off, or closest-hit rays).
-    GLuint hintImageFor(const TraceRequest& request, int width, int height);
-    // Whether this trace of the request's ray set runs the hint pass (options_.hintPass, hints from an earlier trace,
-    // and its ray kind's recent hint passes left at most hintPassMaxLeft of the pixels, or a retry is due), and the
-    // record of a run.
+    // use with no hints (`fresh` = true then); 0 when the ray set has none (hints off, or closest-hit rays).
+    GLuint hintImageFor(const TraceRequest& request, int width, int height, bool& fresh);
+    // The start of a BoundsOnly / BoundsGpu trace's hints: binds the ray set's hint image and runs the hint pass when
+    // it is due (options_.hintPass, hints from an earlier trace, the debug image allows it, and hintPassDue). Clears
+    // `warm` for a trace that is no sample of culling's cost: its ray set had no hints yet, or it is this tracer's
+    // first hint pass (llvmpipe compiles a program's variants at their first use). Returns whether the pass ran.
+    bool startHints(const TraceRequest& request, const RayTextures& rays, int width, int height, bool& warm);
+    // Whether its ray kind's recent hint passes left at most hintPassMaxLeft of the pixels, or a retry is due.
     bool hintPassDue(const TraceRequest& request);
-    // Runs the hint pass when it is due for this trace (and the debug image allows it); whether it ran.
-    bool runHintPass(const TraceRequest& request, GLuint hintImage, int width, int height, const RayTextures& rays);
-    void recordHintPass(const TraceRequest& request, uint32_t raysLeft, int width, int height);
+    // After a trace that ran the hint pass (its GPU work finished): the rays it left, into the statistics and the
+    // ray kind's record.
+    void finishHintPass(const TraceRequest& request, int width, int height);
     std::string debugDefineOfKind() const;
     void ensureDebugTexture(int width, int height);
     // ChcrtDebugImage::Bounds: the grid's cells of the last reduction into the debug texture.
@@ -388,8 +391,7 @@ private:
     static constexpr uint32_t kHintPassMisses = 2;
     std::map<uint64_t, HintPassRecord> ownHintPassRecords_;
     std::map<uint64_t, HintPassRecord>* hintPassRecords_ = &ownHintPassRecords_;
-    bool hintsFresh_ = false; // the last hintImageFor created (or cleared) its ray set's hints
-    bool hintPassRan_ = false, hintPassFirst_ = false; // the hint pass ran before; this trace ran it first
+    bool hintPassRan_ = false; // this tracer ran the hint pass before
     std::map<uint64_t, AdaptiveChoice> adaptive_; // per ray kind
     std::unique_ptr<RayBoundsGrid> rayExtent_;    // with options_.rayExtentCulling or BoundsOnly, updated per trace
     std::unique_ptr<CellTraversal> cells_;        // BoundsOnly's and BoundsGpu's intersection rounds

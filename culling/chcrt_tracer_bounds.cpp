@@ -73,11 +73,7 @@ bool ChcrtTracer::traceBoundedGpu(const TraceRequest& request, const RayTextures
     bool warm = tracesRun_ > 1; // every trace is alike; the first compiles and fills caches
     auto start = Clock::now();
     beginTrace(rays, hits, width, height);
-    const GLuint hintImage = hintImageFor(request, width, height);
-    if (hintImage != 0) glBindImageTexture(CHCRT_CULLING_IMAGE_HINT, hintImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
-    warm = warm && !hintsFresh_; // a ray set's first trace has no hints yet: not a sample of culling's cost
-    const bool hintPass = runHintPass(request, hintImage, width, height, rays);
-    warm = warm && !(hintPass && hintPassFirst_);
+    const bool hintPass = startHints(request, rays, width, height, warm);
     // The reduction and the lists are queued one after the other; the CPU waits for neither (the times below are
     // the CPU's, submitting them; the cell pass's GPU time is subtreePassMs).
     const auto boundsStart = Clock::now();
@@ -123,24 +119,27 @@ bool ChcrtTracer::traceBoundedGpu(const TraceRequest& request, const RayTextures
     last_.boundsCulledFrustum = counters.culledFrustum;
     last_.boundsReached = counters.reached;
     last_.subtreesScheduled = counters.entries;
-    if (hintPass) {
-        last_.hintRaysLeft = hintPass_->raysLeft();
-        recordHintPass(request, uint32_t(last_.hintRaysLeft), width, height);
-    }
+    if (hintPass) finishHintPass(request, width, height);
     last_.phase3Ms = millisecondsSince(start);
     return warm;
 }
 
-bool ChcrtTracer::runHintPass(const TraceRequest& request, GLuint hintImage, int width, int height,
-                              const RayTextures& rays) {
+bool ChcrtTracer::startHints(const TraceRequest& request, const RayTextures& rays, int width, int height,
+                             bool& warm) {
+    bool fresh = false;
+    const GLuint hintImage = hintImageFor(request, width, height, fresh);
+    if (hintImage == 0) return false;
+    glBindImageTexture(CHCRT_CULLING_IMAGE_HINT, hintImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+    warm = warm && !fresh;
     // The hint pass (hint_pass.h): hinted leaves first, for every ray, in a pass of their own; the rays they finish
-    // leave the reduction, and the rest are traced in one compacted dispatch. It records no subtree ids or list
-    // lengths, so those debug images keep the visits in the cell pass. Needs one round (no previous front).
-    const bool hintPass = hintImage != 0 && hintPass_ && !options_.boundsPreviousFront &&
+    // leave the reduction, and the rest are traced in one compacted dispatch. Not without hints yet (every ray would
+    // be left). It records no subtree ids or list lengths, so those debug images keep the visits in the cell pass.
+    // Needs one round (no previous front).
+    const bool hintPass = hintPass_ && options_.hintPass && !fresh && !options_.boundsPreviousFront &&
                           debugKind_ != ChcrtDebugImage::Subtrees && debugKind_ != ChcrtDebugImage::Batches &&
                           hintPassDue(request);
     if (!hintPass) return false;
-    hintPassFirst_ = last_.hintPasses == 0 && !hintPassRan_; // its programs' first use (llvmpipe compiles variants then)
+    warm = warm && hintPassRan_;
     hintPassRan_ = true;
     beginPassTimer();
     hintPass_->run(width, height, maskFramebufferFor(rays.active.id()), debugKind_ == ChcrtDebugImage::Cost);
@@ -221,11 +220,7 @@ bool ChcrtTracer::traceBounded(const TraceRequest& request, const RayTextures& r
     beginTrace(rays, hits, width, height);
     // Hit hints (any-hit ray sets): the cell passes first visit each ray's hinted leaf and record the leaves of new
     // hits there.
-    const GLuint hintImage = hintImageFor(request, width, height);
-    if (hintImage != 0) glBindImageTexture(CHCRT_CULLING_IMAGE_HINT, hintImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
-    warm = warm && !hintsFresh_; // a ray set's first trace has no hints yet: not a sample of culling's cost
-    const bool hintPass = runHintPass(request, hintImage, width, height, rays);
-    warm = warm && !(hintPass && hintPassFirst_);
+    const bool hintPass = startHints(request, rays, width, height, warm);
     // Before any hit, a ray reaches its whole segment (clipped to the scene): bounded rays (shadow, AO) already
     // leave most of the scene out, and every cell's lists get their entry bounds. After the hint pass, any-hit rays
     // it finished are left out.
@@ -266,10 +261,7 @@ bool ChcrtTracer::traceBounded(const TraceRequest& request, const RayTextures& r
     start = Clock::now();
     intersectCells(newlyVisible, anyHit, rays, hits, !phase1, hintPass, width, height);
     endTrace(state, width, height);
-    if (hintPass) {
-        last_.hintRaysLeft = hintPass_->raysLeft();
-        recordHintPass(request, uint32_t(last_.hintRaysLeft), width, height);
-    }
+    if (hintPass) finishHintPass(request, width, height);
     last_.phase3Ms = millisecondsSince(start);
     return warm;
 }

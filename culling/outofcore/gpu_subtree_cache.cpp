@@ -1,11 +1,13 @@
 #include "culling/outofcore/gpu_subtree_cache.h"
 
+#include "renderer/core/aabb.h"
 #include "renderer/core/error.h"
 #include "renderer/gl/context.h"
 #include "renderer/outofcore/gpu_cache_slots.h"
 #include "shaders/shared/render_layout.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace chcrt::outofcore {
 
@@ -120,7 +122,7 @@ uint32_t GpuSubtreeCache::levelFor(uint32_t subtree) const {
     const ChsFile& file = store_.file();
     const ChsSubtreeRecord& r = file.subtrees()[subtree];
     const glm::vec3 lo(r.boundsMin[0], r.boundsMin[1], r.boundsMin[2]), hi(r.boundsMax[0], r.boundsMax[1], r.boundsMax[2]);
-    const float distance = glm::length(glm::clamp(eye_, lo, hi) - eye_);
+    const float distance = std::sqrt(squaredDistanceToBox(eye_, lo, hi));
     if (!(distance > 0.0f)) return 0; // the eye inside the box: full detail
     // A proxy's error is a distance in world units from the subtree's surface; seen from the eye it covers at most
     // error × focal / distance pixels (distance to the nearest point of the box bounds it from below). The floor

@@ -1,15 +1,12 @@
 #include "culling/outofcore/subtree_prefetch.h"
 
+#include "renderer/core/aabb.h"
+
 #include <algorithm>
 #include <limits>
 
 namespace chcrt::outofcore {
 namespace {
-
-float squaredDistance(const glm::vec3& point, const glm::vec3& boxMin, const glm::vec3& boxMax) {
-    const glm::vec3 d = glm::clamp(point, boxMin, boxMax) - point;
-    return glm::dot(d, d);
-}
 
 // The box's corner farthest along `normal`: the box meets the half-space dot(normal, p - eye) >= 0 iff it does.
 bool boxMeetsHalfSpace(const glm::vec3& eye, const glm::vec3& normal, const glm::vec3& boxMin, const glm::vec3& boxMax) {
@@ -38,7 +35,7 @@ std::vector<uint32_t> choosePrefetchSubtrees(const CullingHierarchy& hierarchy, 
     std::vector<float> rank(hierarchy.subtrees.size(), kNotCandidate);
     const auto propose = [&](uint32_t subtree, const glm::vec3& eye) {
         const CullingHierarchy::Node& root = hierarchy.nodes[hierarchy.subtrees[subtree].node];
-        rank[subtree] = std::min(rank[subtree], squaredDistance(eye, root.boxMin, root.boxMax));
+        rank[subtree] = std::min(rank[subtree], squaredDistanceToBox(eye, root.boxMin, root.boxMax));
     };
 
     // (a) The front's termination roots. An invisible upper node beside a visible pair is not expanded into the

@@ -33,4 +33,11 @@ struct Aabb {
     float diagonal() const { return glm::length(extent()); }
 };
 
+// Squared distance from `point` to the nearest point of the box [lower, upper]; 0 inside it. Orders subtrees near
+// to far (CHC+RT scheduling, prefetch) and bounds a proxy's projected error (LOD).
+inline float squaredDistanceToBox(const glm::vec3& point, const glm::vec3& lower, const glm::vec3& upper) {
+    const glm::vec3 d = glm::clamp(point, lower, upper) - point;
+    return glm::dot(d, d);
+}
+
 } // namespace chcrt
