@@ -451,11 +451,13 @@ std::vector<Parameter> describeChcrt() {
             .checkbox("ray extent culling")
             .onOff(FIELD(chcrt.rayExtentCulling)),
         Describe(Area::Chcrt, "--chcrt-queries", "chcrtQueries",
-                 "CHC+RT: how query pairs are decided: gl (GL occlusion queries, per-tile subtree draws), "
+                 "CHC+RT: how query pairs are decided: gl (GL occlusion queries, per-tile subtree draws), batched "
+                 "(the same test, each round's pairs in one compute dispatch read back once), "
                  "bounds-only (the ray bounds grid decides every pair on the CPU; cell lists, one draw per round) or "
                  "bounds-gpu (the same grid decides every cell's list on the GPU, no read-back; in core)")
             .widget(Kind::Combo, "queries")
             .choice<ChcrtQueries>(FIELD(chcrt.queries), {{"gl", ChcrtQueries::Gl},
+                                                         {"batched", ChcrtQueries::Batched},
                                                          {"bounds-only", ChcrtQueries::BoundsOnly},
                                                          {"bounds-gpu", ChcrtQueries::BoundsGpu}}),
         Describe(Area::Chcrt, "--chcrt-bounds-cell", "chcrtBoundsCell",

@@ -216,6 +216,8 @@ nlohmann::json chcrtStatsJson(const ChcrtStats& s, double frames) {
                            {"leaves_skipped_extent", s.leavesSkippedExtent},
                            {"subtrees_postponed", s.subtreesPostponed},
                            {"pairs_decided_bounds", s.pairsDecidedBounds},
+                           {"pairs_tested_batched", s.pairsTestedBatched},
+                           {"batched_rounds", s.batchedRounds},
                            {"bounds_updates", s.boundsUpdates},
                            {"cells_drawn", s.cellsDrawn},
                            {"cell_entries", s.cellEntries},

@@ -100,6 +100,7 @@ ChcrtOptions recommendedChcrtOptions() { return recommendedChcrtOptions(Renderer
 const char* toString(ChcrtQueries queries) {
     switch (queries) {
     case ChcrtQueries::Gl: return "gl";
+    case ChcrtQueries::Batched: return "batched";
     case ChcrtQueries::BoundsOnly: return "bounds-only";
     default: return "bounds-gpu";
     }
@@ -107,9 +108,10 @@ const char* toString(ChcrtQueries queries) {
 
 ChcrtQueries parseChcrtQueries(const std::string& name) {
     if (name == "gl") return ChcrtQueries::Gl;
+    if (name == "batched") return ChcrtQueries::Batched;
     if (name == "bounds-only") return ChcrtQueries::BoundsOnly;
     if (name == "bounds-gpu") return ChcrtQueries::BoundsGpu;
-    throw InputError("unknown CHC+RT query mode '" + name + "' (available: gl, bounds-only, bounds-gpu)");
+    throw InputError("unknown CHC+RT query mode '" + name + "' (available: gl, batched, bounds-only, bounds-gpu)");
 }
 
 bool decidesByBounds(ChcrtQueries queries) {
@@ -207,6 +209,8 @@ ChcrtStats& ChcrtStats::operator+=(const ChcrtStats& o) {
     leavesSkippedExtent += o.leavesSkippedExtent;
     subtreesPostponed += o.subtreesPostponed;
     pairsDecidedBounds += o.pairsDecidedBounds;
+    pairsTestedBatched += o.pairsTestedBatched;
+    batchedRounds += o.batchedRounds;
     boundsUpdates += o.boundsUpdates;
     cellsDrawn += o.cellsDrawn;
     cellEntries += o.cellEntries;
@@ -302,6 +306,7 @@ void ChcrtTracer::compilePrograms() {
         cells_->compile(hintPass);
         if (hintPass) hintPass_ = std::make_unique<HintPass>(options_.computeCellPass, options_.bounds.cellSize);
     }
+    if (options_.queries == ChcrtQueries::Batched && !batched_) batched_ = std::make_unique<BatchedQueries>();
     if (options_.queries == ChcrtQueries::BoundsGpu && !gpuLists_) {
         gpuLists_ = std::make_unique<GpuCellLists>(hierarchy_, options_.bounds.pieces);
     }
@@ -510,6 +515,10 @@ bool ChcrtTracer::issueQuery(int32_t pairIndex, VisibilityState& state, bool laz
         ++last_.queriesSkippedExtent;
         return false;
     }
+    if (batched_) {
+        batch_.push_back(PendingQuery{pairIndex, 0, lazy});
+        return true;
+    }
     beginQueryDraw(pair.tile, anyHit);
     const uint32_t node = pair.bvhNode;
     setQueryBoxes(queryProgram(anyHit), &node, 1);
@@ -693,6 +702,40 @@ void ChcrtTracer::drawBatches(const std::vector<Scheduled>& work, bool anyHit) {
     if (current != &batchProgram) batchProgram.use(); // setMode's program stays current
 }
 
+void ChcrtTracer::testBatch(VisibilityState& state, std::vector<Scheduled>& newlyVisible, bool anyHit) {
+    std::vector<PendingQuery> round;
+    round.swap(batch_);
+    std::vector<BatchedQueries::Query> queries(round.size());
+    for (size_t i = 0; i < round.size(); ++i) {
+        const QueryPair& pair = state.pair(round[i].pair);
+        const CullingHierarchy::Node& node = hierarchy_.nodes[pair.bvhNode];
+        BatchedQueries::Query& q = queries[i];
+        q.tile = pair.tile;
+        // The boxes a GL query would test (setQueryBoxes).
+        if (options_.tighterBounds && node.tightCount > 0) {
+            q.boxCount = node.tightCount;
+            for (uint32_t c = 0; c < node.tightCount; ++c) {
+                q.boxMin[c] = node.tightMin[c];
+                q.boxMax[c] = node.tightMax[c];
+            }
+        } else {
+            q.boxMin[0] = node.boxMin;
+            q.boxMax[0] = node.boxMax;
+        }
+    }
+    std::vector<uint32_t> counts;
+    batched_->test(queries, anyHit, options_.visibleThreshold, debugKind_ == ChcrtDebugImage::Overdraw, counts);
+    dirtyTiles_.clear(); // the test's barrier ordered every earlier store before later passes too
+    mode_ = Mode::None;  // the dispatch changed the current program
+    ++last_.batchedRounds;
+    last_.pairsTestedBatched += round.size();
+    for (size_t i = 0; i < round.size(); ++i) {
+        processResult(state, round[i], counts[i], newlyVisible, anyHit);
+    }
+    // The round's newly visible subtrees now: their hits bound the next round's tests.
+    intersect(newlyVisible, anyHit);
+}
+
 void ChcrtTracer::processResult(VisibilityState& state, const PendingQuery& pending, GLuint samples,
                                 std::vector<Scheduled>& newlyVisible, bool anyHit) {
     const bool visible = samples > options_.visibleThreshold;
@@ -874,7 +917,7 @@ bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& ra
         ++last_.queriesSkippedExtent;
         return true;
     });
-    if (options_.multiQueryPairs > 1) {
+    if (options_.multiQueryPairs > 1 && !batched_) { // batched: every pair has its own count anyway
         std::stable_sort(invisibleLeaves.begin(), invisibleLeaves.end(), [&](int32_t a, int32_t b) {
             const Tile &ta = state.pair(a).tile, &tb = state.pair(b).tile;
             return std::tie(ta.y, ta.x, ta.width, ta.height) < std::tie(tb.y, tb.x, tb.width, tb.height);
@@ -906,6 +949,7 @@ bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& ra
     // visible terminal pairs in groups of more than m.
     start = Clock::now();
     std::vector<Scheduled> newlyVisible;
+    while (!batch_.empty()) testBatch(state, newlyVisible, anyHit);
     while (!queue_.empty()) {
         const PendingQuery pending = queue_.front();
         queue_.pop_front();

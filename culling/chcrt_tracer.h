@@ -13,6 +13,7 @@
 #include "culling/query_pair_hierarchy.h"
 #include "culling/cell_traversal.h"
 #include "culling/gpu_cell_lists.h"
+#include "culling/batched_queries.h"
 #include "culling/hint_pass.h"
 #include "culling/ray_bounds_grid.h"
 #include "culling/subtree_source.h"
@@ -34,11 +35,12 @@ namespace chcrt {
 // How query pairs are decided (culling/README.md "Deciding pairs"). Both are exact.
 enum class ChcrtQueries : uint8_t {
     Gl,         // §4.1 as in the paper: one GL occlusion query per pair (or §5.1 multi-query), per-tile subtree draws
+    Batched,    // the same test, a round's pairs in one compute dispatch read back once (batched_queries.h); as Gl else
     BoundsOnly, // the ray bounds grid decides every pair (no queries) on the CPU; cell lists, one draw per round
     BoundsGpu,  // the same grid decides every cell's list on the GPU (gpu_cell_lists.h): no read-back; in core only
 };
 const char* toString(ChcrtQueries queries);
-ChcrtQueries parseChcrtQueries(const std::string& name); // "gl" | "bounds-only" | "bounds-gpu"; InputError otherwise
+ChcrtQueries parseChcrtQueries(const std::string& name); // "gl" | "batched" | "bounds-only" | "bounds-gpu"; InputError otherwise
 bool decidesByBounds(ChcrtQueries queries);              // BoundsOnly or BoundsGpu: cell lists, no GL queries
 
 struct ChcrtOptions {
@@ -153,6 +155,8 @@ struct ChcrtStats {
     uint64_t leavesSkippedExtent = 0;  // Phase 1: visible leaves not intersected, out of their rays' reach
     uint64_t subtreesPostponed = 0;    // scheduled but left for a later trace by the source's upload budget
     uint64_t pairsDecidedBounds = 0;   // BoundsOnly: pairs decided by the ray bounds grid (no query)
+    uint64_t pairsTestedBatched = 0;   // Batched: pairs tested by the batched dispatches (no GL query)
+    uint64_t batchedRounds = 0;        // Batched: dispatches with their read-back (rounds of Phase 3)
     uint64_t boundsUpdates = 0;        // ray bounds reductions (a compute pass and a read-back each)
     uint64_t cellsDrawn = 0;           // BoundsOnly: cells drawn by the intersection rounds
     uint64_t cellEntries = 0;          // BoundsOnly: (cell, subtree) list entries traversed
@@ -302,6 +306,9 @@ private:
     void readPixelsOf(const Tile& tile); // barrier when `tile` overlaps pixels stored since the last one
     void processResult(VisibilityState& state, const PendingQuery& pending, GLuint samples,
                        std::vector<Scheduled>& newlyVisible, bool anyHit);
+    // Batched: tests the round's pairs (batch_) in one dispatch and processes their results, which queue the next
+    // round's pairs (children of pairs that turned visible).
+    void testBatch(VisibilityState& state, std::vector<Scheduled>& newlyVisible, bool anyHit);
     // Returns false when the ray set had no fronts yet (a cold trace, not representative of culling's cost).
     bool traceCulled(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width, int height);
     // §5.4 residency rounds: makes the scheduled subtrees resident, as many as fit, nearest first, and hands each
@@ -403,6 +410,8 @@ private:
     size_t queriesInUse_ = 0;
     std::deque<PendingQuery> queue_;
     std::vector<int32_t> multiGroups_;
+    std::unique_ptr<BatchedQueries> batched_; // options_.queries == Batched
+    std::vector<PendingQuery> batch_;         // Batched: the pairs of the next round (no query objects)
     std::vector<Tile> dirtyTiles_; // tiles whose hit-image stores no barrier has published yet
     Mode mode_ = Mode::None;
     glm::vec3 eye_{0.0f};

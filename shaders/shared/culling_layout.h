@@ -81,6 +81,19 @@
 // reduction after it skip the cells whose rays all ended at their hints.
 #define CHCRT_CULLING_COMPACT_CELLS 6
 
+// Batched queries (`--chcrt-queries batched`, culling/batched_queries.h): the pairs of one round are tested by one
+// compute dispatch instead of a GL occlusion query each. Shader storage bindings: the round's input (uvec4s: per
+// pair CHCRT_CULLING_BATCH_PAIR_TEXELS of them — (tile x, y, width, height), (box count, 0, 0, 0), then box 0 min,
+// box 0 max, box 1 min, box 1 max as float bits — followed from `itemBase` on by the work items (pair, first pixel of
+// the tile's row-major order, 0, 0)) and a uint count per pair: the tile's rays that reach one of its boxes before
+// their nearest hit so far, counted until it exceeds the visible threshold. A work group takes CHCRT_CULLING_BATCH_ITEM
+// pixels of one pair's tile.
+#define CHCRT_CULLING_BATCH_INPUT_BUFFER 7
+#define CHCRT_CULLING_BATCH_COUNTS_BUFFER 8
+#define CHCRT_CULLING_BATCH_PAIR_TEXELS 6
+#define CHCRT_CULLING_BATCH_GROUP 64
+#define CHCRT_CULLING_BATCH_ITEM 1024
+
 // Boxes per occlusion query: §5.1 multi-queries of up to 8 pairs with tighter bounds (2 child boxes each).
 #define CHCRT_CULLING_MAX_QUERY_BOXES 16
 

@@ -74,6 +74,8 @@ TEST_F(CliTest, GlslangValidatesEveryShaderVariantTheProgramCompiles) {
         // CHC+RT's query kinds and options.
         "bench " + scene + all + "--method chcrt-noadapt --chcrt-queries gl --chcrt-leaf-cache on --chcrt-merged-batch off",
         "bench " + scene + all + "--method chcrt-noadapt --chcrt-queries bounds-only --chcrt-hints on --chcrt-leaf-cache on",
+        "bench " + scene + all + "--method chcrt-noadapt,chcrt-aggressive --chcrt-queries batched",
+        "render " + scene + "--method chcrt --chcrt-queries batched --debug-image overdraw -o batched_overdraw.png",
         // Line Space modes the methods' defaults leave out.
         "bench " + scene + all + "--method bvh+ls --ls-modes primary=exact,shadow=shadow,ao=candidate-exact-start,"
                                  "diffuse=candidate,bounce=exact,faces=both",

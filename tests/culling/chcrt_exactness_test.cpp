@@ -210,8 +210,14 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
             } else {
                 EXPECT_EQ(total.cellsWholeTree, 0u);
             }
+        } else if (c.queries == ChcrtQueries::Batched) {
+            // Every ray-exact test ran in the batched dispatches: no GL query, several rounds per trace.
+            EXPECT_EQ(total.queries, 0u);
+            EXPECT_GT(total.pairsTestedBatched, total.traces);
+            EXPECT_GT(total.batchedRounds, total.traces);
         } else {
             EXPECT_GT(total.queries, 0u);
+            EXPECT_EQ(total.pairsTestedBatched, 0u);
         }
         // Bounded rays (shadow, AO) leave pairs out of their reach: the exactness above covers the skipping.
         if (c.rayExtent && !bounded) {
@@ -563,7 +569,8 @@ std::string caseName(const ::testing::TestParamInfo<ExactnessCase>& info) {
            (info.param.tighterBounds ? "" : "_loose") + "_multi" + std::to_string(info.param.multiQueryPairs) +
            (info.param.adaptive ? "_adaptive" : "") + (info.param.leafCache ? "_leafcache" : "") +
            (info.param.rayExtent ? "" : "_noextent") + (info.param.mergedBatch ? "" : "_persubtree") +
-           (info.param.queries == ChcrtQueries::Gl ? ""
+           (info.param.queries == ChcrtQueries::Gl        ? ""
+            : info.param.queries == ChcrtQueries::Batched ? "_batched"
                                                    : std::string(info.param.queries == ChcrtQueries::BoundsGpu ? "_gpu" : "") +
                                                          "_bounds_cell" + std::to_string(info.param.boundsCell) +
                                                          "_pieces" + std::to_string(info.param.boundsPieces)) +
@@ -591,6 +598,15 @@ INSTANTIATE_TEST_SUITE_P(ProceduralScenes, ChcrtExactnessTest,
                                            // batches traversed subtree by subtree (merged by default)
                                            ExactnessCase{"plant:60k", 8, 16, true, 4, false, false, true, false},
                                            ExactnessCase{"city:60k", 8, 16, true, 4, false, false, true, false},
+                                           // batched queries (the GL query's test, a round's pairs in one
+                                           // dispatch): heights, tiles of 4 pixels, loose bounds, the adaptive
+                                           // choice, no ray extent culling
+                                           ExactnessCase{"city:60k", 8, 16, true, 4, false, false, true, true,
+                                                         ChcrtQueries::Batched},
+                                           ExactnessCase{"interior:60k", 12, 4, false, 1, false, false, true, true,
+                                                         ChcrtQueries::Batched},
+                                           ExactnessCase{"plant:60k", 8, 16, true, 4, true, false, false, true,
+                                                         ChcrtQueries::Batched},
                                            // pairs decided by the ray bounds grid, cell lists: several heights,
                                            // tiles smaller than a cell, cells from 4 to 16 pixels, 1 to 8 pieces
                                            ExactnessCase{"city:60k", 8, 16, true, 4, false, false, true, true,

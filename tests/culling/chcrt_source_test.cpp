@@ -71,19 +71,24 @@ TEST_F(ChcrtSourceTest, SubtreesThatDoNotFitAreIntersectedInLaterRoundsWithExact
     settings.width = 80;
     settings.height = 64;
     Renderer& renderer = makeProceduralRenderer("city:60k", settings);
-    const ChcrtOptions options = smallOptions();
-    CullingHierarchy hierarchy = buildCullingHierarchy(bvh_, options.partition);
-    ASSERT_GT(hierarchy.subtrees.size(), 8u);
-    LimitedSource source(hierarchy, 3);
-    ChcrtTracer tracer(std::move(hierarchy), source, nullptr, options);
-    for (RayType type : {RayType::Primary, RayType::Shadow}) {
-        EXPECT_EQ(compare(renderer, tracer, type), 0u) << toString(type);
+    // Every query mode an out-of-core source can run (bounds-gpu needs the BVH in core).
+    for (ChcrtQueries queries : {ChcrtQueries::Gl, ChcrtQueries::Batched, ChcrtQueries::BoundsOnly}) {
+        SCOPED_TRACE(toString(queries));
+        ChcrtOptions options = smallOptions();
+        options.queries = queries;
+        CullingHierarchy hierarchy = buildCullingHierarchy(bvh_, options.partition);
+        ASSERT_GT(hierarchy.subtrees.size(), 8u);
+        LimitedSource source(hierarchy, 3);
+        ChcrtTracer tracer(std::move(hierarchy), source, nullptr, options);
+        for (RayType type : {RayType::Primary, RayType::Shadow}) {
+            EXPECT_EQ(compare(renderer, tracer, type), 0u) << toString(type);
+        }
+        const ChcrtStats& total = tracer.totalStats();
+        EXPECT_EQ(total.residencyRounds, source.calls);
+        // More rounds than intersect() calls per trace: subtrees were left out and handled in later rounds.
+        EXPECT_GT(total.residencyRounds, 2 * total.traces);
+        EXPECT_EQ(total.fallbackTraces, 0u); // no full tracer given: never falls back
     }
-    const ChcrtStats& total = tracer.totalStats();
-    EXPECT_EQ(total.residencyRounds, source.calls);
-    // More rounds than intersect() calls per trace: subtrees were left out and handled in later rounds.
-    EXPECT_GT(total.residencyRounds, 2 * total.traces);
-    EXPECT_EQ(total.fallbackTraces, 0u); // no full tracer given: never falls back
 }
 
 TEST_F(ChcrtSourceTest, ASourceThatCannotHoldOneSubtreeIsAnError) {
