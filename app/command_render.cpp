@@ -222,16 +222,22 @@ RenderedFrames renderFrames(const RenderOptions& options, const SceneSession& se
         // Read ahead while this frame's image is written and the next one renders (--prefetch-frames).
         if (t.outOfCore) prefetchAfterFrame(*t.outOfCore, session.path, todo, todoIndex++, settings.width, settings.height);
         writeFrameImage(file, t, renderer);
-        nlohmann::json j = toJson(stats, uint64_t(settings.width) * settings.height);
-        j["frame"] = frame;
-        j["resources"] = sampleResourcesJson();
-        j["output"] = file;
-        j["method"] = options.method;
-        if (t.chcrt) j["chcrt"] = chcrtStatsJson(t.chcrt->totalStats(), 1.0);
+        // The frame's statistics as JSON only for a file that keeps them: a long walkthrough without one allocates
+        // nothing per frame for them (the soak runs, docs/robustness.md).
+        const bool wantJson = keepJson || records;
+        nlohmann::json j;
+        if (wantJson) {
+            j = toJson(stats, uint64_t(settings.width) * settings.height);
+            j["frame"] = frame;
+            j["resources"] = sampleResourcesJson();
+            j["output"] = file;
+            j["method"] = options.method;
+            if (t.chcrt) j["chcrt"] = chcrtStatsJson(t.chcrt->totalStats(), 1.0);
+        }
         if (t.outOfCore) {
             const outofcore::OutOfCoreStats frameStats =
                 outofcore::OutOfCoreStats::difference(t.outOfCore->snapshot(), oocBefore);
-            j["outofcore"] = outOfCoreStatsJson(frameStats, 1.0, *t.outOfCore);
+            if (wantJson) j["outofcore"] = outOfCoreStatsJson(frameStats, 1.0, *t.outOfCore);
             out.outOfCore += frameStats;
             if (frameStats.cachePostponed > 0) out.incomplete.push_back(frame);
         }
@@ -245,6 +251,7 @@ RenderedFrames renderFrames(const RenderOptions& options, const SceneSession& se
         }
         if (keepJson) out.json.push_back(std::move(j));
         addFrameStats(out.sum, stats);
+        if (out.rendered % kReleaseFreedMemoryEvery == kReleaseFreedMemoryEvery - 1) releaseFreedMemory();
         resourceLog.frameDone(out.rendered, out.rendered + 1 == todo.size(), {{"path_frame", frame}});
         ++out.rendered;
         faultInjectedAfterFrame(frame);

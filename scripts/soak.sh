@@ -6,8 +6,9 @@
 # warm-up sample it is compared with, see analyse) and the changes of open files, threads and GL objects, and fails
 # (exit 1) when the memory drifts by 1 % or more or any of the counts changes.
 #   render: a walkthrough of FRAMES frames at 32×24 (an orbit of the city, 30 fps) for each GPU method in turn
-#           (`chcrt methods` but embree, which render does not run), and out of core (a prepared city:200k through
-#           a 1 MiB GPU cache and a 2 MiB host store, so that every frame uploads and reads subtrees);
+#           (`chcrt methods` but embree, which render does not run, and chcrt-lod), and out of core with chcrt and
+#           chcrt-lod (a prepared city:200k through a 1 MiB GPU cache and a 2 MiB host store, so that every frame
+#           uploads and reads subtrees);
 #   view:   VIEW_FRAMES frames of a scripted viewer session (Xvfb, 128×72 window) in cycles of 500 frames: the scene
 #           loaded again, then ten methods for 50 frames each, each block replaying the camera path.
 # Usage: scripts/soak.sh [render|view|all] (default all). Environment: FRAMES (10000), VIEW_FRAMES (10000),
@@ -78,7 +79,8 @@ EOF
 
 status=0
 if [[ $what == render || $what == all ]]; then
-  methods=${METHODS:-$("$chcrt" methods | awk 'NR > 2 && $1 != "embree" {print $1}')}
+  # In core: every GPU method but chcrt-lod, which traces the proxies of a prepared scene (run out of core below).
+  methods=${METHODS:-$("$chcrt" methods | awk 'NR > 2 && $1 != "embree" && $1 != "chcrt-lod" {print $1}')}
   orbit city:20k "$out/orbit20k.json" "$frames"
   for m in $methods; do
     rm -rf "$out/frames" && mkdir -p "$out/frames"
@@ -90,12 +92,14 @@ if [[ $what == render || $what == all ]]; then
   [[ -f $out/city200k.chs ]] || nice -n 19 "$chcrt" prepare --scene city:200k --subtree-triangles 4000 \
     -o "$out/city200k.chs" -q
   orbit city:200k "$out/orbit200k.json" "$frames" # the prepared scene's bounds (info on a .chs gives none)
-  rm -rf "$out/frames" && mkdir -p "$out/frames"
-  nice -n 19 "$chcrt" render --scene "$out/city200k.chs" --out-of-core --load-in-core off --gpu-cache-mb 1 \
-    --host-cache-mb 2 --camera-path "$out/orbit200k.json" --frames "0-$((frames - 1))" --width 32 --height 24 \
-    --spp 1 --effects shadow --method chcrt -q -o "$out/frames/f.png" --resource-log "$out/render_outofcore.jsonl" \
-    --resource-every "$every"
-  analyse "render chcrt out of core" "$out/render_outofcore.jsonl" "$((frames / 10))" 0 || status=1
+  for m in chcrt chcrt-lod; do
+    rm -rf "$out/frames" && mkdir -p "$out/frames"
+    nice -n 19 "$chcrt" render --scene "$out/city200k.chs" --out-of-core --load-in-core off --gpu-cache-mb 1 \
+      --host-cache-mb 2 --camera-path "$out/orbit200k.json" --frames "0-$((frames - 1))" --width 32 --height 24 \
+      --spp 1 --effects shadow --method "$m" -q -o "$out/frames/f.png" \
+      --resource-log "$out/render_outofcore_$m.jsonl" --resource-every "$every"
+    analyse "render $m out of core" "$out/render_outofcore_$m.jsonl" "$((frames / 10))" 0 || status=1
+  done
   rm -rf "$out/frames"
 fi
 

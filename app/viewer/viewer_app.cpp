@@ -292,6 +292,7 @@ int Viewer::run() {
         if (rendered) {
             status_.frameMs = loopMs;
             log_.setLoopMs(loopMs);
+            if (uint64_t(log_.renderedFrames()) % kReleaseFreedMemoryEvery == 0) releaseFreedMemory();
             resourceLog_.frameDone(uint64_t(log_.renderedFrames() - 1), false,
                                    {{"method", methods_.activeMethod()}, {"scene", status_.sceneName}});
         }

@@ -3,6 +3,9 @@
 #include <cstdio>
 #include <cstring>
 #include <dirent.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 #include <unistd.h>
 
 namespace chcrt {
@@ -41,6 +44,12 @@ ProcessResources sampleProcessResources() {
         }
     }
     return r;
+}
+
+void releaseFreedMemory() {
+#if defined(__GLIBC__)
+    ::malloc_trim(0);
+#endif
 }
 
 } // namespace chcrt
