@@ -480,6 +480,10 @@ std::vector<Parameter> describeChcrt() {
                  "CHC+RT bounds-only: test each ray's triangle of the previous frame first (hit hints)")
             .checkbox("hit hints")
             .onOff(FIELD(chcrt.hitHints)),
+        Describe(Area::Chcrt, "--chcrt-closest-hints", "chcrtClosestHints",
+                 "CHC+RT with hit hints: closest-hit rays (primary, diffuse) start from their previous hit's leaf too")
+            .checkbox("closest-hit hints")
+            .onOff(FIELD(chcrt.closestHitHints)),
         Describe(Area::Chcrt, "--chcrt-hint-pass", "chcrtHintPass",
                  "CHC+RT with hit hints: visit the hinted leaves in a pass of their own, then trace only the rays left "
                  "(compacted)")

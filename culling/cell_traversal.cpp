@@ -57,6 +57,7 @@ void CellTraversal::drawPoints(const ShaderProgram& program, int width, int heig
     program.set("raySize", glm::ivec2(width, height));
     program.set("cellsX", cellsX_);
     program.set("cellSize", cellSize_);
+    program.set("hintsVisited", int(hintsVisited_));
     if (compute()) glDispatchCompute(GLuint(drawCells_.size()), 1, 1);
     else drawAttributeless(GL_POINTS, GLsizei(drawCells_.size()));
 }
@@ -82,6 +83,7 @@ void CellTraversal::dispatchCompacted(bool anyHit, const std::string& debugDefin
     p.use();
     p.set("cellsX", cellsX);
     p.set("cellSize", cellSize);
+    p.set("hintsVisited", int(hintsVisited_));
     glDispatchComputeIndirect(0);
 }
 
@@ -146,6 +148,7 @@ void CellTraversal::drawIndirect(bool anyHit, const std::string& debugDefine, in
         p.set("raySize", glm::ivec2(width, height));
         p.set("cellsX", cellsX);
         p.set("cellSize", cellSize);
+        p.set("hintsVisited", int(hintsVisited_));
         if (compute()) glDispatchComputeIndirect(CHCRT_CULLING_GPU_DISPATCH_OFFSET);
         else drawAttributelessIndirect(GL_POINTS);
     });

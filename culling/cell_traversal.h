@@ -49,6 +49,8 @@ public:
         listLimit_ = limit;
     }
     uint32_t wholeTreeCells() const { return wholeTreeCells_; } // cells that did so in the last draw
+    // Whether the hint pass visited every ray's hint in this trace (the passes then do not visit it again).
+    void setHintsVisited(bool visited) { hintsVisited_ = visited; }
     // Compiles the programs of both ray kinds and the mask program now (they are otherwise compiled on first use);
     // `compacted`: also drawCompacted's program for any-hit rays.
     void compile(bool compacted);
@@ -102,6 +104,7 @@ private:
     Buffers buffers_[2]; // alternate per draw, so an upload never waits for the previous draw
     int next_ = 0;
     uint32_t wholeTreeRoot_ = 0, listLimit_ = 0, wholeTreeCells_ = 0;
+    bool hintsVisited_ = false;
 };
 
 } // namespace chcrt

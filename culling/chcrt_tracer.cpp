@@ -298,7 +298,7 @@ void ChcrtTracer::compilePrograms() {
             for (ShaderDefine& d : defines) {
                 if (wholeTree && d.name == "CHCRT_SUBTREE_STACK") d.value = std::to_string(CHCRT_MAX_BVH_DEPTH);
             }
-            defines.push_back({"CHCRT_CULLING_HINTS", hints && anyHit ? "1" : "0"});
+            defines.push_back({"CHCRT_CULLING_HINTS", hints && (anyHit || options_.closestHitHints) ? "1" : "0"});
             return defines;
         }, options_.computeCellPass ? options_.bounds.cellSize : 0);
         if (wholeTree) cells_->setWholeTree(0u, options_.cellListLimit);
@@ -404,7 +404,7 @@ GLuint ChcrtTracer::hintTexture(const TraceRequest& request) const {
 
 GLuint ChcrtTracer::hintImageFor(const TraceRequest& request, int width, int height, bool& fresh) {
     fresh = false;
-    if (!hintsAvailable() || !request.anyHit) return 0;
+    if (!hintsAvailable() || (!request.anyHit && !options_.closestHitHints)) return 0;
     GlTexture& hint = (*hintStore_)[rayStateKey(request)];
     GLint w = 0, h = 0;
     if (hint.id() != 0) {

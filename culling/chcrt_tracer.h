@@ -70,6 +70,11 @@ struct ChcrtOptions {
     // list and is done when it hits there. Algorithm 1's Phase 1 (the previous visible front first) at the finest
     // granularity: one leaf per pixel.
     bool hitHints = false;
+    // With hit hints: closest-hit ray sets (primary, diffuse) keep hints too — the leaf of each ray's nearest hit.
+    // A hit in it does not finish the ray, but bounds it from the start: its traversal prunes against that hit, and
+    // after the hint pass the ray bounds reduction ends the ray's segment there, so the cell lists hold only the
+    // subtrees that could hold a nearer hit (culling/README.md "Hit hints").
+    bool closestHitHints = false;
     // With hit hints: visit every ray's hinted leaf in a pass of its own before the ray bounds reduction, and
     // traverse the cell lists only for the rays left, compacted into one dispatch (hint_pass.h; culling/README.md
     // "The hint pass"). Off: the cell pass visits the hint first, in the same pass as the list. Same hits.
@@ -338,10 +343,12 @@ private:
     void beginPassTimer();
     void endPassTimer();
     void readPassTimers();
-    // Whether traces of any-hit ray sets use hit hints: hitHints, bounds-decided cell lists and the in-core BVH.
+    // Whether traces use hit hints: hitHints, bounds-decided cell lists and the in-core BVH (closest-hit ray sets also
+    // closestHitHints).
     bool hintsAvailable() const;
     // The hint image of the request's ray set (R32UI of the traced size, CHCRT_CULLING_IMAGE_HINT), made on first
-    // use with no hints (`fresh` = true then); 0 when the ray set has none (hints off, or closest-hit rays).
+    // use with no hints (`fresh` = true then); 0 when the ray set has none (hints off, or closest-hit rays without
+    // closestHitHints).
     GLuint hintImageFor(const TraceRequest& request, int width, int height, bool& fresh);
     // The start of a BoundsOnly / BoundsGpu trace's hints: binds the ray set's hint image and runs the hint pass when
     // it is due (options_.hintPass, hints from an earlier trace, the debug image allows it, and hintPassDue). Clears

@@ -78,7 +78,9 @@ bool ChcrtTracer::traceBoundedGpu(const TraceRequest& request, const RayTextures
     // the CPU's, submitting them; the cell pass's GPU time is subtreePassMs).
     const auto boundsStart = Clock::now();
     const CullingHierarchy::Node& root = hierarchy_.nodes[0];
-    const GLuint hitImage = hintPass ? hits.hit.id() : 0, marks = hintPass ? hintPass_->cellMarks() : 0;
+    // After the hint pass the reduction reads its hits; only any-hit rays can leave cells empty (their marks).
+    const bool compacted = hintPass && anyHit;
+    const GLuint hitImage = hintPass ? hits.hit.id() : 0, marks = compacted ? hintPass_->cellMarks() : 0;
     if (debugKind_ == ChcrtDebugImage::Bounds) { // the bounds image needs the grid on the CPU
         rayExtent_->update(rays.origin.id(), rays.direction.id(), hitImage, anyHit, width, height, root.boxMin,
                            root.boxMax, marks);
@@ -100,7 +102,8 @@ bool ChcrtTracer::traceBoundedGpu(const TraceRequest& request, const RayTextures
     start = Clock::now();
     mode_ = Mode::None;
     beginPassTimer();
-    if (hintPass) {
+    cells_->setHintsVisited(hintPass);
+    if (compacted) {
         hintPass_->bindDispatch(); // the lists' build bound its own indirect commands
         cells_->dispatchCompacted(anyHit, debugDefineOfKind(), cellsX, cell);
     } else {
@@ -142,7 +145,8 @@ bool ChcrtTracer::startHints(const TraceRequest& request, const RayTextures& ray
     warm = warm && hintPassRan_;
     hintPassRan_ = true;
     beginPassTimer();
-    hintPass_->run(width, height, maskFramebufferFor(rays.active.id()), debugKind_ == ChcrtDebugImage::Cost);
+    hintPass_->run(request.anyHit, width, height, maskFramebufferFor(rays.active.id()),
+                   debugKind_ == ChcrtDebugImage::Cost);
     endPassTimer();
     ++last_.shaderCalls;
     ++last_.hintPasses;
@@ -224,7 +228,10 @@ bool ChcrtTracer::traceBounded(const TraceRequest& request, const RayTextures& r
     // Before any hit, a ray reaches its whole segment (clipped to the scene): bounded rays (shadow, AO) already
     // leave most of the scene out, and every cell's lists get their entry bounds. After the hint pass, any-hit rays
     // it finished are left out.
-    updateBounds(rays, hintPass ? hits.hit.id() : 0, anyHit, width, height, hintPass ? hintPass_->cellMarks() : 0);
+    // Closest-hit rays it bounded end their segments at those hits (every cell keeps its rays: no marks).
+    const bool compacted = hintPass && anyHit;
+    updateBounds(rays, hintPass ? hits.hit.id() : 0, anyHit, width, height, compacted ? hintPass_->cellMarks() : 0);
+    cells_->setHintsVisited(hintPass);
 
     // Phase 1 (Algorithm 1, lines 1-4): intersect the previously visible leaves that the rays can reach.
     std::vector<int32_t> visibleLeaves, invisibleLeaves;
@@ -259,7 +266,7 @@ bool ChcrtTracer::traceBounded(const TraceRequest& request, const RayTextures& r
     last_.phase2Ms = millisecondsSince(start);
 
     start = Clock::now();
-    intersectCells(newlyVisible, anyHit, rays, hits, !phase1, hintPass, width, height);
+    intersectCells(newlyVisible, anyHit, rays, hits, !phase1, compacted, width, height);
     endTrace(state, width, height);
     if (hintPass) finishHintPass(request, width, height);
     last_.phase3Ms = millisecondsSince(start);

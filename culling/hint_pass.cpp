@@ -6,12 +6,15 @@
 
 namespace chcrt {
 
-HintPass::HintPass(bool compute, int cellSize) : compute_(compute), cellSize_(cellSize) { program(false); }
+HintPass::HintPass(bool compute, int cellSize) : compute_(compute), cellSize_(cellSize) {
+    program(true, false);
+    program(false, false);
+}
 
-const ShaderProgram& HintPass::program(bool debugCost) {
-    ShaderProgram& program = programs_[debugCost ? 1 : 0];
+const ShaderProgram& HintPass::program(bool anyHit, bool debugCost) {
+    ShaderProgram& program = programs_[anyHit ? 1 : 0][debugCost ? 1 : 0];
     if (!program.valid()) {
-        std::vector<ShaderDefine> defines;
+        std::vector<ShaderDefine> defines = {{"TRACE_ANY_HIT", anyHit ? "1" : "0"}};
         if (debugCost) defines.push_back({"CHCRT_CULLING_DEBUG_COST", "1"});
         program = compute_ ? ShaderProgram({{GL_COMPUTE_SHADER, "culling/chcrt_hints.comp.glsl"}}, defines)
                            : ShaderProgram({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
@@ -21,7 +24,7 @@ const ShaderProgram& HintPass::program(bool debugCost) {
     return program;
 }
 
-void HintPass::run(int width, int height, GLuint maskFramebuffer, bool debugCost) {
+void HintPass::run(bool anyHit, int width, int height, GLuint maskFramebuffer, bool debugCost) {
     const size_t rays = size_t(width) * size_t(height);
     if (rays > capacity_) {
         buffer_ = createBuffer((CHCRT_CULLING_COMPACT_HEADER + rays) * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -38,7 +41,7 @@ void HintPass::run(int width, int height, GLuint maskFramebuffer, bool debugCost
     glNamedBufferSubData(buffer_.id(), 0, sizeof(reset), reset.data());
     const uint32_t zero = 0u;
     glClearNamedBufferSubData(marks_.id(), GL_R32UI, 0, GLsizeiptr(cells * 4), GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-    const ShaderProgram& pass = program(debugCost);
+    const ShaderProgram& pass = program(anyHit, debugCost);
     pass.use();
     pass.set("cellsX", cellsX);
     pass.set("cellSize", cellSize_);

@@ -16,8 +16,8 @@ namespace chcrt {
 class HintPass {
 public:
     // `compute`: the pass is a compute dispatch (GPUs); else a full-screen fragment pass behind the active-ray mask.
-    // `cellSize`: the ray bounds grid's cell edge (its marks are per cell). Compiles the pass's program now, so that
-    // no trace pays for it.
+    // `cellSize`: the ray bounds grid's cell edge (its marks are per cell). Compiles the pass's programs now, so that
+    // no trace pays for them.
     HintPass(bool compute, int cellSize);
 
     // Visits the hinted leaves of a width × height ray set: the ray textures, the hit image (cleared) and the hint
@@ -25,7 +25,9 @@ public:
     // whose depth is 1 where a ray is active (the fragment pass tests it early). `debugCost`: add the visits' steps
     // to the cost debug image (bound at CHCRT_CULLING_IMAGE_DEBUG). Leaves the compaction buffer bound as the shader
     // storage buffer CHCRT_CULLING_COMPACT_BUFFER and as GL_DISPATCH_INDIRECT_BUFFER, ordered before later reads.
-    void run(int width, int height, GLuint maskFramebuffer, bool debugCost);
+    // `anyHit`: the ray set's kind (shaders/culling/hint_pass.glsl: any-hit rays that hit are finished, closest-hit
+    // rays bounded).
+    void run(bool anyHit, int width, int height, GLuint maskFramebuffer, bool debugCost);
     // The marks of the last run (a uint per ray bounds cell of `cellSize` pixels: nonzero where a ray was listed),
     // for the reduction that follows it (RayBoundsGrid::update's `cellMarks`).
     GLuint cellMarks() const { return marks_.id(); }
@@ -35,10 +37,10 @@ public:
     uint32_t raysLeft() const;
 
 private:
-    const ShaderProgram& program(bool debugCost);
+    const ShaderProgram& program(bool anyHit, bool debugCost);
 
     bool compute_ = false;
-    ShaderProgram programs_[2]; // [debugCost]; the debug variant compiled on first use
+    ShaderProgram programs_[2][2]; // [anyHit][debugCost]; the debug variants compiled on first use
     int cellSize_ = 8;
     GlBuffer buffer_, marks_;
     size_t capacity_ = 0, markCapacity_ = 0; // rays the buffer can list, cells the marks hold

@@ -1,14 +1,15 @@
 // CHC+RT cell passes (culling/cell_traversal.h), the part shared by the fragment pass (chcrt_cells.frag.glsl) and the
 // compute pass (chcrt_cells.comp.glsl): the bindings, and what one ray of a cell does — continue from the nearest hit
 // stored so far (image load/store on the hit buffer: one invocation per pixel per pass, so no other invocation
-// touches it), visit its hinted leaf (any-hit rays with hit hints), traverse its cell's list of termination subtrees
+// touches it), visit its hinted leaf (with hit hints), traverse its cell's list of termination subtrees
 // with the project's exact hit rule (render/bvh_nodes.glsl), store a nearer hit. The final hits are those of pure
 // BVH tracing.
 // Host defines: TRACE_ANY_HIT (0 | 1), CHCRT_SUBTREE_STACK (traversal stack entries: the partition's maximum
 // subtree height + 1, §5.2), CHCRT_CULLING_DEBUG_SUBTREES / _BATCHES / _COST (debug images, as the subtree pass
 // of culling/chcrt_subtrees.frag.glsl: 1 + id of the subtree that changed the hit last / subtrees listed for the
-// pixel / traversal steps, bit 31 = capped), CHCRT_CULLING_HINTS (1, any-hit rays only: visit the ray's hinted
-// leaf first, and record the leaf of every hit this pass finds in the ray set's hint image).
+// pixel / traversal steps, bit 31 = capped), CHCRT_CULLING_HINTS (1: visit the ray's hinted leaf first unless the
+// hint pass did — uniform hintsVisited —, and record the leaf of every hit this pass finds in the ray set's hint
+// image: for closest-hit rays the leaf of the nearest).
 #include "shared/render_layout.h"
 #include "shared/bvh_layout.h"
 #include "shared/culling_layout.h"
@@ -26,6 +27,7 @@ layout(binding = CHCRT_UNIT_RAY_DIRECTION) uniform sampler2D rayDirections;
 layout(binding = CHCRT_CULLING_IMAGE_HIT, rgba32ui) uniform uimage2D hitImage;
 #if CHCRT_CULLING_HINTS
 layout(binding = CHCRT_CULLING_IMAGE_HINT, r32ui) uniform uimage2D hintImage;
+uniform bool hintsVisited; // the hint pass visited every ray's hint already (culling/hint_pass.h)
 #endif
 
 layout(binding = CHCRT_UNIT_CULLING_CELL_HEADERS) uniform usamplerBuffer cellHeaders;
@@ -88,14 +90,18 @@ void traceCellPixel(ivec2 pixel, int cellIndex) {
     float previousT = best.t;
     TraceCost cost = TraceCost(0u, 0u, 0u, 0u);
 #if CHCRT_CULLING_HINTS
-    // Hit hints (any-hit rays): the leaf of the ray's hit in the previous trace of its ray set first; a hit there
-    // finishes the ray.
+    // Hit hints: the leaf of the ray's hit in the previous trace of its ray set first (once: not after the hint pass,
+    // nor in a later round of a ray that has a hit); a hit there finishes an any-hit ray and bounds a closest-hit
+    // ray's traversal from its start.
     uint hintLeaf = imageLoad(hintImage, pixel).x;
-    if (hintLeaf != CHCRT_NO_HIT_ID) {
+    bool visitHint = hintLeaf != CHCRT_NO_HIT_ID && !hintsVisited && stored.y == CHCRT_NO_HIT_ID;
+    if (visitHint) {
         visitHintLeaf(hintLeaf, originTmin.xyz, directionTmax.xyz, originTmin.w, best, cost);
         changedLeaf = hintLeaf;
     }
+#if TRACE_ANY_HIT
     if (best.triangleId == CHCRT_NO_HIT_ID)
+#endif
 #endif
     traverseCellList(header.x, header.x + header.y, originTmin.xyz, directionTmax.xyz, originTmin.w, best, cost);
     if (cost.iterations >= CHCRT_TRACE_ITERATION_CAP) {
@@ -106,7 +112,7 @@ void traceCellPixel(ivec2 pixel, int cellIndex) {
 #endif
     if (best.triangleId == previousId && best.t == previousT) {
 #if CHCRT_CULLING_HINTS
-        if (hintLeaf != CHCRT_NO_HIT_ID) {
+        if (visitHint) {
             imageStore(hintImage, pixel, uvec4(CHCRT_NO_HIT_ID)); // a hint that no longer hits is dropped
         }
 #endif

@@ -1,16 +1,20 @@
 // CHC+RT hint pass (culling/hint_pass.h), the part shared by its compute pass (chcrt_hints.comp.glsl) and its
-// fragment pass (chcrt_hints.frag.glsl): every active any-hit ray visits the leaf of its hit hint (culling/README.md,
-// "Hit hints") before anything else of the trace. A hit there finishes the ray: it is stored, and the ray bounds
-// reduction that follows leaves the ray out. Every other active ray drops its hint (it no longer hits) and is
-// appended to the compaction buffer, so that the cell lists are traversed by a dispatch over exactly those rays
-// (chcrt_cells_compact.comp.glsl): when a few rays of a cell miss their hints, the others no longer wait for them
-// in every loop of the traversal, as SIMD lanes do in a pass over all rays. The cell of every listed ray is marked,
-// so that the reduction skips the cells left without a ray to trace.
-// Host defines: CHCRT_CULLING_DEBUG_COST (add the hint visits' steps to the cost debug image).
+// fragment pass (chcrt_hints.frag.glsl): every active ray visits the leaf of its hit hint (culling/README.md,
+// "Hit hints") before anything else of the trace, and a hit there is stored.
+//  - Any-hit rays: that hit finishes the ray, and the ray bounds reduction that follows leaves it out. Every other
+//    active ray drops its hint (it no longer hits) and is appended to the compaction buffer, so that the cell lists
+//    are traversed by a dispatch over exactly those rays (chcrt_cells_compact.comp.glsl): when a few rays of a cell
+//    miss their hints, the others no longer wait for them in every loop of the traversal, as SIMD lanes do in a
+//    pass over all rays. The cell of every listed ray is marked, so that the reduction skips the cells left without
+//    a ray to trace.
+//  - Closest-hit rays: the hit bounds the ray (a nearer one may still exist), so the reduction that follows ends
+//    its segment there — the "hit-bounded ray bounds" a primary ray otherwise gets only after its cell lists were
+//    traced — and the cell lists hold only the subtrees the shortened segments reach. Every ray is traced by the
+//    cell pass; the buffer only counts the rays whose hint missed (for the tracer's record of the pass).
+// Host defines: TRACE_ANY_HIT (0 | 1), CHCRT_CULLING_DEBUG_COST (add the hint visits' steps to the cost debug image).
 #include "shared/render_layout.h"
 #include "shared/bvh_layout.h"
 #include "shared/culling_layout.h"
-#define TRACE_ANY_HIT 1
 #include "render/bvh_nodes.glsl"
 
 layout(binding = CHCRT_UNIT_RAY_ORIGIN) uniform sampler2D rayOrigins;
@@ -55,7 +59,7 @@ void visitHintOfPixel(ivec2 pixel) {
 #endif
     if (best.triangleId != CHCRT_NO_HIT_ID) {
         imageStore(hitImage, pixel, uvec4(floatBitsToUint(best.t), best.triangleId, floatBitsToUint(best.barycentrics)));
-        return; // finished; the hint stays
+        return; // any-hit: finished; closest-hit: bounded. The hint stays
     }
     if (hintLeaf != CHCRT_NO_HIT_ID) {
         imageStore(hintImage, pixel, uvec4(CHCRT_NO_HIT_ID)); // a hint that no longer hits is dropped

@@ -36,6 +36,7 @@ struct ExactnessCase {
     bool hitHints = false;      // BoundsOnly: any-hit rays visit the leaf of their previous hit first
     bool computeCellPass = false; // cell lists traced in compute dispatches instead of fragment passes
     bool hintPass = false;      // hints visited in a pass of their own, the rays left traced compacted
+    bool closestHitHints = false; // closest-hit ray sets (primary, diffuse) keep hints too
 };
 
 class ChcrtExactnessTest : public RenderTest, public ::testing::WithParamInterface<ExactnessCase> {};
@@ -69,6 +70,7 @@ ChcrtOptions optionsOf(const ExactnessCase& c, const int& frame) {
     options.hitHints = c.hitHints;
     options.computeCellPass = c.computeCellPass;
     options.hintPass = c.hintPass;
+    options.closestHitHints = c.closestHitHints;
     if (c.adaptive) {
         options.adaptiveTiming = fixedAdaptiveTiming(frame);
         options.adaptiveProbeInterval = 1;
@@ -138,22 +140,28 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
     }
     EXPECT_GT(hits, compared / 4);
     // Hit hints: any-hit ray sets recorded the leaves of their hits (the exactness above covers the frames that
-    // started from them), closest-hit ray sets have none.
+    // started from them), closest-hit ray sets the leaves of their nearest hits with closestHitHints, else none.
     TraceRequest shadow;
     shadow.rayType = RayType::Shadow;
     shadow.anyHit = true;
     TraceRequest primary;
     if (c.hitHints && decidesByBounds(c.queries)) {
-        EXPECT_EQ(chcrt.hintTexture(primary), 0u);
-        const std::vector<uint32_t> leaves = readHints(chcrt.hintTexture(shadow), settings.width, settings.height);
-        size_t recorded = 0;
-        for (uint32_t leaf : leaves) {
-            if (leaf == CHCRT_NO_HIT_ID) continue;
-            ++recorded;
-            ASSERT_LT(leaf, bvh_.nodes.size());
-            EXPECT_TRUE(bvh_.isLeaf(leaf)) << "hint " << leaf << " is not a leaf";
+        if (!c.closestHitHints) {
+            EXPECT_EQ(chcrt.hintTexture(primary), 0u);
         }
-        EXPECT_GT(recorded, leaves.size() / 20);
+        for (const TraceRequest* request : {&shadow, &primary}) {
+            if (request == &primary && !c.closestHitHints) continue;
+            const std::vector<uint32_t> leaves = readHints(chcrt.hintTexture(*request), settings.width,
+                                                           settings.height);
+            size_t recorded = 0;
+            for (uint32_t leaf : leaves) {
+                if (leaf == CHCRT_NO_HIT_ID) continue;
+                ++recorded;
+                ASSERT_LT(leaf, bvh_.nodes.size());
+                EXPECT_TRUE(bvh_.isLeaf(leaf)) << "hint " << leaf << " is not a leaf";
+            }
+            EXPECT_GT(recorded, leaves.size() / 20) << toString(request->rayType);
+        }
         if (c.hintPass) {
             // The hint pass ran on every culled any-hit trace and left some rays (not all) to the cell lists.
             EXPECT_GT(chcrt.totalStats().hintPasses, 0u);
@@ -373,8 +381,8 @@ TEST_F(RenderTest, RayBoundsShrunkBelowTheRoundingPadLoseHitsThatTheComparisonDe
 
 TEST_F(RenderTest, ArbitraryHitHintsKeepHitsExact) {
     // A hint only says where to look first: whatever leaf or inner node it names, the hits stay pure BVH's. The hint
-    // images of shadow and AO rays are overwritten with random nodes (leaves and inner nodes alike) before each trace,
-    // with the hints visited in the cell pass and in the hint pass.
+    // images of shadow, AO and (closest-hit hints) primary rays are overwritten with random nodes (leaves and inner
+    // nodes alike) before each trace, with the hints visited in the cell pass and in the hint pass.
     RenderSettings settings;
     settings.width = 96;
     settings.height = 72;
@@ -387,6 +395,7 @@ TEST_F(RenderTest, ArbitraryHitHintsKeepHitsExact) {
         options.queries = ChcrtQueries::BoundsOnly;
         options.hitHints = true;
         options.hintPass = hintPass;
+        options.closestHitHints = true;
         ChcrtTracer chcrt(bvh_, options);
         const CameraPath path = proceduralNearPath(spec_);
         std::mt19937 random(7);
@@ -397,10 +406,10 @@ TEST_F(RenderTest, ArbitraryHitHintsKeepHitsExact) {
         for (int frame = 0; frame < 3; ++frame) {
             const Camera camera = path.cameraAtFrame(frame * 2);
             renderer.renderGBuffer(camera, stats);
-            for (RayType type : {RayType::Shadow, RayType::Ao}) {
+            for (RayType type : {RayType::Shadow, RayType::Ao, RayType::Primary}) {
                 TraceRequest request;
                 request.rayType = type;
-                request.anyHit = true;
+                request.anyHit = isAnyHit(type);
                 renderer.generateRayPass(camera, type, 0, stats);
                 renderer.useTracer(nullptr);
                 renderer.traceRayPass(camera, type, 0, stats);
@@ -414,10 +423,12 @@ TEST_F(RenderTest, ArbitraryHitHintsKeepHitsExact) {
                 renderer.useTracer(&chcrt);
                 renderer.traceRayPass(camera, type, 0, stats);
                 const std::vector<Hit> culled = renderer.readHits(0);
-                for (size_t i = 0; i < reference.size(); ++i) differing += !sameHit(reference[i], culled[i], true);
+                for (size_t i = 0; i < reference.size(); ++i) {
+                    differing += !sameHit(reference[i], culled[i], isAnyHit(type));
+                }
             }
         }
-        EXPECT_EQ(traced, 4u) << "hint pass " << hintPass; // both ray sets, from their second trace on
+        EXPECT_EQ(traced, 6u) << "hint pass " << hintPass; // the three ray sets, from their second trace on
         EXPECT_EQ(differing, 0u) << "hint pass " << hintPass;
         EXPECT_EQ(chcrt.totalStats().hintPasses > 0, hintPass);
     }
@@ -577,7 +588,7 @@ std::string caseName(const ::testing::TestParamInfo<ExactnessCase>& info) {
            (info.param.boundsPreviousFront ? "_front" : "") + (info.param.adaptiveHeights.empty() ? "" : "_heights") +
            (info.param.cellListLimit ? "_limit" + std::to_string(info.param.cellListLimit) : "") +
            (info.param.hitHints ? "_hints" : "") + (info.param.computeCellPass ? "_compute" : "") +
-           (info.param.hintPass ? "_hintpass" : "");
+           (info.param.hintPass ? "_hintpass" : "") + (info.param.closestHitHints ? "_closest" : "");
 }
 
 // Subtree height 8, well below the BVH depth at 60k triangles, so that object-space splits happen; tiles small enough for
@@ -675,6 +686,17 @@ INSTANTIATE_TEST_SUITE_P(ProceduralScenes, ChcrtExactnessTest,
                                            ExactnessCase{"plant:60k", 12, 16, true, 4, true, false, true, true,
                                                          ChcrtQueries::BoundsOnly, 16, 4, false, {10}, 64, true, false,
                                                          true},
+                                           // closest-hit rays with hints too: in the cell pass (bounds-only), after
+                                           // the hint pass (bounds-only, compute; bounds-gpu, the adaptive choice)
+                                           ExactnessCase{"city:60k", 8, 16, true, 4, false, false, true, true,
+                                                         ChcrtQueries::BoundsOnly, 8, 4, false, {}, 0, true, false,
+                                                         false, true},
+                                           ExactnessCase{"interior:60k", 12, 16, true, 4, false, false, true, true,
+                                                         ChcrtQueries::BoundsOnly, 4, 4, false, {}, 12, true, true,
+                                                         true, true},
+                                           ExactnessCase{"plant:60k", 8, 16, true, 4, true, false, true, true,
+                                                         ChcrtQueries::BoundsGpu, 8, 4, false, {10}, 64, true, false,
+                                                         true, true},
                                            // the hint pass before lists decided on the GPU (compute, as on GPUs, and
                                            // fragment)
                                            ExactnessCase{"city:60k", 8, 16, true, 4, false, false, true, true,
