@@ -47,6 +47,8 @@ ResourceLog& ResourceLog::operator=(ResourceLog&& o) noexcept {
 void ResourceLog::frameDone(uint64_t frame, bool last, const nlohmann::json& extra) {
     if (!out_ || (!last && frame % uint64_t(every_) != 0) || int64_t(frame) == lastWritten_) return;
     lastWritten_ = int64_t(frame);
+    // The sample counts what the process holds, not the free pages the allocator kept since its last release.
+    releaseFreedMemory();
     nlohmann::json line = sampleResourcesJson();
     line["frame"] = frame;
     for (const auto& [key, value] : extra.items()) line[key] = value;

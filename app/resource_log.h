@@ -4,7 +4,8 @@
 //   - resourcesJson(): the `resources` object of every --stats-json frame;
 //   - ResourceLog: --resource-log FILE writes one JSON line every --resource-every frames, flushed as it goes, and
 //     keeps nothing in memory, so that a run of any length can be sampled (--stats-json keeps every frame's JSON in
-//     memory until the end). scripts/soak.sh reads it; docs/robustness.md ("Long runs").
+//     memory until the end). Each sample first hands the allocator's free pages back (releaseFreedMemory), so that
+//     it measures what the process holds. scripts/soak.sh reads it; docs/robustness.md ("Long runs").
 #include "renderer/core/process_resources.h"
 #include "renderer/gl/gl_object_count.h"
 
