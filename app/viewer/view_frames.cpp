@@ -46,6 +46,13 @@ std::vector<uint8_t> residentSubtrees(const outofcore::OutOfCoreTracer& tracer) 
     return resident;
 }
 
+std::vector<uint8_t> subtreeLevels(const outofcore::OutOfCoreTracer& tracer) {
+    const outofcore::GpuSubtreeCache& cache = tracer.cache();
+    std::vector<uint8_t> levels(tracer.file().subtrees().size(), 0);
+    for (uint32_t s = 0; s < levels.size(); ++s) levels[s] = uint8_t(cache.levelFor(s));
+    return levels;
+}
+
 // Out of core the tracer records the primary rays' subtrees in the debug image for the G-buffer resolve: the
 // chosen image (for `cost`, CHC+RT's cost image) is selected here and the recording paused for this one trace
 // (each image's shader variants are compiled once and kept).

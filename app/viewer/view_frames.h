@@ -24,6 +24,9 @@ void showShadedFrame(Renderer& renderer, ViewDisplay& display, const ViewerSetti
 std::vector<float> displayedRgb(const ViewDisplay& display);
 // Subtrees resident in the GPU cache now (by file subtree index).
 std::vector<uint8_t> residentSubtrees(const outofcore::OutOfCoreTracer& tracer);
+// Per subtree of the tracer's file, the level of detail a request is served at from the last frame's view (0 = the
+// subtree itself; always 0 for exact methods).
+std::vector<uint8_t> subtreeLevels(const outofcore::OutOfCoreTracer& tracer);
 
 // The cost and CHC+RT debug views: the settings' cost ray set traced after the G-buffer (the debug image shows
 // only it, not the G-buffer's traced primary rays). `outOfCore`: the tracer when it traces out of core.

@@ -9,7 +9,7 @@ const std::vector<ViewMode>& allViewModes() {
                                                 ViewMode::Albedo, ViewMode::TriangleId, ViewMode::Depth,
                                                 ViewMode::Cost, ViewMode::Overdraw, ViewMode::Subtrees,
                                                 ViewMode::Batches, ViewMode::Bounds, ViewMode::Shafts,
-                                                ViewMode::Residency};
+                                                ViewMode::Residency, ViewMode::Lod};
     return modes;
 }
 
@@ -28,6 +28,7 @@ const char* toString(ViewMode mode) {
     case ViewMode::Bounds: return "bounds";
     case ViewMode::Shafts: return "shafts";
     case ViewMode::Residency: return "residency";
+    case ViewMode::Lod: return "lod";
     }
     return "?";
 }
@@ -54,6 +55,9 @@ const char* describe(ViewMode mode) {
     case ViewMode::Residency:
         return "out of core: primary hit's subtree resident in the GPU cache before the frame (green) or uploaded "
                "this frame (orange); one shade per subtree, dark subtree boundaries";
+    case ViewMode::Lod:
+        return "out of core, chcrt-lod: the level of detail of the primary hit's subtree, the subtree itself (grey-blue) "
+               "or a proxy (levels 1-4, green to red as they coarsen); set --lod-pixels with its slider";
     }
     return "";
 }
@@ -69,7 +73,7 @@ ViewMode parseViewMode(const std::string& name) {
 
 bool isGBufferMode(ViewMode mode) {
     return mode != ViewMode::Shaded && mode != ViewMode::Cost && mode != ViewMode::Shafts &&
-           mode != ViewMode::Residency && !isChcrtDebugMode(mode);
+           mode != ViewMode::Residency && mode != ViewMode::Lod && !isChcrtDebugMode(mode);
 }
 
 bool isChcrtDebugMode(ViewMode mode) {

@@ -102,9 +102,12 @@ private:
     void frameFailed(const std::string& error);
     void prepareDebugImage(ChcrtTracer* chcrt);
     void renderView(ChcrtTracer* chcrt, Clock::time_point start, FrameStats& stats,
-                    std::optional<ResidencyCounts>& residency);
+                    std::optional<ResidencyCounts>& residency, std::optional<LodCounts>& lod);
     void renderShafts(FrameStats& stats);
-    void renderResidency(FrameStats& stats);
+    // The residency and lod views (residency_view.h): the shaded frame tinted per pixel by what `colour` says of its
+    // primary hit's subtree. False (and the shaded frame, with a note) where there is no out-of-core scene.
+    bool renderWorkingSetView(FrameStats& stats,
+                              const std::function<void(outofcore::OutOfCoreTracer&, std::vector<float>&)>& colour);
 
     void drawWindow();
     void updatePanelStatus();
@@ -145,7 +148,6 @@ private:
     int pathFrame_ = 0;
     PathRecorder recorder_;
     int screenshotCount_ = 0;
-    std::optional<ResidencyCounts> lastResidency_; // of the last residency-view frame (out of core)
     std::optional<ScriptRunner> script_;
     ViewerStatus status_;
     // The last frame failed on its input (an out-of-core read): no new attempt until the view changes (dirty_).
@@ -609,7 +611,8 @@ void Viewer::renderFrame(int w, int h) {
     const outofcore::OutOfCoreStats outOfCoreBefore = outOfCore ? outOfCore->snapshot() : outofcore::OutOfCoreStats{};
     FrameStats stats;
     std::optional<ResidencyCounts> residency;
-    renderView(chcrt, start, stats, residency);
+    std::optional<LodCounts> lod;
+    renderView(chcrt, start, stats, residency, lod);
     if (outOfCore) { // read ahead (--prefetch-frames): the next frames of a playing path, else the fronts only
         std::vector<Camera> next;
         const size_t ahead = playing_ ? outOfCore->options().prefetchFrames : 0;
@@ -621,8 +624,9 @@ void Viewer::renderFrame(int w, int h) {
     status_.chcrt.reset();
     if (chcrt) status_.chcrt = chcrtFrameStats(chcrtBefore, chcrt->totalStats());
     status_.outOfCore.reset();
-    if (outOfCore) status_.outOfCore = outOfCoreFrameStatus(*outOfCore, outOfCoreBefore, scene_->sceneInCore, residency);
-    if (settings_.viewMode != ViewMode::Shafts && settings_.viewMode != ViewMode::Residency) { // those have shown theirs
+    if (outOfCore) status_.outOfCore = outOfCoreFrameStatus(*outOfCore, outOfCoreBefore, scene_->sceneInCore, residency, lod);
+    if (settings_.viewMode != ViewMode::Shafts && settings_.viewMode != ViewMode::Residency &&
+        settings_.viewMode != ViewMode::Lod) { // those have shown theirs
         showTracedView(renderer, *display_, chcrt, settings_, scene_->scene.bounds(), w, h);
     }
     checkGlErrors("viewer frame");
@@ -643,6 +647,7 @@ void Viewer::renderFrame(int w, int h) {
     record.outOfCoreStatus = status_.outOfCore;
     record.sceneInCore = scene_->sceneInCore;
     record.residency = residency;
+    record.lod = lod;
     record.shafts = settings_.viewMode == ViewMode::Shafts && shafts_.pick() ? &*shafts_.pick() : nullptr;
     record.width = w;
     record.height = h;
@@ -666,16 +671,28 @@ void Viewer::prepareDebugImage(ChcrtTracer* chcrt) {
 }
 
 void Viewer::renderView(ChcrtTracer* chcrt, Clock::time_point start, FrameStats& stats,
-                        std::optional<ResidencyCounts>& residency) {
+                        std::optional<ResidencyCounts>& residency, std::optional<LodCounts>& lod) {
     Renderer& renderer = *gpu_.renderer;
     switch (settings_.viewMode) {
     case ViewMode::Shafts:
         renderShafts(stats);
         stats.totalMs = millisecondsSince(start);
         return;
-    case ViewMode::Residency:
-        renderResidency(stats);
-        if (methods_.outOfCore() && !scene_->sceneInCore) residency = lastResidency_;
+    case ViewMode::Residency: {
+        std::vector<uint8_t> before; // the cache's residency before the frame
+        if (methods_.outOfCore()) before = residentSubtrees(*methods_.outOfCore());
+        renderWorkingSetView(stats, [&](outofcore::OutOfCoreTracer& t, std::vector<float>& rgb) {
+            residency = colourResidency(t.primaryResolve().lastPixelSubtrees(), before, display_->width(),
+                                        display_->height(), rgb);
+        });
+        stats.totalMs = millisecondsSince(start);
+        return;
+    }
+    case ViewMode::Lod:
+        renderWorkingSetView(stats, [&](outofcore::OutOfCoreTracer& t, std::vector<float>& rgb) {
+            lod = colourLod(t.primaryResolve().lastPixelSubtrees(), subtreeLevels(t), display_->width(),
+                            display_->height(), rgb);
+        });
         stats.totalMs = millisecondsSince(start);
         return;
     case ViewMode::Shaded:
@@ -693,24 +710,25 @@ void Viewer::renderView(ChcrtTracer* chcrt, Clock::time_point start, FrameStats&
     }
 }
 
-// The residency view (out of core): the shaded frame (one frame, no refinement) tinted by where each pixel's
-// primary hit came from: a subtree resident in the GPU cache before the frame, or one uploaded during it.
-void Viewer::renderResidency(FrameStats& stats) {
-    const int w = display_->width(), h = display_->height();
+// The residency and lod views (out of core): the shaded frame (one frame, no refinement) tinted per pixel by where
+// its primary hit came from — a subtree resident in the GPU cache before the frame or one uploaded during it; the
+// subtree itself or one of its LOD proxies.
+bool Viewer::renderWorkingSetView(
+    FrameStats& stats, const std::function<void(outofcore::OutOfCoreTracer&, std::vector<float>&)>& colour) {
     outofcore::OutOfCoreTracer* outOfCore = methods_.outOfCore();
     const bool available = outOfCore && !scene_->sceneInCore;
-    lastResidency_.reset();
-    const std::vector<uint8_t> before = available ? residentSubtrees(*outOfCore) : std::vector<uint8_t>{};
     showShadedFrame(*gpu_.renderer, *display_, settings_, scene_->scene.bounds(), camera_, stats);
     if (!available) { // the shaded frame, with a note
-        const std::string text = "the residency view needs --out-of-core with a prepared scene not loaded in core "
+        const std::string text = std::string("the ") + toString(settings_.viewMode) +
+                                 " view needs --out-of-core with a prepared scene not loaded in core "
                                  "(--load-in-core off)";
         if (status_.message != text) notice(text);
-        return;
+        return false;
     }
     std::vector<float> rgb = displayedRgb(*display_);
-    lastResidency_ = colourResidency(outOfCore->primaryResolve().lastPixelSubtrees(), before, w, h, rgb);
+    colour(*outOfCore, rgb);
     display_->showImage(rgb);
+    return true;
 }
 
 // The shafts view: the picked Line Space node's shafts over the shaded frame, with the N/D/T of the method's

@@ -46,7 +46,8 @@ ViewerChcrtStats chcrtFrameStats(const ChcrtStats& before, const ChcrtStats& aft
 }
 
 ViewerOutOfCoreStatus outOfCoreFrameStatus(const outofcore::OutOfCoreTracer& tracer, const outofcore::OutOfCoreStats& before,
-                                           bool sceneInCore, const std::optional<ResidencyCounts>& residency) {
+                                           bool sceneInCore, const std::optional<ResidencyCounts>& residency,
+                                           const std::optional<LodCounts>& lod) {
     ViewerOutOfCoreStatus o;
     o.frame = outofcore::OutOfCoreStats::difference(tracer.snapshot(), before);
     o.gpuCacheMb = double(tracer.options().gpuCacheBytes) / double(1u << 20);
@@ -54,6 +55,7 @@ ViewerOutOfCoreStatus outOfCoreFrameStatus(const outofcore::OutOfCoreTracer& tra
     o.fileSubtrees = tracer.file().subtrees().size();
     o.sceneInCore = sceneInCore;
     o.residency = residency;
+    o.lod = lod;
     return o;
 }
 
@@ -81,6 +83,11 @@ void ViewerLog::addFrame(const FrameRecord& f) {
         const ResidencyCounts& c = *f.residency;
         entry["residency"] = {{"hit_pixels", c.hitPixels}, {"resident_pixels", c.residentPixels},
                               {"uploaded_pixels", c.uploadedPixels}, {"visible_subtrees", c.visibleSubtrees}};
+    }
+    if (f.lod) {
+        const LodCounts& c = *f.lod;
+        entry["lod"] = {{"hit_pixels", c.hitPixels}, {"pixels_per_level", c.pixelsPerLevel},
+                        {"visible_subtrees", c.visibleSubtrees}};
     }
     if (f.shafts) {
         const ShaftPick& p = *f.shafts;

@@ -22,7 +22,8 @@ namespace chcrt::app {
 ViewerChcrtStats chcrtFrameStats(const ChcrtStats& before, const ChcrtStats& after);
 // Out of core (CHC+RT Table 3) for the frame since `before`, with the budgets and the residency view's counts.
 ViewerOutOfCoreStatus outOfCoreFrameStatus(const outofcore::OutOfCoreTracer& tracer, const outofcore::OutOfCoreStats& before,
-                                           bool sceneInCore, const std::optional<ResidencyCounts>& residency);
+                                           bool sceneInCore, const std::optional<ResidencyCounts>& residency,
+                                           const std::optional<LodCounts>& lod);
 
 // What a rendered frame's JSON entry holds.
 struct FrameRecord {
@@ -34,6 +35,7 @@ struct FrameRecord {
     std::optional<ViewerOutOfCoreStatus> outOfCoreStatus;
     bool sceneInCore = true;
     std::optional<ResidencyCounts> residency;
+    std::optional<LodCounts> lod;
     const ShaftPick* shafts = nullptr; // the shafts view's node
     int width = 0, height = 0, accumulatedFrames = 0;
     double frameMs = 0; // render + visualisation (loop_ms, set afterwards, adds panel and swap)

@@ -180,6 +180,17 @@ void ViewerPanel::drawOutOfCore(const ViewerOutOfCoreStatus& o) {
         ImGui::TextColored(ImVec4(kUploadedTint[0], kUploadedTint[1], kUploadedTint[2], 1),
                            "  %.1f %% uploaded this frame", 100.0 * double(r.uploadedPixels) / hits);
     }
+    if (o.lod) {
+        const LodCounts& l = *o.lod;
+        const double hits = double(std::max<uint64_t>(l.hitPixels, 1));
+        ImGui::Text("levels of %llu hit pixels (%u subtrees):", count(l.hitPixels), l.visibleSubtrees);
+        for (int level = 0; level < kLodViewLevels; ++level) {
+            if (l.pixelsPerLevel[size_t(level)] == 0) continue;
+            ImGui::TextColored(ImVec4(kLodTints[level][0], kLodTints[level][1], kLodTints[level][2], 1),
+                               level == 0 ? "  %.1f %% the subtrees" : "  %.1f %% proxy level %d",
+                               100.0 * double(l.pixelsPerLevel[size_t(level)]) / hits, level);
+        }
+    }
 }
 
 void ViewerPanel::drawSettings(ViewerSettings& settings, const ViewerStatus& status, ViewerActions& actions) {

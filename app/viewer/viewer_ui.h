@@ -33,6 +33,7 @@ struct ViewerOutOfCoreStatus {
     size_t fileSubtrees = 0;
     bool sceneInCore = false; // --load-in-core: the G-buffer is the in-core one, only tracing is out of core
     std::optional<ResidencyCounts> residency;
+    std::optional<LodCounts> lod; // when the lod view drew the frame
 };
 
 struct ViewerStatus {

@@ -2,6 +2,7 @@
 // free display (Xvfb -displayfd picks one) and stops it afterwards; without Xvfb it fails with a message
 // saying how to install it. Assertions are on the screenshots (image differences between views, moves,
 // effects; identity where exactness holds) and on the statistics the viewer writes and checks.
+#include "app/viewer/residency_view.h"
 #include "renderer/core/image_io.h"
 
 #include <nlohmann/json.hpp>
@@ -680,6 +681,46 @@ TEST_F(ViewerTest, OutOfCoreSceneMatchesInCoreShowsResidencyAndTable3Statistics)
     EXPECT_NE(r.output.find("no out-of-core form"), std::string::npos) << r.output;
     r = run("view --scene city:20k --out-of-core --method chcrt --script one.json -q");
     EXPECT_EQ(r.exitCode, 2) << r.output;
+}
+
+// The lod view (chcrt-lod, issue #19): each pixel's primary hit tinted by the level of detail its subtree was traced
+// at. From the far path with a threshold of 4 pixels most hits come from proxies; an exact method shows level 0 only;
+// lowering the threshold (the panel's slider, here the script's `set`) moves hits back to finer levels.
+TEST_F(ViewerTest, LodViewShowsTheLevelEachHitWasTracedAt) {
+    const Result prepared = run("prepare --scene city:60k -o c.chs --subtree-triangles 1000 -q", false);
+    ASSERT_EQ(prepared.exitCode, 0) << prepared.output;
+    std::ofstream(dir_ / "lod.json") << R"([
+        {"set": {"viewMode": "lod"}, "frames": 1, "screenshot": "lod.png",
+         "expect": {"viewMode": "lod", "method": "chcrt-lod"}},
+        {"set": {"lodPixels": 0.125}, "frames": 1},
+        {"set": {"method": "chcrt"}, "frames": 1, "screenshot": "exact.png", "expect": {"method": "chcrt"}}])";
+    const Result r = run("view --scene c.chs --out-of-core --load-in-core off --camera-path far --method chcrt-lod "
+                         "--lod-pixels 4 --width 160 --height 96 --render-scale 1 --no-accumulate -q --script lod.json "
+                         "--stats-json stats.json");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_GT(differingFraction("lod.png", "exact.png"), 0.3);
+    const nlohmann::json frames = json("stats.json")["frames"];
+    ASSERT_EQ(frames.size(), 3u);
+    const auto levelPixels = [&](size_t frame) {
+        const nlohmann::json& lod = frames[frame]["lod"];
+        EXPECT_TRUE(lod.is_object()) << frames[frame].dump();
+        std::vector<uint64_t> perLevel = lod.value("pixels_per_level", std::vector<uint64_t>{});
+        uint64_t sum = 0;
+        for (uint64_t n : perLevel) sum += n;
+        EXPECT_EQ(sum, lod.value("hit_pixels", uint64_t(0)));
+        EXPECT_GT(sum, 1000u);
+        return perLevel;
+    };
+    const std::vector<uint64_t> coarse = levelPixels(0), fine = levelPixels(1), exact = levelPixels(2);
+    ASSERT_EQ(coarse.size(), size_t(app::kLodViewLevels));
+    const auto proxies = [](const std::vector<uint64_t>& perLevel) {
+        uint64_t n = 0;
+        for (size_t level = 1; level < perLevel.size(); ++level) n += perLevel[level];
+        return n;
+    };
+    EXPECT_GT(proxies(coarse), coarse[0]);      // from above, most hits on proxies at 4 pixels
+    EXPECT_LT(proxies(fine), proxies(coarse));  // fewer at 1/8 pixel
+    EXPECT_EQ(proxies(exact), 0u);              // an exact method never traces a proxy
 }
 
 // Streaming out of core (--uploads-per-trace; the interactive viewer's default is 16): frames that postpone
