@@ -4,6 +4,7 @@
 #include "linespace/shaft_geometry.h"
 #include "linespace/shaft_index.h"
 #include "renderer/core/error.h"
+#include "renderer/core/memory_budget.h"
 
 #include <algorithm>
 #include <atomic>
@@ -166,17 +167,28 @@ NTree buildNTree(const Bvh& bvh, const NTreeParams& params, Progress& progress) 
         tree.triangleRefs.push_back(i);
     }
     tree.nodes.push_back(root);
+    const uint32_t n = params.n, words = lsWordCount(n, true);
+    // How large the tree grows depends on where the triangles lie, so no estimate up front can bound it without
+    // refusing the papers' parameters (N = 10, depth 4 allows 10^12 nodes; a city fills a small fraction): the
+    // memory budget (--max-memory-mb) is checked before each subdivision instead, with what the tree holds so far,
+    // the node's children and the Line Spaces of the nodes subdivided so far, twice (the host's copy and the GPU's).
+    const uint64_t lineSpaceBytes = 4ull * words;
+    const uint64_t childrenBytes = uint64_t(n) * n * n * sizeof(NTreeNode);
+    const std::string what = "the N-tree " + params.toString() + " (built so far, host and GPU)";
     // Level by level: every non-empty node above the leaf level is subdivided.
     std::vector<uint32_t> subdivided;
     for (uint32_t node = 0; node < tree.nodes.size(); ++node) {
         if (tree.nodes[node].level < params.depth && tree.nodes[node].triangleCount > 0) {
+            checkMemoryBudget(2 * (tree.nodes.size() * sizeof(NTreeNode) + childrenBytes +
+                                   tree.triangleRefs.size() * sizeof(uint32_t) +
+                                   (subdivided.size() + 1) * lineSpaceBytes),
+                              what);
             tree.nodes[node].space = static_cast<uint32_t>(subdivided.size());
             subdivided.push_back(node);
             subdivide(tree, bvh, node);
         }
     }
     // Binary Line Spaces of the subdivided nodes, in parallel over nodes.
-    const uint32_t n = params.n, words = lsWordCount(n, true);
     const double dilation = shaftDilationForScene(sceneBounds);
     tree.binaryWords.assign(subdivided.size() * size_t(words), 0u);
     std::atomic<size_t> next{0}, done{0};

@@ -5,6 +5,7 @@
 #include "linespace/shaft_geometry.h"
 #include "linespace/shaft_index.h"
 #include "renderer/core/error.h"
+#include "renderer/core/memory_budget.h"
 #include "shaders/shared/intersect.h"
 #include "tests/linespace/linespace_test_util.h"
 
@@ -114,6 +115,37 @@ TEST(NTree, BinaryLineSpaceMarksExactlyTheShaftsMeetingNonEmptyChildren) {
         EXPECT_GT(empty, 500u) << "N=" << n;
         EXPECT_GT(filled, 500u) << "N=" << n;
     }
+}
+
+} // namespace
+} // namespace chcrt::ls
+
+namespace chcrt::ls {
+namespace {
+
+// --max-memory-mb bounds the N-tree as it grows (its size depends on where the triangles lie): a budget below what
+// the tree needs is a one-line InputError naming it, raised before the tree has grown past the budget; the same build
+// fits a budget of what it needed.
+TEST(NTree, GrowsOnlyWithinTheMemoryBudget) {
+    const Bvh bvh = buildBvh(test::makeScene(test::randomSoup(600, 12)));
+    NTreeParams params;
+    params.n = 4;
+    params.depth = 3;
+    const uint64_t saved = memoryBudgetBytes();
+    const NTree tree = buildNTree(bvh, params);
+    const uint64_t needed = 2 * (tree.nodes.size() * sizeof(NTreeNode) + tree.triangleRefs.size() * sizeof(uint32_t) +
+                                 tree.binaryWords.size() * sizeof(uint32_t));
+    setMemoryBudgetBytes(needed / 4);
+    try {
+        buildNTree(bvh, params);
+        ADD_FAILURE() << "an N-tree needing " << needed << " bytes was built within " << needed / 4;
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("N-tree"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("--max-memory-mb"), std::string::npos) << e.what();
+    }
+    setMemoryBudgetBytes(needed + 2 * uint64_t(params.n * params.n * params.n) * sizeof(NTreeNode));
+    EXPECT_NO_THROW(buildNTree(bvh, params));
+    setMemoryBudgetBytes(saved);
 }
 
 } // namespace
