@@ -15,6 +15,8 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <limits>
 #include <map>
 #include <utility>
@@ -90,6 +92,32 @@ bool loadImageWithinLimits(tinygltf::Image* image, const int index, std::string*
     return tinygltf::LoadImageData(image, index, err, warn, reqWidth, reqHeight, bytes, size, nullptr);
 }
 
+// tinygltf's reads of the files a glTF names (buffers and images by URI), behind checks: a regular file only, sized
+// within the memory budget before it is read. tinygltf's own reader sizes its buffer from the stream's end position,
+// which for a directory is 2^63 - 1: an image URI "data%image/png;..." that decoded to "data", a directory, made it
+// allocate that much (found by fuzzing; regression input gltf/regressions/crash_image_uri_names_a_directory.gltf).
+// A refused image becomes tinygltf's "failed to load" warning, reported like a missing texture; a refused buffer
+// fails the load.
+bool readReferencedFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+    const auto fail = [&](const std::string& why) {
+        if (err != nullptr) *err += "'" + path + "': " + why + "\n";
+        return false;
+    };
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) return fail("not a regular file");
+    const uintmax_t size = std::filesystem::file_size(path, ec);
+    if (ec) return fail(ec.message());
+    try {
+        checkMemoryBudget(uint64_t(size), "reading " + path);
+    } catch (const InputError& e) {
+        return fail(e.what());
+    }
+    std::ifstream in(path, std::ios::binary);
+    out->resize(size_t(size));
+    if (!in || !in.read(reinterpret_cast<char*>(out->data()), std::streamsize(size))) return fail("cannot be read");
+    return true;
+}
+
 tinygltf::Model parseModel(const std::filesystem::path& file) {
     const std::string bytes = detail::readWholeFile(file);
     if (bytes.empty()) throwFileError(file, "file is empty");
@@ -102,6 +130,8 @@ tinygltf::Model parseModel(const std::filesystem::path& file) {
     tinygltf::TinyGLTF parser;
     ImageLimits limits;
     parser.SetImageLoader(loadImageWithinLimits, &limits);
+    parser.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &readReferencedFile,
+                           &tinygltf::WriteWholeFile, nullptr});
     tinygltf::Model model;
     std::string error, warning;
     bool ok = false;

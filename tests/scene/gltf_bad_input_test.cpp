@@ -114,6 +114,16 @@ TEST(GltfErrors, MissingExternalBuffer) {
     EXPECT_THROW(loadSceneFile(file), InputError);
 }
 
+// A buffer URI naming a directory: tinygltf's own reader sized its buffer from the directory stream's end (2^63 - 1
+// on ext4; found by fuzzing through an image URI); the loader's reader refuses anything but a regular file.
+TEST(GltfErrors, ABufferThatIsADirectoryIsRefused) {
+    TempDir dir;
+    const std::filesystem::path file = triangleScene().writeGltf(dir.path(), "dirbin");
+    std::filesystem::remove(dir / "dirbin.bin");
+    std::filesystem::create_directory(dir / "dirbin.bin");
+    expectLoadError(file, "not a regular file");
+}
+
 TEST(GltfErrors, ZeroTriangles) {
     TempDir dir;
     GltfBuilder gltf;
