@@ -105,8 +105,8 @@ private:
                     std::optional<ResidencyCounts>& residency, std::optional<LodCounts>& lod);
     void renderShafts(FrameStats& stats);
     // The residency and lod views (residency_view.h): the shaded frame tinted per pixel by what `colour` says of its
-    // primary hit's subtree. False (and the shaded frame, with a note) where there is no out-of-core scene.
-    bool renderWorkingSetView(FrameStats& stats,
+    // primary hit's subtree; the shaded frame with a note where there is no out-of-core scene.
+    void renderWorkingSetView(FrameStats& stats,
                               const std::function<void(outofcore::OutOfCoreTracer&, std::vector<float>&)>& colour);
 
     void drawWindow();
@@ -713,7 +713,7 @@ void Viewer::renderView(ChcrtTracer* chcrt, Clock::time_point start, FrameStats&
 // The residency and lod views (out of core): the shaded frame (one frame, no refinement) tinted per pixel by where
 // its primary hit came from — a subtree resident in the GPU cache before the frame or one uploaded during it; the
 // subtree itself or one of its LOD proxies.
-bool Viewer::renderWorkingSetView(
+void Viewer::renderWorkingSetView(
     FrameStats& stats, const std::function<void(outofcore::OutOfCoreTracer&, std::vector<float>&)>& colour) {
     outofcore::OutOfCoreTracer* outOfCore = methods_.outOfCore();
     const bool available = outOfCore && !scene_->sceneInCore;
@@ -723,12 +723,11 @@ bool Viewer::renderWorkingSetView(
                                  " view needs --out-of-core with a prepared scene not loaded in core "
                                  "(--load-in-core off)";
         if (status_.message != text) notice(text);
-        return false;
+        return;
     }
     std::vector<float> rgb = displayedRgb(*display_);
     colour(*outOfCore, rgb);
     display_->showImage(rgb);
-    return true;
 }
 
 // The shafts view: the picked Line Space node's shafts over the shaded frame, with the N/D/T of the method's
