@@ -9,7 +9,8 @@
 // of culling/chcrt_subtrees.frag.glsl: 1 + id of the subtree that changed the hit last / subtrees listed for the
 // pixel / traversal steps, bit 31 = capped), CHCRT_CULLING_HINTS (1: visit the ray's hinted leaf first unless the
 // hint pass did — uniform hintsVisited —, and record the leaf of every hit this pass finds in the ray set's hint
-// image: for closest-hit rays the leaf of the nearest).
+// image: for closest-hit rays the leaf of the nearest), CHCRT_CULLING_HINTS_VISITED (1: every ray's hint was visited
+// by the hint pass before this pass — the compacted dispatch —, so the visit is not compiled).
 #include "shared/render_layout.h"
 #include "shared/bvh_layout.h"
 #include "shared/culling_layout.h"
@@ -19,6 +20,9 @@
 #endif
 #ifndef CHCRT_CULLING_HINTS
 #define CHCRT_CULLING_HINTS 0
+#endif
+#ifndef CHCRT_CULLING_HINTS_VISITED
+#define CHCRT_CULLING_HINTS_VISITED 0
 #endif
 #include "render/bvh_nodes.glsl"
 
@@ -93,12 +97,18 @@ void traceCellPixel(ivec2 pixel, int cellIndex) {
     // Hit hints: the leaf of the ray's hit in the previous trace of its ray set first (once: not after the hint pass,
     // nor in a later round of a ray that has a hit); a hit there finishes an any-hit ray and bounds a closest-hit
     // ray's traversal from its start.
+#if CHCRT_CULLING_HINTS_VISITED
+    // Compiled out, not skipped by the uniform: llvmpipe runs both sides of every branch for each SIMD group
+    // (docs/architecture.md), so a visit behind `hintsVisited` cost the compacted pass a leaf test per group.
+    const bool visitHint = false;
+#else
     uint hintLeaf = imageLoad(hintImage, pixel).x;
     bool visitHint = hintLeaf != CHCRT_NO_HIT_ID && !hintsVisited && stored.y == CHCRT_NO_HIT_ID;
     if (visitHint) {
         visitHintLeaf(hintLeaf, originTmin.xyz, directionTmax.xyz, originTmin.w, best, cost);
         changedLeaf = hintLeaf;
     }
+#endif
 #if TRACE_ANY_HIT
     if (best.triangleId == CHCRT_NO_HIT_ID)
 #endif
