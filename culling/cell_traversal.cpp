@@ -16,11 +16,13 @@ void CellTraversal::begin(int cellsX, int cellsY, int cellSize) {
 }
 
 const ShaderProgram& CellTraversal::program(bool anyHit, const std::string& debugDefine, bool compacted) {
-    const ProgramKey key{debugDefine, anyHit, compacted};
+    const bool visited = compacted || hintsVisited_;
+    const ProgramKey key{debugDefine, anyHit, compacted, visited};
     auto it = programs_.find(key);
     if (it != programs_.end()) return it->second;
     std::vector<ShaderDefine> defines = defines_(anyHit);
     defines.push_back({"TRACE_ANY_HIT", anyHit ? "1" : "0"});
+    if (visited) defines.push_back({"CHCRT_CULLING_HINTS_VISITED", "1"});
     if (!debugDefine.empty()) defines.push_back({debugDefine, "1"});
     if (compute() && !compacted) defines.push_back({"CHCRT_CELL_SIZE", std::to_string(computeCellSize_)});
     ShaderProgram program =
@@ -57,7 +59,6 @@ void CellTraversal::drawPoints(const ShaderProgram& program, int width, int heig
     program.set("raySize", glm::ivec2(width, height));
     program.set("cellsX", cellsX_);
     program.set("cellSize", cellSize_);
-    program.set("hintsVisited", int(hintsVisited_));
     if (compute()) glDispatchCompute(GLuint(drawCells_.size()), 1, 1);
     else drawAttributeless(GL_POINTS, GLsizei(drawCells_.size()));
 }
@@ -83,7 +84,6 @@ void CellTraversal::dispatchCompacted(bool anyHit, const std::string& debugDefin
     p.use();
     p.set("cellsX", cellsX);
     p.set("cellSize", cellSize);
-    p.set("hintsVisited", int(hintsVisited_));
     glDispatchComputeIndirect(0);
 }
 
@@ -148,8 +148,7 @@ void CellTraversal::drawIndirect(bool anyHit, const std::string& debugDefine, in
         p.set("raySize", glm::ivec2(width, height));
         p.set("cellsX", cellsX);
         p.set("cellSize", cellSize);
-        p.set("hintsVisited", int(hintsVisited_));
-        if (compute()) glDispatchComputeIndirect(CHCRT_CULLING_GPU_DISPATCH_OFFSET);
+            if (compute()) glDispatchComputeIndirect(CHCRT_CULLING_GPU_DISPATCH_OFFSET);
         else drawAttributelessIndirect(GL_POINTS);
     });
 }

@@ -49,7 +49,8 @@ public:
         listLimit_ = limit;
     }
     uint32_t wholeTreeCells() const { return wholeTreeCells_; } // cells that did so in the last draw
-    // Whether the hint pass visited every ray's hint in this trace (the passes then do not visit it again).
+    // Whether the hint pass visited every ray's hint in this trace: the passes then run a variant without the visit
+    // (shaders/culling/cell_pixel.glsl, CHCRT_CULLING_HINTS_VISITED). The compacted dispatch always follows the pass.
     void setHintsVisited(bool visited) { hintsVisited_ = visited; }
     // Compiles the programs of both ray kinds and the mask program now (they are otherwise compiled on first use);
     // `compacted`: also drawCompacted's program for any-hit rays.
@@ -95,7 +96,7 @@ private:
 
     Defines defines_;
     int computeCellSize_ = 0;
-    using ProgramKey = std::tuple<std::string, bool, bool>; // debug define, any-hit, compacted
+    using ProgramKey = std::tuple<std::string, bool, bool, bool>; // debug define, any-hit, compacted, hints visited
     std::map<ProgramKey, ShaderProgram> programs_;
     ShaderProgram maskProgram_;
     int cellsX_ = 0, cellsY_ = 0, cellSize_ = 0;

@@ -7,10 +7,11 @@
 // Host defines: TRACE_ANY_HIT (0 | 1), CHCRT_SUBTREE_STACK (traversal stack entries: the partition's maximum
 // subtree height + 1, §5.2), CHCRT_CULLING_DEBUG_SUBTREES / _BATCHES / _COST (debug images, as the subtree pass
 // of culling/chcrt_subtrees.frag.glsl: 1 + id of the subtree that changed the hit last / subtrees listed for the
-// pixel / traversal steps, bit 31 = capped), CHCRT_CULLING_HINTS (1: visit the ray's hinted leaf first unless the
-// hint pass did — uniform hintsVisited —, and record the leaf of every hit this pass finds in the ray set's hint
-// image: for closest-hit rays the leaf of the nearest), CHCRT_CULLING_HINTS_VISITED (1: every ray's hint was visited
-// by the hint pass before this pass — the compacted dispatch —, so the visit is not compiled).
+// pixel / traversal steps, bit 31 = capped), CHCRT_CULLING_HINTS (1: visit the ray's hinted leaf first, and record
+// the leaf of every hit this pass finds in the ray set's hint image: for closest-hit rays the leaf of the nearest),
+// CHCRT_CULLING_HINTS_VISITED (1: the hint pass visited every ray's hint before this pass, so the visit is not
+// compiled: a variant, not a uniform, because llvmpipe runs both sides of every branch for each SIMD group —
+// docs/architecture.md — and a visit skipped by a uniform cost each group a leaf test).
 #include "shared/render_layout.h"
 #include "shared/bvh_layout.h"
 #include "shared/culling_layout.h"
@@ -31,7 +32,6 @@ layout(binding = CHCRT_UNIT_RAY_DIRECTION) uniform sampler2D rayDirections;
 layout(binding = CHCRT_CULLING_IMAGE_HIT, rgba32ui) uniform uimage2D hitImage;
 #if CHCRT_CULLING_HINTS
 layout(binding = CHCRT_CULLING_IMAGE_HINT, r32ui) uniform uimage2D hintImage;
-uniform bool hintsVisited; // the hint pass visited every ray's hint already (culling/hint_pass.h)
 #endif
 
 layout(binding = CHCRT_UNIT_CULLING_CELL_HEADERS) uniform usamplerBuffer cellHeaders;
@@ -98,12 +98,10 @@ void traceCellPixel(ivec2 pixel, int cellIndex) {
     // nor in a later round of a ray that has a hit); a hit there finishes an any-hit ray and bounds a closest-hit
     // ray's traversal from its start.
 #if CHCRT_CULLING_HINTS_VISITED
-    // Compiled out, not skipped by the uniform: llvmpipe runs both sides of every branch for each SIMD group
-    // (docs/architecture.md), so a visit behind `hintsVisited` cost the compacted pass a leaf test per group.
-    const bool visitHint = false;
+    const bool visitHint = false; // the hint pass did (culling/hint_pass.h)
 #else
     uint hintLeaf = imageLoad(hintImage, pixel).x;
-    bool visitHint = hintLeaf != CHCRT_NO_HIT_ID && !hintsVisited && stored.y == CHCRT_NO_HIT_ID;
+    bool visitHint = hintLeaf != CHCRT_NO_HIT_ID && stored.y == CHCRT_NO_HIT_ID;
     if (visitHint) {
         visitHintLeaf(hintLeaf, originTmin.xyz, directionTmax.xyz, originTmin.w, best, cost);
         changedLeaf = hintLeaf;

@@ -3,8 +3,8 @@
 // (culling/hint_pass.h): one invocation per listed ray, dispatched indirectly from the compaction buffer, each ray
 // traced through its cell's list by cell_pixel.glsl. Consecutive invocations hold rays that still need the
 // traversal, instead of lanes that wait for them; the rays' hints were visited and dropped by the hint pass, so
-// cell_pixel.glsl only records the leaf of a new hit (the visit is compiled out). Host defines: cell_pixel.glsl's.
-#define CHCRT_CULLING_HINTS_VISITED 1
+// cell_pixel.glsl only records the leaf of a new hit (CellTraversal compiles it with CHCRT_CULLING_HINTS_VISITED).
+// Host defines: cell_pixel.glsl's.
 #include "culling/cell_pixel.glsl"
 
 layout(local_size_x = CHCRT_CULLING_COMPACT_GROUP) in;
