@@ -10,6 +10,7 @@ double RecentTimes::estimate() const {
     if (n == 0) return 0.0;
     std::array<double, 5> sorted = ms_;
     std::sort(sorted.begin(), sorted.begin() + n);
+    if (n == 2) return sorted[0];
     return n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
 }
 
@@ -70,12 +71,12 @@ uint32_t AdaptiveChoice::choose() const {
             if (!measured(a)) return a;
         }
     }
-    // An arm measured once that would take over is measured again at once: a switch needs two measurements, and
-    // confirming a winner costs nothing.
+    // An arm measured once that would take over, or that lost by less than kRemeasureBelow, is measured again at
+    // once: a switch needs two measurements (confirming a winner costs nothing), and a single slowed trace must not
+    // keep a culling arm out for a whole probe interval.
     const uint32_t winner = best();
     for (uint32_t a = 1; a < arms_.size(); ++a) {
-        if (a != winner && arms_[a].relative.count() == 1 &&
-            relativeCost(a) < (1.0 - kSwitchMargin) * relativeCost(winner)) {
+        if (a != winner && arms_[a].relative.count() == 1 && relativeCost(a) < kRemeasureBelow * relativeCost(winner)) {
             return a;
         }
     }

@@ -16,7 +16,8 @@
 // the configured culling (arm 1); the other culling arms only once 2 * probeInterval traces have run and some
 // culling arm is within kExploreMargin of the pure pass, so that neither a short run nor a view where culling
 // clearly loses spends itself exploring. Afterwards the arm with the lowest median of its last five relative costs
-// runs; another takes over once it is kSwitchMargin below it on at least two measurements; and each other measured
+// runs (an arm measured once within kRemeasureBelow of it is measured again at once); another takes over once it is
+// kSwitchMargin below it on at least two measurements; and each other measured
 // arm is re-measured after an interval that keeps the expected cost of all probes under `probeBudget` of the trace
 // time: an arm r times as slow as the best costs (r - 1) of a trace per probe, so with k losing arms it waits
 // k (r - 1) / probeBudget traces (at least `probeInterval`, at most kMaxProbeInterval). Medians, not means: on shared
@@ -34,7 +35,8 @@ public:
     void add(double ms) { ms_[count_++ % ms_.size()] = ms; }
     bool known() const { return count_ > 0; }
     uint32_t count() const { return count_; }
-    // Median of the last five (of an even count: the mean of the middle two).
+    // Median of the last five (of four: the mean of the middle two); of two, the lower: timing noise on a shared
+    // machine only ever adds, and with two values a median is their mean, which one slowed trace still dominates.
     double estimate() const;
 
 private:
@@ -54,6 +56,10 @@ public:
     // Further culling arms are explored only while some measured culling arm costs at most this much more than the
     // pure pass: other heights of a culling that loses by more rarely win, and each first trace of one is a probe.
     static constexpr double kExploreMargin = 0.10;
+    // An arm measured once that costs less than this times the running arm is measured again at once (with two
+    // values the lower counts): one trace slowed by another process must not keep a winning culling out for a whole
+    // probe interval, while an arm that loses by more is not worth the extra trace.
+    static constexpr double kRemeasureBelow = 1.5;
 
     // `arms` >= 2: the pure pass and at least one culling configuration.
     explicit AdaptiveChoice(uint32_t arms = 2, uint32_t probeInterval = 8, double probeBudget = kAllowedProbeCost);

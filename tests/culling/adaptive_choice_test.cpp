@@ -29,7 +29,7 @@ TEST(RecentTimes, MedianOfTheLastFive) {
     EXPECT_TRUE(t.known());
     EXPECT_DOUBLE_EQ(t.estimate(), 10.0);
     t.add(20.0);
-    EXPECT_DOUBLE_EQ(t.estimate(), 15.0);
+    EXPECT_DOUBLE_EQ(t.estimate(), 10.0); // of two, the lower (noise only adds)
     t.add(100.0); // one outlier does not move the median
     EXPECT_DOUBLE_EQ(t.estimate(), 20.0);
     t.add(30.0); // 10, 20, 30, 100: the mean of the middle two
@@ -56,7 +56,29 @@ TEST(AdaptiveChoice, MeasuresThePurePassTwiceThenCulling) {
     EXPECT_EQ(choice.next(), 1u);
     choice.report(1, 12.0, true);
     EXPECT_DOUBLE_EQ(choice.relativeCost(1), 1.2);
-    EXPECT_EQ(choice.next(), AdaptiveChoice::kPureArm); // culling (1.2x) loses
+    EXPECT_EQ(choice.next(), 1u); // culling (1.2x) loses, by less than kRemeasureBelow: measured again at once
+    choice.report(1, 13.0, true);
+    EXPECT_DOUBLE_EQ(choice.relativeCost(1), 1.2); // the lower of two
+    EXPECT_EQ(choice.next(), AdaptiveChoice::kPureArm);
+}
+
+TEST(AdaptiveChoice, OneSlowedCullingTraceDoesNotKeepAWinningCullingOut) {
+    // Culling at 0.7x of the pure pass, its first counted trace slowed by another process to 1.4x: measured again at
+    // once, it runs from the next trace on. Losing by more than kRemeasureBelow, it waits for its probe interval.
+    AdaptiveChoice choice(2, 8);
+    const std::vector<double> culling = {50.0, 14.0, 7.0, 7.0, 7.0};
+    std::vector<uint32_t> order;
+    size_t c = 0;
+    for (int i = 0; i < 7; ++i) {
+        const uint32_t arm = choice.next();
+        order.push_back(arm);
+        choice.report(arm, arm == 0 ? 10.0 : culling[std::min(c, culling.size() - 1)], arm == 0 || c > 0);
+        c += arm == 1;
+    }
+    EXPECT_EQ(order, (std::vector<uint32_t>{0, 0, 1, 1, 1, 1, 1}));
+    AdaptiveChoice slow(2, 8);
+    runArms(slow, 3, {10.0, 16.0}); // pure (not counted), pure, culling at 1.6x
+    EXPECT_EQ(slow.next(), AdaptiveChoice::kPureArm);
 }
 
 TEST(AdaptiveChoice, AWinnerIsConfirmedAtOnceAndTakesOverOnTwoMeasurements) {
@@ -97,9 +119,9 @@ TEST(AdaptiveChoice, ProbesOfLosingArmsCostAtMostTheBudget) {
 
 TEST(AdaptiveChoice, ProbingCostsAtMostTheBudgetOnAShortRunWhereCullingLoses) {
     // 32 traces of one kind (8 frames at 4 spp), culling 1.15x or 1.3x slower at every height, the first trace of each
-    // culling configuration not counted (it starts cold): the pure pass runs, the other heights are not explored. (A
-    // culling twice as slow costs two of its traces at least — the cold one and one measured —, within the budget
-    // from 128 traces on.)
+    // culling configuration not counted (it starts cold), the first measured one confirmed (it lost by less than
+    // kRemeasureBelow): the pure pass runs, the other heights are not explored. (A culling twice as slow costs two of
+    // its traces at least — the cold one and one measured —, within the budget from 128 traces on.)
     for (const auto& [slower, traces] : {std::pair{1.15, 32}, std::pair{1.3, 32}, std::pair{2.0, 128}}) {
         AdaptiveChoice choice(4, 8, 0.015);
         std::vector<int> runs(4, 0);
@@ -123,9 +145,9 @@ TEST(AdaptiveChoice, FurtherArmsAreMeasuredOnlyWhenCullingComesClose) {
         order.push_back(close.next());
         close.report(order.back(), order.back() == 0 ? 10.0 : 10.5, true);
     }
-    // The pure pass twice (its first trace is not counted), the configured culling, the pure pass (best) until
-    // 2 * 2 traces have run, then the other heights; afterwards the pure pass.
-    EXPECT_EQ(order, (std::vector<uint32_t>{0, 0, 1, 0, 2, 3, 0, 0}));
+    // The pure pass twice (its first trace is not counted), the configured culling twice (it lost by less than
+    // kRemeasureBelow), then, 2 * 2 traces having run, the other heights, each twice as well.
+    EXPECT_EQ(order, (std::vector<uint32_t>{0, 0, 1, 1, 2, 3, 2, 3}));
     AdaptiveChoice far(4, 2);
     std::vector<int> runs(4, 0);
     runArms(far, 200, {10.0, 12.0, 12.0, 12.0}, &runs);
