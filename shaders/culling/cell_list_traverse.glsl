@@ -18,7 +18,7 @@ uint currentNode = 0u; // the node the traversal is at (its leaf, when a leaf is
 // is free, every further one counts as a step (an inner node's visit tests two boxes; the pure tracer tests its
 // one root box for free), so that with one root the count is exactly the pure tracer's.
 bool nextListRoot(inout uint next, uint first, uint end, vec3 origin, vec3 invDir, float tmin, float bestT,
-                  inout uint nodeFirst, inout uint nodeCount, inout TraceCost cost) {
+                  inout uint nodeFirst, inout uint nodeCount, inout float nodeEntry, inout TraceCost cost) {
     while (next < end && cost.iterations < CHCRT_TRACE_ITERATION_CAP) {
         ++cost.iterations;
         if (next != first) {
@@ -30,7 +30,7 @@ bool nextListRoot(inout uint next, uint first, uint end, vec3 origin, vec3 invDi
             return false;
         }
         ++next;
-        if (enterRoot(entry.x, origin, invDir, tmin, bestT, nodeFirst, nodeCount)) {
+        if (enterRoot(entry.x, origin, invDir, tmin, bestT, nodeFirst, nodeCount, nodeEntry)) {
 #ifdef CHCRT_CELL_TRACK_LEAF
             currentNode = entry.x;
 #endif
@@ -48,14 +48,17 @@ void traverseCellList(uint first, uint end, vec3 origin, vec3 direction, float t
     int stackSize = 0;
     uint nodeFirst = 0u;
     uint nodeCount = 0u;
+    float nodeEntry = 0.0f;
     uint next = first;
-    bool traversing = nextListRoot(next, first, end, origin, invDir, tmin, best.t, nodeFirst, nodeCount, cost);
+    bool traversing =
+        nextListRoot(next, first, end, origin, invDir, tmin, best.t, nodeFirst, nodeCount, nodeEntry, cost);
 #ifdef CHCRT_CELL_TRACK_LEAF
 #define TRAVERSE_ENTER(node) currentNode = (node);
 #define TRAVERSE_POP(word) currentNode = (word);
-#define TRAVERSE_VISIT_LEAF visitLeafTracked(next - 1u, currentNode, nodeFirst, nodeCount, origin, direction, tmin, best, cost)
+#define TRAVERSE_VISIT_LEAF \
+    visitLeafTracked(next - 1u, currentNode, nodeFirst, nodeCount, nodeEntry, origin, direction, tmin, best, cost)
 #endif
 #define TRAVERSE_NEXT_ROOT \
-    traversing = nextListRoot(next, first, end, origin, invDir, tmin, best.t, nodeFirst, nodeCount, cost);
+    traversing = nextListRoot(next, first, end, origin, invDir, tmin, best.t, nodeFirst, nodeCount, nodeEntry, cost);
 #include "render/bvh_traverse_loop.glsl"
 }

@@ -12,6 +12,7 @@ bool visitHintLeaf(uint leaf, vec3 origin, vec3 direction, float tmin, inout Tra
         return false;
     }
     ++cost.leaves;
-    intersectLeaf(floatBitsToUint(leaf0.w), floatBitsToUint(leaf1.w), origin, direction, tmin, best, cost);
+    intersectLeaf(floatBitsToUint(leaf0.w), floatBitsToUint(leaf1.w), origin, direction, tmin, entryExit.x, best,
+                  cost);
     return true;
 }

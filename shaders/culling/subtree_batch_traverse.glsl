@@ -16,6 +16,7 @@ void traverseSubtreeBatch(int count, vec3 origin, vec3 direction, float tmin, in
     int stackSize = 0;
     uint nodeFirst = 0u;
     uint nodeCount = 0u;
+    float nodeEntry = 0.0f;
     bool traversing = false;
     // Last listed first: each root the ray meets becomes the current node and pushes the previous current one, so
     // the first listed root ends up current and the others wait in list order.
@@ -35,6 +36,7 @@ void traverseSubtreeBatch(int count, vec3 origin, vec3 direction, float tmin, in
             }
             currentRoot = root;
             currentEntry = entryExit.x;
+            nodeEntry = entryExit.x;
             nodeFirst = floatBitsToUint(root0.w);
             nodeCount = floatBitsToUint(root1.w);
             traversing = true;

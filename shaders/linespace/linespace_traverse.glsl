@@ -212,7 +212,8 @@ int lsVisitCutNode(uint node, inout uint space, inout bool aboveCut, uint nodeCo
 void traverseBvh(uint root, vec3 origin, vec3 direction, float tmin, inout TraceHit best, inout TraceCost cost) {
     vec3 invDir = safeInverseDirection(direction);
     uint nodeFirst, nodeCount;
-    if (!enterRoot(root, origin, invDir, tmin, best.t, nodeFirst, nodeCount)) {
+    float nodeEntry;
+    if (!enterRoot(root, origin, invDir, tmin, best.t, nodeFirst, nodeCount, nodeEntry)) {
         return;
     }
     uint currentNode = root;

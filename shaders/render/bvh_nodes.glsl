@@ -44,8 +44,13 @@ TraceHit makeMiss(float tmax) {
 
 // Tests the triangles [first, first + count) of the BVH-ordered buffer against the ray, updating `best`.
 // Returns true when an any-hit query can stop.
-bool intersectLeaf(uint first, uint count, vec3 origin, vec3 direction, float tmin, inout TraceHit best,
-                   inout TraceCost cost) {
+// `leafEntry`: the computed entry distance of the leaf's box (as the traversal computed it when it reached the leaf).
+// A hit's t is clamped to it: an ill-conditioned triangle can be hit at a computed t before its own leaf's box (seen on
+// the 1M plant: 224.27803 against a double-precision 224.283014, beyond pruneLimit's margin), and a leaf that one
+// traversal order prunes would then hold a hit nearer than the best t another order keeps. With the clamp no pruned
+// leaf holds a candidate at or below best t, so the hit never depends on the order (culling/README.md, "Exactness").
+bool intersectLeaf(uint first, uint count, vec3 origin, vec3 direction, float tmin, float leafEntry,
+                   inout TraceHit best, inout TraceCost cost) {
     for (uint i = 0u; i < count && CHCRT_BELOW_ITERATION_CAP(cost); ++i) {
         CHCRT_COUNT_ITERATION(cost);
         ++cost.triangles;
@@ -55,8 +60,9 @@ bool intersectLeaf(uint first, uint count, vec3 origin, vec3 direction, float tm
         vec4 v2 = triangleTexel(texel + 2);
         vec3 tuv = intersectRayTriangle(origin, direction, v0.xyz, v1.xyz, v2.xyz);
         uint id = floatBitsToUint(v0.w);
-        if (tuv.x >= tmin && tuv.x <= best.t && (tuv.x < best.t || id < best.triangleId)) {
-            best.t = tuv.x;
+        float t = max(tuv.x, leafEntry);
+        if (tuv.x >= tmin && t <= best.t && (t < best.t || id < best.triangleId)) {
+            best.t = t;
             best.triangleId = id;
             best.barycentrics = tuv.yz;
 #if TRACE_ANY_HIT
@@ -68,11 +74,14 @@ bool intersectLeaf(uint first, uint count, vec3 origin, vec3 direction, float tm
 }
 // Starts a traversal at `root`: its header (nodeFirst, nodeCount) when the ray meets its box within
 // [tmin, pruneLimit(bestT)], else false (nothing below it can change the hit).
-bool enterRoot(uint root, vec3 origin, vec3 invDir, float tmin, float bestT, out uint nodeFirst, out uint nodeCount) {
+bool enterRoot(uint root, vec3 origin, vec3 invDir, float tmin, float bestT, out uint nodeFirst, out uint nodeCount,
+               out float entry) {
     vec4 root0 = texelFetch(bvhNodes, int(root) * CHCRT_BVH_TEXELS_PER_NODE);
     vec4 root1 = texelFetch(bvhNodes, int(root) * CHCRT_BVH_TEXELS_PER_NODE + 1);
     nodeFirst = floatBitsToUint(root0.w);
     nodeCount = floatBitsToUint(root1.w);
-    return rayHitsAabb(intersectRayAabb(origin, invDir, root0.xyz, root1.xyz), tmin, pruneLimit(bestT));
+    vec2 entryExit = intersectRayAabb(origin, invDir, root0.xyz, root1.xyz);
+    entry = entryExit.x;
+    return rayHitsAabb(entryExit, tmin, pruneLimit(bestT));
 }
 #endif

@@ -9,7 +9,8 @@
 void traverseBvh(uint root, vec3 origin, vec3 direction, float tmin, inout TraceHit best, inout TraceCost cost) {
     vec3 invDir = safeInverseDirection(direction);
     uint nodeFirst, nodeCount;
-    if (!enterRoot(root, origin, invDir, tmin, best.t, nodeFirst, nodeCount)) {
+    float nodeEntry;
+    if (!enterRoot(root, origin, invDir, tmin, best.t, nodeFirst, nodeCount, nodeEntry)) {
         return;
     }
     // The stack holds node indices and entry distances only; a popped node's header is fetched again. Keeping

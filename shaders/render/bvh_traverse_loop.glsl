@@ -7,7 +7,8 @@
 //
 // Expects in scope: vec3 origin, direction, invDir; float tmin; inout TraceHit best; inout TraceCost cost;
 // uint stackNode[]; float stackEntry[]; int stackSize; and the current node: uint nodeFirst, nodeCount (its
-// header: children's index for an inner node with nodeCount 0, else the leaf's triangles) with bool traversing
+// header: children's index for an inner node with nodeCount 0, else the leaf's triangles) and float nodeEntry (its
+// box's computed entry distance, which clamps the t of its triangles' hits: intersectLeaf) with bool traversing
 // (false: nothing to visit). Pending nodes wait on the stack with their entry distance and are popped only when
 // that entry is not beyond pruneLimit(best t). Returns from the enclosing function when an any-hit query can stop.
 //
@@ -41,7 +42,7 @@
 #define TRAVERSE_PUSH(node) (node)
 #endif
 #ifndef TRAVERSE_VISIT_LEAF
-#define TRAVERSE_VISIT_LEAF intersectLeaf(nodeFirst, nodeCount, origin, direction, tmin, best, cost)
+#define TRAVERSE_VISIT_LEAF intersectLeaf(nodeFirst, nodeCount, origin, direction, tmin, nodeEntry, best, cost)
 #endif
 #ifndef TRAVERSE_NO_LEAVES
 #define TRAVERSE_NO_LEAVES 0
@@ -74,10 +75,12 @@
                 stackEntry[stackSize] = aFirst ? entryExitB.x : entryExitA.x;
                 ++stackSize;
                 TRAVERSE_ENTER(aFirst ? nodeFirst : nodeFirst + 1u)
+                nodeEntry = aFirst ? entryExitA.x : entryExitB.x;
                 nodeFirst = floatBitsToUint(aFirst ? a0.w : b0.w);
                 nodeCount = floatBitsToUint(aFirst ? a1.w : b1.w);
             } else if (hitA || hitB) {
                 TRAVERSE_ENTER(hitA ? nodeFirst : nodeFirst + 1u)
+                nodeEntry = hitA ? entryExitA.x : entryExitB.x;
                 nodeFirst = floatBitsToUint(hitA ? a0.w : b0.w);
                 nodeCount = floatBitsToUint(hitA ? a1.w : b1.w);
             } else {
@@ -116,6 +119,7 @@
                 int popped = int(TRAVERSE_POPPED_NODE(stackNode[stackSize])) * CHCRT_BVH_TEXELS_PER_NODE;
                 nodeFirst = floatBitsToUint(texelFetch(bvhNodes, popped).w);
                 nodeCount = floatBitsToUint(texelFetch(bvhNodes, popped + 1).w);
+                nodeEntry = stackEntry[stackSize];
                 traversing = true;
                 break;
             }

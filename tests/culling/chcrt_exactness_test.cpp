@@ -547,6 +547,39 @@ TEST_F(RenderTest, RecommendedConfigurationsOfSoftwareAndHardwareRenderersEqualP
     }
 }
 
+// A triangle hit computed before its own leaf's box (culling/README.md, "Exactness"): on the 1M plant's far path,
+// frame 4, the primary ray of pixel (83, 114) meets triangle 575151 at a computed t of 224.27803 (224.283014 in double
+// precision), nearer than the right answer, triangle 567924 at 224.281464, but in a leaf whose box the computed t
+// lies before. Pure BVH reached 567924 first and pruned that leaf; CHC+RT's cell list reached the leaf first and kept
+// 575151 (one differing pixel before hits were clamped to their leaf's entry).
+TEST_F(RenderTest, AHitComputedBeforeItsLeafsBoxDoesNotDependOnTheVisitingOrder) {
+    RenderSettings settings;
+    settings.width = 256;
+    settings.height = 256;
+    Renderer& renderer = makeProceduralRenderer("plant", settings);
+    const Camera camera = proceduralFarPath(spec_).cameraAtFrame(4);
+    FrameStats stats;
+    renderer.renderGBuffer(camera, stats);
+    renderer.generateRayPass(camera, RayType::Primary, 0, stats);
+    renderer.useTracer(nullptr);
+    renderer.traceRayPass(camera, RayType::Primary, 0, stats);
+    const std::vector<Hit> reference = renderer.readHits(0);
+    ChcrtOptions options = recommendedChcrtOptions(RendererTraits{.software = true});
+    options.adaptive = false;
+    ChcrtTracer chcrt(bvh_, options);
+    renderer.useTracer(&chcrt);
+    renderer.traceRayPass(camera, RayType::Primary, 0, stats);
+    const std::vector<Hit> culled = renderer.readHits(0);
+    renderer.useTracer(nullptr);
+    ASSERT_EQ(reference.size(), culled.size());
+    size_t differing = 0;
+    for (size_t i = 0; i < reference.size(); ++i) differing += !sameHit(reference[i], culled[i], false);
+    EXPECT_EQ(differing, 0u);
+    const size_t pixel = 114u * 256u + 83u;
+    EXPECT_EQ(reference[pixel].triangleId, 567924u); // the case is still there: the nearer triangle in double precision
+    EXPECT_EQ(culled[pixel].triangleId, 567924u);
+}
+
 TEST_F(RenderTest, WithoutTemporalCoherenceEveryTraceStartsFromTheRootPair) {
     RenderSettings settings;
     settings.width = 64;
