@@ -80,12 +80,12 @@ struct ChcrtOptions {
     // "The hint pass"). Off: the cell pass visits the hint first, in the same pass as the list. Same hits.
     bool hintPass = false;
     // The hint pass pays for itself where most rays end at their hints (city near, 256²: shadow rays, 5-10 % left,
-    // traced 1.2x faster with it) and where about half do (AO rays, 52-64 % of the pixels left on the city, interior
-    // and plant near paths: 1.05-1.07x faster); where most rays have no hint (the city's far path, 82 % left) the pass
-    // over all rays costs more than the compaction saves (shadow rays 0.93x). A ray kind whose hint passes left more
-    // than this share of the pixels twice in a row visits its hints in the cell pass instead, and tries the hint pass
-    // again every hintPassRetryInterval traces.
-    double hintPassMaxLeft = 0.75;
+    // traced 1.2x faster with it); where many rays have no hint (AO rays that escape: 52-64 % of the pixels left on
+    // the near paths) the pass over all rays costs more than the compaction saves (Table 2's settings, 20 spp, frames
+    // 0-7: chcrt-noadapt city AO 1.20x with it against 1.38x without, interior 1.18x either way, plant 0.77x against
+    // 1.09x). A ray kind whose hint passes left more than this share of the pixels twice in a row visits its hints in
+    // the cell pass instead, and tries the hint pass again every hintPassRetryInterval traces.
+    double hintPassMaxLeft = 0.25;
     uint32_t hintPassRetryInterval = 16;
     // BoundsOnly and BoundsGpu: trace the cell lists in compute dispatches (a work group per cell) instead of fragment
     // passes; for GPUs whose fragment work runs on few units (docs/architecture.md). Same hits.
