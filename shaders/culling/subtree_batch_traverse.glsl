@@ -20,8 +20,7 @@ void traverseSubtreeBatch(int count, vec3 origin, vec3 direction, float tmin, in
     bool traversing = false;
     // Last listed first: each root the ray meets becomes the current node and pushes the previous current one, so
     // the first listed root ends up current and the others wait in list order.
-    uint currentRoot = 0u;
-    float currentEntry = 0.0f;
+    uint currentRoot = 0u; // its entry is nodeEntry
     for (int i = count - 1; i >= 0 && cost.iterations < CHCRT_TRACE_ITERATION_CAP; --i) {
         ++cost.iterations;
         uint root = subtreeRoots[i >> 2][i & 3];
@@ -31,11 +30,10 @@ void traverseSubtreeBatch(int count, vec3 origin, vec3 direction, float tmin, in
         if (rayHitsAabb(entryExit, tmin, pruneLimit(best.t))) {
             if (traversing) {
                 stackNode[stackSize] = currentRoot;
-                stackEntry[stackSize] = currentEntry;
+                stackEntry[stackSize] = nodeEntry;
                 ++stackSize;
             }
             currentRoot = root;
-            currentEntry = entryExit.x;
             nodeEntry = entryExit.x;
             nodeFirst = floatBitsToUint(root0.w);
             nodeCount = floatBitsToUint(root1.w);
