@@ -173,11 +173,15 @@ uint64_t GpuSubtreeCache::entryBytes(uint32_t level, uint32_t subtree) const {
 
 void GpuSubtreeCache::upload(uint32_t level, uint32_t subtree, uint32_t slot) {
     Pool& pool = pools_[level];
-    const std::shared_ptr<const SubtreeData> data = store_.get(subtree, level);
+    const std::shared_ptr<const SubtreeData> data = store_.get(subtree, level, false); // nodes and triangles only
     const uint64_t nodeBase = pool.firstNode + uint64_t(slot) * pool.slotNodes;
     const uint64_t triBase = pool.firstTriangle + uint64_t(slot) * pool.slotTriangles;
-    std::vector<BvhNodeGpu> nodes = data->nodes;
-    for (BvhNodeGpu& node : nodes) node.leftFirst += uint32_t(node.triCount != 0 ? triBase : nodeBase);
+    UninitializedVector<BvhNodeGpu>& nodes = rebased_;
+    nodes.resize(data->nodes.size());
+    for (size_t i = 0; i < nodes.size(); ++i) {
+        nodes[i] = data->nodes[i];
+        nodes[i].leftFirst += uint32_t(nodes[i].triCount != 0 ? triBase : nodeBase);
+    }
     const size_t nodeBytes = nodes.size() * sizeof(BvhNodeGpu), triBytes = data->triangles.size() * sizeof(TriangleGpu);
     glNamedBufferSubData(nodes_.buffer.id(), GLintptr(nodeBase * sizeof(BvhNodeGpu)), GLsizeiptr(nodeBytes), nodes.data());
     if (triBytes != 0) {

@@ -131,6 +131,7 @@ private:
     GpuCacheOptions options_;
     TextureBuffer nodes_, triangles_;
     std::vector<Pool> pools_; // [0] subtrees, [l] proxies of level l (empty pools when LOD is off)
+    UninitializedVector<BvhNodeGpu> rebased_; // an upload's nodes with slot indices, reused (no allocation per upload)
     uint64_t acquireCount_ = 0, tick_ = 0;
     uint32_t uploadsThisTrace_ = 0, slotsUsedThisTrace_ = 0;
     uint64_t traceStartTick_ = 0;

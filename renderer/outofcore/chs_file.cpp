@@ -212,9 +212,9 @@ BvhNodeGpu ChsFile::readSubtreeNode(uint32_t index, uint32_t localNode) const {
 }
 
 SubtreeData ChsFile::readSubtree(uint32_t index) const {
-    if (index >= subtrees_.size()) throw InputError(path_.string() + ": no subtree " + std::to_string(index));
-    const ChsSubtreeRecord& r = subtrees_[index];
-    return readBlob(r.offset, r.nodeCount, r.triangleCount, r.checksum, "subtree " + std::to_string(index));
+    SubtreeData d;
+    readSubtree(index, 0, d);
+    return d;
 }
 
 const ChsLodRecord& ChsFile::lodRecord(uint32_t subtree, uint32_t level) const {
@@ -225,20 +225,34 @@ const ChsLodRecord& ChsFile::lodRecord(uint32_t subtree, uint32_t level) const {
 }
 
 SubtreeData ChsFile::readSubtree(uint32_t index, uint32_t level) const {
-    if (level == 0) return readSubtree(index);
+    SubtreeData d;
+    readSubtree(index, level, d);
+    return d;
+}
+
+void ChsFile::readSubtree(uint32_t index, uint32_t level, SubtreeData& into, bool attributes) const {
+    if (level == 0) {
+        if (index >= subtrees_.size()) throw InputError(path_.string() + ": no subtree " + std::to_string(index));
+        const ChsSubtreeRecord& r = subtrees_[index];
+        readBlob(r.offset, r.nodeCount, r.triangleCount, r.checksum, "subtree " + std::to_string(index), into, attributes);
+        return;
+    }
     const ChsLodRecord& r = lodRecord(index, level);
     const std::string what = "subtree " + std::to_string(index) + " LOD " + std::to_string(level);
     if (r.nodeCount == 0) throw InputError(path_.string() + ": no proxy stored for " + what);
-    return readBlob(r.offset, r.nodeCount, r.triangleCount, r.checksum, what);
+    readBlob(r.offset, r.nodeCount, r.triangleCount, r.checksum, what, into, attributes);
 }
 
-SubtreeData ChsFile::readBlob(uint64_t offset, uint32_t nodeCount, uint32_t triangleCount, uint64_t checksum,
-                              const std::string& blob) const {
-    SubtreeData d;
+void ChsFile::readBlob(uint64_t offset, uint32_t nodeCount, uint32_t triangleCount, uint64_t checksum,
+                       const std::string& blob, SubtreeData& d, bool attributes) const {
+    const FileState before = fileState();
+    // Without the attributes only a blob verified in this state: the checksum needs the whole blob.
+    const bool partial = !attributes && blobVerified(offset, before);
     d.nodes.resize(nodeCount);
     d.triangles.resize(triangleCount);
-    d.normals.resize(size_t(triangleCount) * 3);
-    if (hasTexcoords()) d.texcoords.resize(size_t(triangleCount) * 3);
+    d.normals.resize(partial ? 0 : size_t(triangleCount) * 3);
+    d.texcoords.resize(!partial && hasTexcoords() ? size_t(triangleCount) * 3 : 0);
+    d.attributes = !partial;
     const std::string what = path_.string() + ": reading " + blob;
     uint64_t at = offset;
     bool fail = injectedReadError();
@@ -250,11 +264,24 @@ SubtreeData ChsFile::readBlob(uint64_t offset, uint32_t nodeCount, uint32_t tria
     read(d.triangles.data(), d.triangles.size() * sizeof(TriangleGpu));
     read(d.normals.data(), d.normals.size() * sizeof(glm::vec3));
     read(d.texcoords.data(), d.texcoords.size() * sizeof(glm::vec2));
-    uint64_t sum = chsChecksum(d.nodes.data(), d.nodes.size() * sizeof(BvhNodeGpu));
-    sum = chsChecksum(d.triangles.data(), d.triangles.size() * sizeof(TriangleGpu), sum);
-    sum = chsChecksum(d.normals.data(), d.normals.size() * sizeof(glm::vec3), sum);
-    sum = chsChecksum(d.texcoords.data(), d.texcoords.size() * sizeof(glm::vec2), sum);
-    if (sum != checksum) throw InputError(path_.string() + ": corrupted prepared scene (" + blob + " checksum mismatch)");
+    // The checksum once per blob and file state: summing every read was a quarter of an exact far frame of the
+    // 140M city, whose blobs are read again and again through a host store smaller than the view needs
+    // (docs/outofcore.md). A file truncated or overwritten under the open descriptor changes its size or times,
+    // which empties the verified set; the state is taken before and after the read, so a change during it counts.
+    const FileState after = fileState();
+    if (partial && after != before) {
+        // The file changed during a read that cannot be verified: read and verify the whole blob.
+        readBlob(offset, nodeCount, triangleCount, checksum, blob, d, true);
+        return;
+    }
+    if (!partial && (after != before || !blobVerified(offset, after))) {
+        uint64_t sum = chsChecksum(d.nodes.data(), d.nodes.size() * sizeof(BvhNodeGpu));
+        sum = chsChecksum(d.triangles.data(), d.triangles.size() * sizeof(TriangleGpu), sum);
+        sum = chsChecksum(d.normals.data(), d.normals.size() * sizeof(glm::vec3), sum);
+        sum = chsChecksum(d.texcoords.data(), d.texcoords.size() * sizeof(glm::vec2), sum);
+        if (sum != checksum) throw InputError(path_.string() + ": corrupted prepared scene (" + blob + " checksum mismatch)");
+        if (after == before) markVerified(offset, after);
+    }
     // Local indices in range (a checksum collision must not turn into out-of-bounds GPU reads).
     for (uint32_t k = 0; k < nodeCount; ++k) {
         const BvhNodeGpu& n = d.nodes[k];
@@ -262,7 +289,27 @@ SubtreeData ChsFile::readBlob(uint64_t offset, uint32_t nodeCount, uint32_t tria
                                         : uint64_t(n.leftFirst) + n.triCount <= triangleCount;
         if (!ok) throw InputError(path_.string() + ": corrupted prepared scene (" + blob + " node " + std::to_string(k) + ")");
     }
-    return d;
+}
+
+ChsFile::FileState ChsFile::fileState() const {
+    struct stat st {};
+    if (::fstat(fd_, &st) != 0) throw InputError("cannot stat " + path_.string() + ": " + std::strerror(errno));
+    return {uint64_t(st.st_size), int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec,
+            int64_t(st.st_ctim.tv_sec) * 1000000000 + st.st_ctim.tv_nsec};
+}
+
+bool ChsFile::blobVerified(uint64_t offset, const FileState& state) const {
+    std::lock_guard<std::mutex> lock(verifiedMutex_);
+    return state == verifiedState_ && verifiedBlobs_.count(offset) != 0;
+}
+
+void ChsFile::markVerified(uint64_t offset, const FileState& state) const {
+    std::lock_guard<std::mutex> lock(verifiedMutex_);
+    if (state != verifiedState_) {
+        verifiedBlobs_.clear();
+        verifiedState_ = state;
+    }
+    verifiedBlobs_.insert(offset);
 }
 
 bool isPreparedScenePath(const std::string& scene) {

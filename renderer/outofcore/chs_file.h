@@ -1,31 +1,42 @@
 #pragma once
 // Reading a prepared scene (.chs, chs_format.h). Opening validates the header, its checksum, the version, the
 // file size and the metadata (upper hierarchy, directory, materials) with its checksum; a subtree's checksum
-// is verified each time it is read. Every problem is an InputError with a one-line message naming the file.
+// is verified on its first read, and again after the file changed under the open descriptor (its size or times). Every problem is an InputError with a one-line message naming the file.
 //
 // Reads use explicit positional I/O (pread), not mmap: a subtree is decoded into its own buffers anyway
 // (rebasing for the GPU needs a copy), explicit reads keep the process's memory exactly what the host cache
 // holds (mapped file pages would count towards RSS and their eviction is up to the kernel), and an I/O error
 // becomes an exception instead of SIGBUS on a truncated file.
+#include "renderer/core/uninitialized_vector.h"
 #include "renderer/outofcore/chs_format.h"
 #include "renderer/scene/scene.h"
 
 #include <filesystem>
 #include <memory>
+#include <mutex>
 #include <string>
+#include <unordered_set>
 #include <vector>
 
 namespace chcrt::outofcore {
 
 // One decoded subtree: nodes and triangles with local indices, as stored.
+// Uninitialised vectors: a read fills them at once (core/uninitialized_vector.h says why).
 struct SubtreeData {
-    std::vector<BvhNodeGpu> nodes;
-    std::vector<TriangleGpu> triangles;
-    std::vector<glm::vec3> normals;   // 3 per triangle
-    std::vector<glm::vec2> texcoords; // 3 per triangle, or empty
-    uint64_t bytes() const {
+    UninitializedVector<BvhNodeGpu> nodes;
+    UninitializedVector<TriangleGpu> triangles;
+    UninitializedVector<glm::vec3> normals;   // 3 per triangle
+    UninitializedVector<glm::vec2> texcoords; // 3 per triangle, or empty
+    bool attributes = true; // normals and texcoords were read (false: read for a GPU upload alone, both empty)
+    // The bytes read from the file for it.
+    uint64_t readBytes() const {
         return nodes.size() * sizeof(BvhNodeGpu) + triangles.size() * sizeof(TriangleGpu) +
                normals.size() * sizeof(glm::vec3) + texcoords.size() * sizeof(glm::vec2);
+    }
+    // The memory it holds (capacities: buffers reused for a smaller subtree keep their size).
+    uint64_t bytes() const {
+        return nodes.capacity() * sizeof(BvhNodeGpu) + triangles.capacity() * sizeof(TriangleGpu) +
+               normals.capacity() * sizeof(glm::vec3) + texcoords.capacity() * sizeof(glm::vec2);
     }
 };
 
@@ -57,6 +68,11 @@ public:
     // Level `level` of subtree `index`: 0 = the subtree, >= 1 its LOD proxy (same layout; InputError when the file
     // holds none at that level).
     SubtreeData readSubtree(uint32_t index, uint32_t level) const;
+    // The same into `into`, reusing the memory of its vectors: a read into buffers whose capacity suffices
+    // allocates nothing and touches no fresh page (subtree_store.h recycles the buffers of evicted subtrees).
+    // `attributes` false: nodes and triangles only when the blob was verified before in the file's current state
+    // (its checksum covers the whole blob); a first read always reads and verifies everything.
+    void readSubtree(uint32_t index, uint32_t level, SubtreeData& into, bool attributes = true) const;
     // Reads one node (local index) of subtree `index` without the rest of the blob (thread-safe: pread), e.g.
     // its root and the root's children for the culling hierarchy's tighter bounds (CHC+RT §5.1). Not
     // checksummed: only boxes and counts are used; throws InputError for an out-of-range index.
@@ -64,8 +80,18 @@ public:
 
 private:
     void validate(); // header, sizes, metadata and structure; throws InputError
-    SubtreeData readBlob(uint64_t offset, uint32_t nodeCount, uint32_t triangleCount, uint64_t checksum,
-                         const std::string& blob) const;
+    void readBlob(uint64_t offset, uint32_t nodeCount, uint32_t triangleCount, uint64_t checksum,
+                  const std::string& blob, SubtreeData& d, bool attributes) const;
+    // What identifies the file's content for re-reads: a blob whose checksum matched is not summed again while
+    // this stays the same (size, modification and status-change times of the open descriptor).
+    struct FileState {
+        uint64_t size = 0;
+        int64_t modifiedNs = 0, changedNs = 0;
+        bool operator==(const FileState&) const = default;
+    };
+    FileState fileState() const; // throws InputError when fstat fails
+    bool blobVerified(uint64_t offset, const FileState& state) const;
+    void markVerified(uint64_t offset, const FileState& state) const;
     std::filesystem::path path_;
     int fd_ = -1;
     ChsHeader header_{};
@@ -75,6 +101,9 @@ private:
     std::string source_;
     ChsLodHeader lod_{};
     std::vector<ChsLodRecord> lodRecords_; // lod_.levels per subtree, directory order
+    mutable std::mutex verifiedMutex_;     // reads come from the frame's thread and the prefetch thread
+    mutable FileState verifiedState_;
+    mutable std::unordered_set<uint64_t> verifiedBlobs_; // offsets of blobs whose checksum matched in verifiedState_
 };
 
 // Loads a whole prepared scene in core (when it fits): a Scene (3 unshared vertices per triangle, triangle i =

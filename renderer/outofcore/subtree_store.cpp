@@ -2,7 +2,45 @@
 
 namespace chcrt::outofcore {
 
+std::unique_ptr<SubtreeData> SubtreeBuffers::take(uint32_t nodes, uint32_t triangles) {
+    const std::lock_guard lock(mutex_);
+    size_t best = spare_.size();
+    for (size_t i = 0; i < spare_.size(); ++i) {
+        const SubtreeData& d = *spare_[i];
+        if (d.nodes.capacity() < nodes || d.triangles.capacity() < triangles ||
+            d.normals.capacity() < size_t(triangles) * 3) {
+            continue;
+        }
+        if (best == spare_.size() || d.bytes() < spare_[best]->bytes()) best = i;
+    }
+    if (best == spare_.size()) return std::make_unique<SubtreeData>();
+    std::unique_ptr<SubtreeData> taken = std::move(spare_[best]);
+    spare_.erase(spare_.begin() + std::ptrdiff_t(best));
+    return taken;
+}
+
+void SubtreeBuffers::giveBack(SubtreeData* data) {
+    std::unique_ptr<SubtreeData> owned(data);
+    const std::lock_guard lock(mutex_);
+    if (spare_.size() < kSpareBuffers) spare_.push_back(std::move(owned));
+}
+
 SubtreeStore::SubtreeStore(const ChsFile& file, uint64_t budgetBytes) : file_(file), budget_(budgetBytes) {}
+
+std::shared_ptr<const SubtreeData> SubtreeStore::read(uint32_t subtree, uint32_t level, bool attributes) const {
+    uint32_t nodes = 0, triangles = 0;
+    if (level == 0 && subtree < file_.subtrees().size()) {
+        nodes = file_.subtrees()[subtree].nodeCount;
+        triangles = file_.subtrees()[subtree].triangleCount;
+    } else if (level != 0) {
+        const ChsLodRecord& r = file_.lodRecord(subtree, level); // throws for a level or subtree out of range
+        nodes = r.nodeCount;
+        triangles = r.triangleCount;
+    }
+    std::unique_ptr<SubtreeData> data = buffers_->take(nodes, triangles);
+    file_.readSubtree(subtree, level, *data, attributes);
+    return {data.release(), [buffers = buffers_](const SubtreeData* d) { buffers->giveBack(const_cast<SubtreeData*>(d)); }};
+}
 
 SubtreeStore::~SubtreeStore() {
     {
@@ -42,10 +80,15 @@ std::shared_ptr<const SubtreeData> SubtreeStore::insert(uint64_t key, std::share
     const uint64_t bytes = data->bytes();
     ++stats_.misses;
     if (prefetched) ++stats_.prefetched;
-    const auto subtree = uint32_t(key), level = uint32_t(key >> 32);
-    stats_.bytesRead += level == 0 ? file_.subtrees()[subtree].bytes : file_.lodRecord(subtree, level).bytes;
+    stats_.bytesRead += data->readBytes();
     const auto existing = entries_.find(key);
-    if (existing != entries_.end()) return existing->second.data; // a concurrent read won
+    if (existing != entries_.end()) {
+        if (existing->second.data->attributes || !data->attributes) return existing->second.data; // a concurrent read won
+        // The entry was read for the GPU alone; this read has the attributes too and replaces it.
+        stats_.residentBytes -= existing->second.data->bytes();
+        lru_.erase(existing->second.position);
+        entries_.erase(existing);
+    }
     if (bytes > budget_ || (prefetched && !prefetchFits(bytes))) {
         // Not kept: larger than the budget, or a prefetch whose room meanwhile went to the frame's own reads.
         if (prefetched) stats_.prefetchWastedBytes += bytes;
@@ -59,14 +102,15 @@ std::shared_ptr<const SubtreeData> SubtreeStore::insert(uint64_t key, std::share
     return data;
 }
 
-std::shared_ptr<const SubtreeData> SubtreeStore::get(uint32_t subtree, uint32_t level) {
+std::shared_ptr<const SubtreeData> SubtreeStore::get(uint32_t subtree, uint32_t level, bool attributes) {
     const uint64_t key = keyOf(subtree, level);
     {
         std::unique_lock lock(mutex_);
         // The prefetch thread is reading it (prefetches read level 0): wait rather than read it a second time.
         readDone_.wait(lock, [&] { return level != 0 || inFlight_ != subtree; });
         const auto it = entries_.find(key);
-        if (it != entries_.end()) {
+        // An entry read for the GPU alone lacks the vertex attributes: read it again with them.
+        if (it != entries_.end() && (!attributes || it->second.data->attributes)) {
             Entry& entry = it->second;
             ++stats_.hits;
             if (entry.prefetchedUnused) {
@@ -80,7 +124,7 @@ std::shared_ptr<const SubtreeData> SubtreeStore::get(uint32_t subtree, uint32_t 
     }
     // Read outside the lock (pread is thread-safe); a concurrent miss on the same subtree reads it twice, and
     // the first insert wins.
-    auto data = std::make_shared<const SubtreeData>(file_.readSubtree(subtree, level));
+    std::shared_ptr<const SubtreeData> data = read(subtree, level, attributes);
     const std::lock_guard lock(mutex_);
     return insert(key, std::move(data), false);
 }
@@ -137,7 +181,7 @@ void SubtreeStore::prefetchLoop() {
         lock.unlock();
         std::shared_ptr<const SubtreeData> data;
         try {
-            data = std::make_shared<const SubtreeData>(file_.readSubtree(subtree));
+            data = read(subtree, 0, true); // whole: a prefetched subtree serves uploads and the primary resolve
         } catch (const std::exception&) {
             // Reported by the get() that needs it.
         }

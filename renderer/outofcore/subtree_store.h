@@ -27,6 +27,23 @@
 
 namespace chcrt::outofcore {
 
+// The buffers of subtrees that left the store and every other holder, kept for the next reads: a read into them
+// allocates nothing and touches no fresh page. Without them an exact far frame of the 140M city, whose blobs are
+// read again and again through a store smaller than the view needs, spent a tenth of its time in the kernel
+// clearing the pages of new buffers (docs/outofcore.md, "Reading subtrees"). Thread-safe; holds at most
+// kSpareBuffers subtrees' buffers, outside the store's budget.
+class SubtreeBuffers {
+public:
+    static constexpr size_t kSpareBuffers = 4;
+    // The spare with the least capacity that holds `nodes` and `triangles`, else a new one.
+    std::unique_ptr<SubtreeData> take(uint32_t nodes, uint32_t triangles);
+    void giveBack(SubtreeData* data); // owns `data` from now on
+
+private:
+    std::mutex mutex_;
+    std::vector<std::unique_ptr<SubtreeData>> spare_;
+};
+
 struct SubtreeStoreStats {
     uint64_t hits = 0;
     uint64_t misses = 0;      // reads from the file
@@ -55,7 +72,9 @@ public:
     SubtreeStore& operator=(const SubtreeStore&) = delete;
     // Thread-safe. Throws InputError on a corrupted subtree. `level` >= 1: its LOD proxy (ChsFile::readSubtree),
     // kept under the same budget. Prefetches read subtrees (level 0) only.
-    std::shared_ptr<const SubtreeData> get(uint32_t subtree, uint32_t level = 0);
+    // `attributes` false: the caller needs nodes and triangles only (a GPU upload), and a blob already verified is
+    // read without its vertex normals and texture coordinates (a third of a city subtree's bytes).
+    std::shared_ptr<const SubtreeData> get(uint32_t subtree, uint32_t level = 0, bool attributes = true);
     const ChsFile& file() const { return file_; }
     uint64_t budgetBytes() const { return budget_; }
     SubtreeStoreStats stats() const;
@@ -78,6 +97,9 @@ private:
     };
     const ChsFile& file_;
     uint64_t budget_;
+    // Shared with the deleters of the subtrees handed out, which may outlive the store.
+    std::shared_ptr<SubtreeBuffers> buffers_ = std::make_shared<SubtreeBuffers>();
+    std::shared_ptr<const SubtreeData> read(uint32_t subtree, uint32_t level, bool attributes) const; // into recycled buffers
     mutable std::mutex mutex_;
     static uint64_t keyOf(uint32_t subtree, uint32_t level) { return uint64_t(level) << 32 | subtree; }
     std::list<uint64_t> lru_; // keys (keyOf), most recently used first

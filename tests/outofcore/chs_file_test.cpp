@@ -8,8 +8,11 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstring>
+#include <fstream>
 #include <random>
+#include <thread>
 
 namespace chcrt {
 namespace {
@@ -144,6 +147,55 @@ TEST(ChsFile, FlippedBytesAnywhereAreDetected) {
         test::writeBytes(bad, copy);
         EXPECT_THROW(openAndReadAll(bad), InputError) << "byte " << o;
     }
+}
+
+// Writes one byte in place (same size), as another process overwriting the file would.
+void overwriteByte(const std::filesystem::path& file, uint64_t offset, char value) {
+    std::fstream out(file, std::ios::binary | std::ios::in | std::ios::out);
+    out.seekp(std::streamoff(offset));
+    out.put(value);
+}
+
+bool sameBytes(const void* a, const void* b, size_t bytes) { return std::memcmp(a, b, bytes) == 0; }
+
+// A blob's checksum is computed on its first read and not again while the file stays the same; a read for the GPU
+// alone (no vertex attributes) is only that cheap once the blob was verified, and any change of the file under the
+// open descriptor makes the next read verify again (docs/outofcore.md, "Reading subtrees").
+TEST(ChsFile, BlobsAreVerifiedOnFirstReadAndAgainAfterTheFileChanges) {
+    test::ScratchDir dir;
+    const auto file = dir.file("city.chs");
+    test::prepareSmall("city:20k", file, 1000);
+    const ChsFile chs(file);
+    ASSERT_GE(chs.header().subtreeCount, 3u);
+    const outofcore::ChsSubtreeRecord& one = chs.subtrees()[1];
+    const uint64_t normalsAt = one.offset + uint64_t(one.nodeCount) * sizeof(BvhNodeGpu) +
+                               uint64_t(one.triangleCount) * sizeof(TriangleGpu);
+
+    // Never read: a read for the GPU reads and checks everything, so a bad normal is found.
+    const char saved = test::readBytes(file)[normalsAt];
+    overwriteByte(file, normalsAt, char(saved ^ 0x10));
+    outofcore::SubtreeData d;
+    EXPECT_THROW(chs.readSubtree(1, 0, d, false), InputError);
+    overwriteByte(file, normalsAt, saved);
+
+    // Verified once: the GPU's read skips the attributes and returns the same nodes and triangles.
+    const outofcore::SubtreeData full = chs.readSubtree(1);
+    EXPECT_TRUE(full.attributes);
+    chs.readSubtree(1, 0, d, false);
+    EXPECT_FALSE(d.attributes);
+    EXPECT_TRUE(d.normals.empty());
+    ASSERT_EQ(d.nodes.size(), full.nodes.size());
+    ASSERT_EQ(d.triangles.size(), full.triangles.size());
+    EXPECT_TRUE(sameBytes(d.nodes.data(), full.nodes.data(), full.nodes.size() * sizeof(BvhNodeGpu)));
+    EXPECT_TRUE(sameBytes(d.triangles.data(), full.triangles.data(), full.triangles.size() * sizeof(TriangleGpu)));
+
+    // Changed in place after it was verified: the next read, whole or for the GPU, checks it again. File times
+    // are kept at the kernel's tick (a few ms), so the change is made well after the last one.
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    const uint64_t triangleAt = one.offset + uint64_t(one.nodeCount) * sizeof(BvhNodeGpu);
+    overwriteByte(file, triangleAt, char(test::readBytes(file)[triangleAt] ^ 0x10));
+    EXPECT_THROW(chs.readSubtree(1, 0, d, false), InputError);
+    EXPECT_THROW(chs.readSubtree(1), InputError);
 }
 
 TEST(ChsFile, VersionMismatchIsRefusedWithClearMessage) {

@@ -45,6 +45,39 @@ TEST(SubtreeStore, KeepsTheMostRecentlyUsedUnderItsBudget) {
 namespace chcrt {
 namespace {
 
+// Evicted subtrees' buffers are read into again (subtree_store.h, SubtreeBuffers): what a read into them returns
+// equals a fresh read, whole and for the GPU alone, and the store counts the memory they hold.
+TEST(SubtreeStore, RecycledBuffersHoldWhatAFreshReadHolds) {
+    test::ScratchDir dir;
+    const auto file = dir.file("city.chs");
+    test::prepareSmall("city:20k", file, 1000);
+    const outofcore::ChsFile chs(file);
+    const uint32_t count = chs.header().subtreeCount;
+    ASSERT_GE(count, 6u);
+    outofcore::SubtreeStore store(chs, 1); // keeps nothing: every get() reads, every subtree leaves at once
+    for (int pass = 0; pass < 2; ++pass) {
+        for (uint32_t i = 0; i < count; ++i) {
+            const bool attributes = (i + uint32_t(pass)) % 2 == 0;
+            const std::shared_ptr<const outofcore::SubtreeData> got = store.get(count - 1 - i, 0, attributes);
+            const outofcore::SubtreeData fresh = chs.readSubtree(count - 1 - i);
+            ASSERT_EQ(got->nodes.size(), fresh.nodes.size());
+            ASSERT_EQ(got->triangles.size(), fresh.triangles.size());
+            EXPECT_EQ(std::memcmp(got->nodes.data(), fresh.nodes.data(), fresh.nodes.size() * sizeof(BvhNodeGpu)), 0);
+            EXPECT_EQ(std::memcmp(got->triangles.data(), fresh.triangles.data(),
+                                  fresh.triangles.size() * sizeof(TriangleGpu)), 0);
+            if (got->attributes) {
+                ASSERT_EQ(got->normals.size(), fresh.normals.size());
+                EXPECT_EQ(std::memcmp(got->normals.data(), fresh.normals.data(),
+                                      fresh.normals.size() * sizeof(glm::vec3)), 0);
+            } else {
+                EXPECT_FALSE(attributes);
+            }
+            EXPECT_GE(got->bytes(), got->readBytes());
+        }
+    }
+    EXPECT_EQ(store.stats().residentBytes, 0u);
+}
+
 TEST(SubtreeStore, PrefetchedSubtreesAreHits) {
     test::ScratchDir dir;
     const auto file = dir.file("city.chs");
