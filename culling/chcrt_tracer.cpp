@@ -330,6 +330,7 @@ const ChcrtTracer::DebugPrograms& ChcrtTracer::debugPrograms(ChcrtDebugImage kin
     for (int anyHit = 0; anyHit < 2; ++anyHit) {
         std::vector<ShaderDefine> defines = subtreeDefines(anyHit != 0);
         defines.push_back(debug);
+        if (kind == ChcrtDebugImage::Subtrees) defines.push_back({"CHCRT_HIT_TRIANGLE_INDEX", "1"});
         programs.query[anyHit] = makeProgram("culling/chcrt_query.frag.glsl", anyHit != 0, {debug});
         programs.subtree[anyHit] = makeProgram("culling/chcrt_subtrees.frag.glsl", anyHit != 0, defines);
     }
@@ -348,6 +349,7 @@ void ChcrtTracer::setDebugImage(ChcrtDebugImage kind) {
 void ChcrtTracer::ensureDebugTexture(int width, int height) {
     if (debugTexture_.id() != 0 && debugWidth_ == width && debugHeight_ == height) return;
     debugTexture_ = createTexture2D(width, height, GL_R32UI);
+    hitTriangleTexture_ = createTexture2D(width, height, GL_R32UI);
     debugWidth_ = width;
     debugHeight_ = height;
     clearDebugImage();
@@ -357,6 +359,15 @@ void ChcrtTracer::clearDebugImage() {
     if (debugTexture_.id() == 0) return;
     const GLuint zero = 0;
     glClearTexImage(debugTexture_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+}
+
+std::vector<uint32_t> ChcrtTracer::readHitTriangleImage() const {
+    std::vector<uint32_t> values(size_t(debugWidth_) * debugHeight_, 0u);
+    if (hitTriangleTexture_.id() == 0) return values;
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+    glGetTextureImage(hitTriangleTexture_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, GLsizei(values.size() * 4),
+                      values.data());
+    return values;
 }
 
 std::vector<uint32_t> ChcrtTracer::readDebugImage() const {
@@ -967,6 +978,8 @@ void ChcrtTracer::beginTrace(const RayTextures& rays, HitTargets& hits, int widt
     if (debugKind_ != ChcrtDebugImage::None) {
         ensureDebugTexture(width, height);
         glBindImageTexture(CHCRT_CULLING_IMAGE_DEBUG, debugTexture_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+        glBindImageTexture(CHCRT_CULLING_IMAGE_HIT_TRIANGLE, hitTriangleTexture_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                           GL_R32UI);
     }
     // Initialise: all misses, depth 1 (= no hit yet; queries test a ray's own tmax in the shader). Clears, not a
     // full-screen pass: on llvmpipe an initialising pass cost ~25% of a whole trace (culling/README.md).

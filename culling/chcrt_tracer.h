@@ -271,6 +271,10 @@ public:
     int debugWidth() const { return debugWidth_; }
     int debugHeight() const { return debugHeight_; }
     std::vector<uint32_t> readDebugImage() const;
+    // With the Subtrees debug image: per pixel, the buffer index of the triangle that produced the latest hit change
+    // (written with the subtree id, by the tile subtree passes; cell passes leave it as it was). For the out-of-core
+    // primary resolve, which checks each index against the hit's triangle id before using it.
+    std::vector<uint32_t> readHitTriangleImage() const;
 
 private:
     struct PendingQuery {
@@ -386,6 +390,7 @@ private:
     const DebugPrograms* debugActive_ = nullptr;              // those of debugKind_; nullptr = none
     ChcrtDebugImage debugKind_ = ChcrtDebugImage::None;
     GlTexture debugTexture_;
+    GlTexture hitTriangleTexture_; // R32UI, sized with debugTexture_ (readHitTriangleImage)
     int debugWidth_ = 0, debugHeight_ = 0;
     std::map<GLuint, GlFramebuffer> framebuffers_; // by depth texture id
     std::map<uint64_t, std::unique_ptr<VisibilityState>> states_;

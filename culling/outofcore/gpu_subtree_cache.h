@@ -99,6 +99,14 @@ public:
     uint32_t slotCount() const { return uint32_t(pools_[0].slotKey.size()); }
     uint32_t slotNodes() const { return pools_[0].slotNodes; }
     uint32_t slotTriangles() const { return pools_[0].slotTriangles; }
+    // The index within its subtree of triangle `bufferIndex` of the subtrees' pool (level 0), UINT32_MAX when the
+    // index lies outside that pool. Slots hold a subtree's triangles in file order from their first.
+    uint32_t localTriangleOf(uint64_t bufferIndex) const {
+        const Pool& pool = pools_[0];
+        if (bufferIndex < pool.firstTriangle || pool.slotTriangles == 0) return UINT32_MAX;
+        const uint64_t offset = bufferIndex - pool.firstTriangle;
+        return offset < uint64_t(pool.slotKey.size()) * pool.slotTriangles ? uint32_t(offset % pool.slotTriangles) : UINT32_MAX;
+    }
     // The subtree in a slot of the subtree pool (kNotResident when empty).
     uint32_t slotSubtree(uint32_t slot) const { return pools_[0].slotKey[slot]; }
     // The subtree itself (level 0) is in the cache (prefetch leaves resident ones out).

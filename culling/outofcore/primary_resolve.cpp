@@ -123,6 +123,32 @@ const PrimaryResolve::DenseIdIndex* PrimaryResolve::denseIndexFor(uint64_t subtr
     return it->second.localOf.empty() ? nullptr : &it->second;
 }
 
+// The triangle (and its normals) that each pixel of `pixels` hit in subtree `subtree`, read one by one from the
+// file; false when one cannot be (a blob not verified in the file's current state, an index out of the pool, or one
+// whose triangle has another id than the pixel's hit: a pixel whose hit a cell pass changed, which does not write
+// the image). Pixels come in row order, so a run of pixels on one triangle reads it once.
+bool PrimaryResolve::resolveByTriangles(uint32_t subtree, const std::vector<uint32_t>& pixels,
+                                        std::vector<TriangleGpu>& triangles, std::vector<glm::vec3>& normals) {
+    const ChsFile& file = tracer_.file();
+    triangles.resize(pixels.size());
+    normals.resize(pixels.size() * 3);
+    uint32_t lastIndex = UINT32_MAX;
+    for (size_t i = 0; i < pixels.size(); ++i) {
+        const uint32_t p = pixels[i], index = pixelTriangles_[p];
+        if (i > 0 && index == lastIndex) {
+            triangles[i] = triangles[i - 1];
+            std::copy_n(&normals[3 * (i - 1)], 3, &normals[3 * i]);
+        } else {
+            const uint32_t local = tracer_.cache().localTriangleOf(index);
+            if (local == UINT32_MAX || !file.readTriangle(subtree, local, triangles[i], &normals[3 * i])) return false;
+            ++stats_.trianglesRead;
+            lastIndex = index;
+        }
+        if (triangles[i].originalId != hits_[p].y) return false;
+    }
+    return true;
+}
+
 void PrimaryResolve::resolve(const Camera& camera, const FrameTargets& t, float nearPlane) {
     const auto start = std::chrono::steady_clock::now();
     stats_ = {};
@@ -136,6 +162,8 @@ void PrimaryResolve::resolve(const Camera& camera, const FrameTargets& t, float 
     pixelSubtrees_ = tracer_.chcrt().readDebugImage(); // 1 + subtree, 0 = none
     const std::vector<uint32_t>& subtreeOf = pixelSubtrees_;
     const bool haveSubtrees = subtreeOf.size() == n;
+    pixelTriangles_ = tracer_.chcrt().readHitTriangleImage(); // buffer index of the hit triangle (checked below)
+    const bool haveTriangles = pixelTriangles_.size() == n;
 
     // Group hit pixels by subtree, then scan each subtree once for the triangles its pixels hit.
     std::unordered_map<uint32_t, std::vector<uint32_t>> pixelsOf;
@@ -151,12 +179,51 @@ void PrimaryResolve::resolve(const Camera& camera, const FrameTargets& t, float 
     std::vector<glm::vec4>&shading = shadingRgba_, &geometric = geometricRgba_, &albedo = albedoRgba_;
     for (std::vector<glm::vec4>* image : {&shading, &geometric, &albedo}) image->assign(n, glm::vec4(0.0f));
     SubtreeStore& store = tracer_.store();
+    // Shading terms of a pixel from its triangle and the triangle's 3 vertex normals. Neighbouring pixels mostly hit
+    // the same triangle: the per-triangle terms are computed once per run of them.
+    uint32_t lastTriangle = HitIdIndex::kAbsent;
+    glm::vec3 g(0.0f), q0(0.0f), q1(0.0f), q2(0.0f);
+    glm::vec4 triangleAlbedo(0.0f);
+    const auto shadePixel = [&](uint32_t p, uint32_t triangleKey, const TriangleGpu& tri, const glm::vec3* normals) {
+        if (triangleKey != lastTriangle) {
+            lastTriangle = triangleKey;
+            g = glm::cross(tri.v1 - tri.v0, tri.v2 - tri.v0);
+            const float length = glm::length(g);
+            g = length > 0.0f ? g / length : glm::vec3(0.0f, 1.0f, 0.0f);
+            q0 = quantizedNormal(normals[0]);
+            q1 = quantizedNormal(normals[1]);
+            q2 = quantizedNormal(normals[2]);
+            triangleAlbedo = glm::vec4(albedos_[std::min<size_t>(tri.materialId, albedos_.size() - 1)], 1.0f);
+        }
+        glm::vec2 b;
+        std::memcpy(&b, &hits[p].z, sizeof(b));
+        const float w0 = 1.0f - b.x - b.y;
+        const glm::vec3 s = w0 * q0 + b.x * q1 + b.y * q2;
+        const float sl = glm::length(s);
+        shading[p] = glm::vec4(sl > 0.0f ? s / sl : g, 0.0f);
+        geometric[p] = glm::vec4(g, 0.0f);
+        albedo[p] = triangleAlbedo;
+    };
     HitIdIndex localOf; // hit triangle id -> its index in the subtree
+    std::vector<TriangleGpu> triangles;
+    std::vector<glm::vec3> normals;
     for (const auto& [subtree, pixels] : pixelsOf) {
         ++stats_.subtreesRead;
         // chcrt-lod: the level the cache served this subtree at for this frame's camera (the primary trace's), whose
         // proxy triangles carry representative ids, their own normals and materials.
         const uint32_t level = tracer_.cache().levelFor(subtree);
+        // A subtree the store does not hold whole: read only the triangles its pixels hit, found through the hit
+        // triangle image (far views: ~2,800 subtrees of ~7 MB for ~80 pixels each). Each index must name a triangle
+        // with the pixel's hit id, else the subtree is read whole as before.
+        if (level == 0 && haveTriangles && !store.holdsAttributes(subtree, level) &&
+            resolveByTriangles(subtree, pixels, triangles, normals)) {
+            ++stats_.subtreesByTriangles;
+            lastTriangle = HitIdIndex::kAbsent;
+            for (size_t i = 0; i < pixels.size(); ++i) {
+                shadePixel(pixels[i], pixelTriangles_[pixels[i]], triangles[i], &normals[3 * i]);
+            }
+            continue;
+        }
         const std::shared_ptr<const SubtreeData> data = store.get(subtree, level);
         const DenseIdIndex* dense = denseIndexFor(uint64_t(level) << 32 | subtree, *data);
         ++(dense ? stats_.subtreesIndexed : stats_.subtreesScanned);
@@ -172,35 +239,14 @@ void PrimaryResolve::resolve(const Camera& camera, const FrameTargets& t, float 
                 }
             }
         }
-        // Neighbouring pixels mostly hit the same triangle: its per-triangle terms are computed once per run.
-        uint32_t lastK = HitIdIndex::kAbsent;
-        glm::vec3 g(0.0f), q0(0.0f), q1(0.0f), q2(0.0f);
-        glm::vec4 triangleAlbedo(0.0f);
+        lastTriangle = HitIdIndex::kAbsent;
         for (uint32_t p : pixels) {
             const uint32_t k = dense ? dense->find(hits[p].y) : *localOf.find(hits[p].y);
             if (k == HitIdIndex::kAbsent) {
                 ++stats_.unresolvedPixels;
                 continue;
             }
-            if (k != lastK) {
-                lastK = k;
-                const TriangleGpu& tri = data->triangles[k];
-                g = glm::cross(tri.v1 - tri.v0, tri.v2 - tri.v0);
-                const float length = glm::length(g);
-                g = length > 0.0f ? g / length : glm::vec3(0.0f, 1.0f, 0.0f);
-                q0 = quantizedNormal(data->normals[k * 3]);
-                q1 = quantizedNormal(data->normals[k * 3 + 1]);
-                q2 = quantizedNormal(data->normals[k * 3 + 2]);
-                triangleAlbedo = glm::vec4(albedos_[std::min<size_t>(tri.materialId, albedos_.size() - 1)], 1.0f);
-            }
-            glm::vec2 b;
-            std::memcpy(&b, &hits[p].z, sizeof(b));
-            const float w0 = 1.0f - b.x - b.y;
-            const glm::vec3 s = w0 * q0 + b.x * q1 + b.y * q2;
-            const float sl = glm::length(s);
-            shading[p] = glm::vec4(sl > 0.0f ? s / sl : g, 0.0f);
-            geometric[p] = glm::vec4(g, 0.0f);
-            albedo[p] = triangleAlbedo;
+            shadePixel(p, k, data->triangles[k], &data->normals[size_t(k) * 3]);
         }
     }
     if (width_ != w || height_ != h) {

@@ -28,6 +28,8 @@ struct PrimaryResolveStats {
     uint64_t unresolvedPixels = 0; // hits whose triangle was not found (never expected; shaded with the geometric normal 0)
     uint64_t subtreesIndexed = 0;  // of subtreesRead: looked up through a dense id table
     uint64_t subtreesScanned = 0;  // of subtreesRead: ids too spread for a table, the subtree was scanned
+    uint64_t subtreesByTriangles = 0; // of subtreesRead: not in the host store, only its hit triangles read
+    uint64_t trianglesRead = 0;       // by those: triangles read one by one from the file
     double hostMs = 0.0;           // read-back, lookup and upload
 };
 
@@ -65,6 +67,9 @@ private:
     // Kept across frames, least recently used dropped first; memory outside --host-cache-mb, so bounded here.
     static constexpr uint64_t kDenseBudgetBytes = uint64_t(96) << 20;
     const DenseIdIndex* denseIndexFor(uint64_t key, const SubtreeData& data); // key: level << 32 | subtree
+    bool resolveByTriangles(uint32_t subtree, const std::vector<uint32_t>& pixels, std::vector<TriangleGpu>& triangles,
+                            std::vector<glm::vec3>& normals);
+    std::vector<uint32_t> pixelTriangles_; // the frame's hit triangle image
 
     OutOfCoreTracer& tracer_;
     uint64_t denseSpanFactor_;

@@ -291,6 +291,19 @@ void ChsFile::readBlob(uint64_t offset, uint32_t nodeCount, uint32_t triangleCou
     }
 }
 
+bool ChsFile::readTriangle(uint32_t index, uint32_t local, TriangleGpu& triangle, glm::vec3 normals[3]) const {
+    if (index >= subtrees_.size() || local >= subtrees_[index].triangleCount) return false;
+    const ChsSubtreeRecord& r = subtrees_[index];
+    const FileState before = fileState();
+    if (!blobVerified(r.offset, before)) return false;
+    const std::string what = path_.string() + ": reading subtree " + std::to_string(index);
+    const uint64_t triangles = r.offset + uint64_t(r.nodeCount) * sizeof(BvhNodeGpu);
+    readExact(fd_, &triangle, sizeof(TriangleGpu), triangles + uint64_t(local) * sizeof(TriangleGpu), what);
+    readExact(fd_, normals, 3 * sizeof(glm::vec3),
+              triangles + uint64_t(r.triangleCount) * sizeof(TriangleGpu) + uint64_t(local) * 3 * sizeof(glm::vec3), what);
+    return fileState() == before;
+}
+
 ChsFile::FileState ChsFile::fileState() const {
     struct stat st {};
     if (::fstat(fd_, &st) != 0) throw InputError("cannot stat " + path_.string() + ": " + std::strerror(errno));

@@ -73,6 +73,9 @@ public:
     // `attributes` false: nodes and triangles only when the blob was verified before in the file's current state
     // (its checksum covers the whole blob); a first read always reads and verifies everything.
     void readSubtree(uint32_t index, uint32_t level, SubtreeData& into, bool attributes = true) const;
+    // Triangle `local` of subtree `index` (level 0) and its 3 vertex normals, without the rest of the blob: only for a
+    // blob verified in the file's current state (false otherwise, and for an index out of range; then read it whole).
+    bool readTriangle(uint32_t index, uint32_t local, TriangleGpu& triangle, glm::vec3 normals[3]) const;
     // Reads one node (local index) of subtree `index` without the rest of the blob (thread-safe: pread), e.g.
     // its root and the root's children for the culling hierarchy's tighter bounds (CHC+RT §5.1). Not
     // checksummed: only boxes and counts are used; throws InputError for an out-of-range index.

@@ -161,6 +161,12 @@ bool SubtreeStore::contains(uint32_t subtree) const {
     return entries_.count(keyOf(subtree, 0)) != 0;
 }
 
+bool SubtreeStore::holdsAttributes(uint32_t subtree, uint32_t level) const {
+    const std::lock_guard lock(mutex_);
+    const auto it = entries_.find(keyOf(subtree, level));
+    return it != entries_.end() && it->second.data->attributes;
+}
+
 void SubtreeStore::prefetchLoop() {
     std::unique_lock lock(mutex_);
     for (;;) {

@@ -87,6 +87,8 @@ public:
     // A new frame begins: subtrees used from the previous frame on are kept from prefetch evictions.
     void advanceFrame();
     bool contains(uint32_t subtree) const; // the subtree itself (level 0)
+    // Whether a get(subtree, level, true) would be answered without a read.
+    bool holdsAttributes(uint32_t subtree, uint32_t level) const;
 
 private:
     struct Entry {

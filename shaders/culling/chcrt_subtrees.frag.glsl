@@ -11,7 +11,8 @@
 // subtree height + 1, §5.2; on llvmpipe 25 vs 64 entries measured no difference, see culling/README.md),
 // CHCRT_CULLING_DEBUG_SUBTREES / CHCRT_CULLING_DEBUG_BATCHES / CHCRT_CULLING_DEBUG_COST (debug image: 1 + id of
 // the subtree that changed the pixel's hit last, Figure 5 left / subtrees traversed per pixel, Figure 5 right /
-// traversal steps per pixel summed over all passes, bit 31 = capped, layout in culling/culling_layout.h).
+// traversal steps per pixel summed over all passes, bit 31 = capped, layout in culling/culling_layout.h),
+// CHCRT_HIT_TRIANGLE_INDEX (with the subtree ids: also the hit triangle's buffer index, CHCRT_CULLING_IMAGE_HIT_TRIANGLE).
 #include "shared/render_layout.h"
 #include "shared/bvh_layout.h"
 #include "shared/culling_layout.h"
@@ -55,6 +56,9 @@ layout(binding = CHCRT_CULLING_IMAGE_DEBUG, r32ui) uniform coherent uimage2D deb
 #endif
 #ifdef CHCRT_CULLING_DEBUG_SUBTREES
 uniform uvec4 subtreeIds[CHCRT_CULLING_MAX_BATCH / 4]; // culling-hierarchy subtree index per slot
+#ifdef CHCRT_HIT_TRIANGLE_INDEX
+layout(binding = CHCRT_CULLING_IMAGE_HIT_TRIANGLE, r32ui) uniform writeonly uimage2D hitTriangleImage;
+#endif
 #endif
 
 #include "culling/debug_cost.glsl"
@@ -137,6 +141,9 @@ void main() {
     }
 #ifdef CHCRT_CULLING_DEBUG_SUBTREES
     imageStore(debugImage, pixel, uvec4(changedBy));
+#ifdef CHCRT_HIT_TRIANGLE_INDEX
+    imageStore(hitTriangleImage, pixel, uvec4(best.triangleIndex));
+#endif
 #endif
     imageStore(hitImage, pixel, uvec4(floatBitsToUint(best.t), best.triangleId, floatBitsToUint(best.barycentrics)));
     gl_FragDepth = depthFromDistance(pruneLimit(best.t)); // boxes up to pruneLimit(t) stay visible, as in traversal

@@ -3,7 +3,9 @@
 // The traversals themselves: render/bvh_traverse.glsl (pure), linespace/linespace_traverse.glsl, culling/*.
 // The C++ twin is renderer/bvh/cpu_tracer.cpp.
 //
-// Host defines: TRACE_ANY_HIT (1: return the first hit in [tmin, tmax], for shadow and AO rays).
+// Host defines: TRACE_ANY_HIT (1: return the first hit in [tmin, tmax], for shadow and AO rays),
+// CHCRT_HIT_TRIANGLE_INDEX (TraceHit also carries the hit triangle's index in the BVH-ordered buffer: the
+// out-of-core primary trace records it, culling/outofcore/primary_resolve.h).
 //
 // Determinism: a hit is accepted when tmin <= t <= best t, and on equal t the lower original triangle id
 // wins; nodes are pruned only when their entry distance is beyond pruneLimit(best t) (shared/intersect.h), so a
@@ -25,6 +27,9 @@ struct TraceHit {
     float t;
     uint triangleId; // original id, CHCRT_NO_HIT_ID for a miss
     vec2 barycentrics;
+#ifdef CHCRT_HIT_TRIANGLE_INDEX
+    uint triangleIndex; // in the BVH-ordered triangle buffer; 0 for a miss
+#endif
 };
 
 struct TraceCost {
@@ -39,6 +44,9 @@ TraceHit makeMiss(float tmax) {
     hit.t = tmax;
     hit.triangleId = CHCRT_NO_HIT_ID;
     hit.barycentrics = vec2(0.0f);
+#ifdef CHCRT_HIT_TRIANGLE_INDEX
+    hit.triangleIndex = 0u;
+#endif
     return hit;
 }
 
@@ -65,6 +73,9 @@ bool intersectLeaf(uint first, uint count, vec3 origin, vec3 direction, float tm
             best.t = t;
             best.triangleId = id;
             best.barycentrics = tuv.yz;
+#ifdef CHCRT_HIT_TRIANGLE_INDEX
+            best.triangleIndex = first + i;
+#endif
 #if TRACE_ANY_HIT
             return true;
 #endif

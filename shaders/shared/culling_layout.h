@@ -16,6 +16,12 @@
 // hinted leaf before its cell's list and record the leaf of every hit they find (culling/README.md, "Hit hints").
 #define CHCRT_CULLING_IMAGE_HINT 2
 
+// Image unit of the hit triangle image (R32UI), written beside the subtree-id debug image when the subtree passes
+// are compiled with CHCRT_HIT_TRIANGLE_INDEX: the index, in the BVH-ordered triangle buffer, of the triangle that
+// produced the pixel's latest hit change. The out-of-core primary resolve reads that one triangle of a subtree
+// instead of the whole subtree (culling/outofcore/primary_resolve.h).
+#define CHCRT_CULLING_IMAGE_HIT_TRIANGLE 3
+
 // Cost debug image (CHCRT_CULLING_DEBUG_COST): the traversal-steps word of render_layout.h (CHCRT_TRACE_STEPS_*),
 // summed over the subtree passes; the capped bit marks a pixel whose ray reached the loop cap in some pass. The
 // viewer's cost view (shaders/viewer/visualize.frag.glsl) decodes it.
