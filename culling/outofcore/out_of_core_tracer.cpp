@@ -164,7 +164,7 @@ void OutOfCoreTracer::prefetchAfterFrame(const Camera& current, std::span<const 
 OutOfCoreStats OutOfCoreTracer::snapshot() const {
     OutOfCoreStats s;
     const ChcrtStats& t = chcrt_->totalStats();
-    s.queries = t.queries;
+    s.queries = t.queries + t.pairsTestedBatched; // Table 3's occlusion queries, whichever form tested the pairs
     s.raysTraced = t.raysTraced;
     s.traceMs = t.totalMs();
     const GpuCacheStats& c = cache_->stats();

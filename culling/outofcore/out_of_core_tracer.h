@@ -35,7 +35,7 @@ struct OutOfCoreOptions {
 
 // Counters in the shape of CHC+RT Table 3, for one frame or summed (difference of two snapshots).
 struct OutOfCoreStats {
-    uint64_t queries = 0;
+    uint64_t queries = 0; // occlusion tests of pairs: GL queries, or pairs tested by batched dispatches
     uint64_t raysTraced = 0;
     double traceMs = 0.0;  // CHC+RT tracing time (phases 1-3), ms
     uint64_t cacheHits = 0, cacheMisses = 0, cacheEvictions = 0, cacheDeferred = 0;

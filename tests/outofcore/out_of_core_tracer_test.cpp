@@ -28,7 +28,7 @@ uint64_t sceneGpuBytes(const outofcore::ChsFile& file) {
     return bytes;
 }
 
-void runExactness(outofcore::CachePolicy policy) {
+void runExactness(outofcore::CachePolicy policy, ChcrtQueries queries = ChcrtQueries::Gl) {
     test::ScratchDir dir;
     const auto file = dir.file("city.chs");
     test::prepareSmall("city:60k", file, 1000);
@@ -47,6 +47,7 @@ void runExactness(outofcore::CachePolicy policy) {
     }
     ChcrtOptions chcrt;
     chcrt.pairs.minTileSize = 16;
+    chcrt.queries = queries;
     outofcore::OutOfCoreTracer tracer(file, options, chcrt);
     ASSERT_LE(tracer.cache().stats().allocatedBytes, options.gpuCacheBytes);
     ASSERT_GE(tracer.cache().slotCount(), 1u);
@@ -84,7 +85,8 @@ void runExactness(outofcore::CachePolicy policy) {
     EXPECT_LE(c.residentBytes, c.allocatedBytes);
     EXPECT_LE(c.allocatedBytes, options.gpuCacheBytes);
     const outofcore::OutOfCoreStats s = tracer.snapshot();
-    EXPECT_GT(s.queries, 0u);
+    if (queries == ChcrtQueries::Gl) EXPECT_GT(s.queries, 0u);
+    else EXPECT_GT(tracer.chcrt().totalStats().pairsTestedBatched, 0u);
     EXPECT_EQ(s.uploadedBvhBytes + s.uploadedGeometryBytes, c.uploadedNodeBytes + c.uploadedTriangleBytes);
     // The file holds LOD proxies (prepare's default); an exact tracer never serves one (issue #19).
     ASSERT_GT(tracer.file().lodLevels(), 0u);
@@ -98,6 +100,11 @@ TEST_F(OutOfCoreTracerTest, HitsEqualInCorePureBvhWithLruEvictions) { runExactne
 
 TEST_F(OutOfCoreTracerTest, HitsEqualInCorePureBvhWithRoundRobinEvictions) {
     runExactness(outofcore::CachePolicy::RoundRobin);
+}
+
+// Batched queries: the out-of-core default of the chcrt methods (app/methods.cpp).
+TEST_F(OutOfCoreTracerTest, HitsEqualInCorePureBvhWithBatchedQueries) {
+    runExactness(outofcore::CachePolicy::Lru, ChcrtQueries::Batched);
 }
 
 // The viewer's streaming (--uploads-per-trace): a trace that may upload only 2 subtrees leaves the rest for later
