@@ -361,23 +361,18 @@ void ChcrtTracer::clearDebugImage() {
     glClearTexImage(debugTexture_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
 }
 
-std::vector<uint32_t> ChcrtTracer::readHitTriangleImage() const {
+// An R32UI image of the debug size (zeros before the first trace with a debug image).
+std::vector<uint32_t> ChcrtTracer::readDebugSizedImage(const GlTexture& texture) const {
     std::vector<uint32_t> values(size_t(debugWidth_) * debugHeight_, 0u);
-    if (hitTriangleTexture_.id() == 0) return values;
+    if (texture.id() == 0) return values;
     glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
-    glGetTextureImage(hitTriangleTexture_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, GLsizei(values.size() * 4),
-                      values.data());
+    glGetTextureImage(texture.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, GLsizei(values.size() * 4), values.data());
     return values;
 }
 
-std::vector<uint32_t> ChcrtTracer::readDebugImage() const {
-    std::vector<uint32_t> values(size_t(debugWidth_) * debugHeight_, 0u);
-    if (debugTexture_.id() == 0) return values;
-    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
-    glGetTextureImage(debugTexture_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, GLsizei(values.size() * 4),
-                      values.data());
-    return values;
-}
+std::vector<uint32_t> ChcrtTracer::readHitTriangleImage() const { return readDebugSizedImage(hitTriangleTexture_); }
+
+std::vector<uint32_t> ChcrtTracer::readDebugImage() const { return readDebugSizedImage(debugTexture_); }
 
 const ShaderProgram& ChcrtTracer::queryProgram(bool anyHit) const {
     return debugActive_ ? debugActive_->query[anyHit] : queryPrograms_[anyHit];

@@ -367,6 +367,7 @@ private:
     void finishHintPass(const TraceRequest& request, int width, int height);
     std::string debugDefineOfKind() const;
     void ensureDebugTexture(int width, int height);
+    std::vector<uint32_t> readDebugSizedImage(const GlTexture& texture) const;
     // ChcrtDebugImage::Bounds: the grid's cells of the last reduction into the debug texture.
     void writeBoundsImage(int width, int height);
     // The culling tracer of adaptive arm `arm` (>= 1): this one for arm 1, else one at adaptiveHeights[arm - 2].

@@ -123,28 +123,34 @@ const PrimaryResolve::DenseIdIndex* PrimaryResolve::denseIndexFor(uint64_t subtr
     return it->second.localOf.empty() ? nullptr : &it->second;
 }
 
-// The triangle (and its normals) that each pixel of `pixels` hit in subtree `subtree`, read one by one from the
-// file; false when one cannot be (a blob not verified in the file's current state, an index out of the pool, or one
-// whose triangle has another id than the pixel's hit: a pixel whose hit a cell pass changed, which does not write
-// the image). Pixels come in row order, so a run of pixels on one triangle reads it once.
+// The triangles (and their normals) that the pixels of `pixels` hit in subtree `subtree`, each distinct one read once
+// from the file, and for each pixel the position of its triangle among them; false when they cannot be (a blob not
+// verified in the file's current state, an index out of the pool, or one whose triangle has another id than the
+// pixel's hit: a pixel whose hit a cell pass changed, which does not write the image).
 bool PrimaryResolve::resolveByTriangles(uint32_t subtree, const std::vector<uint32_t>& pixels,
-                                        std::vector<TriangleGpu>& triangles, std::vector<glm::vec3>& normals) {
-    const ChsFile& file = tracer_.file();
-    triangles.resize(pixels.size());
-    normals.resize(pixels.size() * 3);
-    uint32_t lastIndex = UINT32_MAX;
+                                        std::vector<TriangleGpu>& triangles, std::vector<glm::vec3>& normals,
+                                        std::vector<uint32_t>& triangleOfPixel) {
+    std::vector<uint32_t>& indices = hitIndices_;
+    indices.clear();
+    for (uint32_t p : pixels) indices.push_back(pixelTriangles_[p]);
+    std::sort(indices.begin(), indices.end());
+    indices.erase(std::unique(indices.begin(), indices.end()), indices.end());
+    std::vector<uint32_t>& locals = hitLocals_;
+    locals.resize(indices.size());
+    for (size_t i = 0; i < indices.size(); ++i) {
+        locals[i] = tracer_.cache().localTriangleOf(indices[i]);
+        if (locals[i] == UINT32_MAX) return false;
+    }
+    triangles.resize(indices.size());
+    normals.resize(indices.size() * 3);
+    if (!tracer_.file().readTriangles(subtree, locals, triangles.data(), normals.data())) return false;
+    stats_.trianglesRead += indices.size();
+    triangleOfPixel.resize(pixels.size());
     for (size_t i = 0; i < pixels.size(); ++i) {
-        const uint32_t p = pixels[i], index = pixelTriangles_[p];
-        if (i > 0 && index == lastIndex) {
-            triangles[i] = triangles[i - 1];
-            std::copy_n(&normals[3 * (i - 1)], 3, &normals[3 * i]);
-        } else {
-            const uint32_t local = tracer_.cache().localTriangleOf(index);
-            if (local == UINT32_MAX || !file.readTriangle(subtree, local, triangles[i], &normals[3 * i])) return false;
-            ++stats_.trianglesRead;
-            lastIndex = index;
-        }
-        if (triangles[i].originalId != hits_[p].y) return false;
+        const uint32_t p = pixels[i];
+        const auto k = uint32_t(std::lower_bound(indices.begin(), indices.end(), pixelTriangles_[p]) - indices.begin());
+        if (triangles[k].originalId != hits_[p].y) return false;
+        triangleOfPixel[i] = k;
     }
     return true;
 }
@@ -207,6 +213,7 @@ void PrimaryResolve::resolve(const Camera& camera, const FrameTargets& t, float 
     HitIdIndex localOf; // hit triangle id -> its index in the subtree
     std::vector<TriangleGpu> triangles;
     std::vector<glm::vec3> normals;
+    std::vector<uint32_t> triangleOfPixel;
     for (const auto& [subtree, pixels] : pixelsOf) {
         ++stats_.subtreesRead;
         // chcrt-lod: the level the cache served this subtree at for this frame's camera (the primary trace's), whose
@@ -216,11 +223,12 @@ void PrimaryResolve::resolve(const Camera& camera, const FrameTargets& t, float 
         // triangle image (far views: ~2,800 subtrees of ~7 MB for ~80 pixels each). Each index must name a triangle
         // with the pixel's hit id, else the subtree is read whole as before.
         if (level == 0 && haveTriangles && !store.holdsAttributes(subtree, level) &&
-            resolveByTriangles(subtree, pixels, triangles, normals)) {
+            resolveByTriangles(subtree, pixels, triangles, normals, triangleOfPixel)) {
             ++stats_.subtreesByTriangles;
             lastTriangle = HitIdIndex::kAbsent;
             for (size_t i = 0; i < pixels.size(); ++i) {
-                shadePixel(pixels[i], pixelTriangles_[pixels[i]], triangles[i], &normals[3 * i]);
+                const uint32_t k = triangleOfPixel[i];
+                shadePixel(pixels[i], k, triangles[k], &normals[size_t(k) * 3]);
             }
             continue;
         }

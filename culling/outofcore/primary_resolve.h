@@ -29,7 +29,7 @@ struct PrimaryResolveStats {
     uint64_t subtreesIndexed = 0;  // of subtreesRead: looked up through a dense id table
     uint64_t subtreesScanned = 0;  // of subtreesRead: ids too spread for a table, the subtree was scanned
     uint64_t subtreesByTriangles = 0; // of subtreesRead: not in the host store, only its hit triangles read
-    uint64_t trianglesRead = 0;       // by those: triangles read one by one from the file
+    uint64_t trianglesRead = 0;       // by those: their distinct hit triangles, read from the file
     double hostMs = 0.0;           // read-back, lookup and upload
 };
 
@@ -68,8 +68,9 @@ private:
     static constexpr uint64_t kDenseBudgetBytes = uint64_t(96) << 20;
     const DenseIdIndex* denseIndexFor(uint64_t key, const SubtreeData& data); // key: level << 32 | subtree
     bool resolveByTriangles(uint32_t subtree, const std::vector<uint32_t>& pixels, std::vector<TriangleGpu>& triangles,
-                            std::vector<glm::vec3>& normals);
-    std::vector<uint32_t> pixelTriangles_; // the frame's hit triangle image
+                            std::vector<glm::vec3>& normals, std::vector<uint32_t>& triangleOfPixel);
+    std::vector<uint32_t> pixelTriangles_;         // the frame's hit triangle image
+    std::vector<uint32_t> hitIndices_, hitLocals_; // resolveByTriangles: a subtree's distinct hit triangles
 
     OutOfCoreTracer& tracer_;
     uint64_t denseSpanFactor_;

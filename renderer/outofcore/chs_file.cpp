@@ -291,16 +291,23 @@ void ChsFile::readBlob(uint64_t offset, uint32_t nodeCount, uint32_t triangleCou
     }
 }
 
-bool ChsFile::readTriangle(uint32_t index, uint32_t local, TriangleGpu& triangle, glm::vec3 normals[3]) const {
-    if (index >= subtrees_.size() || local >= subtrees_[index].triangleCount) return false;
+bool ChsFile::readTriangles(uint32_t index, std::span<const uint32_t> locals, TriangleGpu* triangles,
+                            glm::vec3* normals) const {
+    if (index >= subtrees_.size()) return false;
     const ChsSubtreeRecord& r = subtrees_[index];
+    for (uint32_t local : locals) {
+        if (local >= r.triangleCount) return false;
+    }
     const FileState before = fileState();
     if (!blobVerified(r.offset, before)) return false;
     const std::string what = path_.string() + ": reading subtree " + std::to_string(index);
-    const uint64_t triangles = r.offset + uint64_t(r.nodeCount) * sizeof(BvhNodeGpu);
-    readExact(fd_, &triangle, sizeof(TriangleGpu), triangles + uint64_t(local) * sizeof(TriangleGpu), what);
-    readExact(fd_, normals, 3 * sizeof(glm::vec3),
-              triangles + uint64_t(r.triangleCount) * sizeof(TriangleGpu) + uint64_t(local) * 3 * sizeof(glm::vec3), what);
+    const uint64_t first = r.offset + uint64_t(r.nodeCount) * sizeof(BvhNodeGpu);
+    const uint64_t firstNormal = first + uint64_t(r.triangleCount) * sizeof(TriangleGpu);
+    for (size_t i = 0; i < locals.size(); ++i) {
+        readExact(fd_, &triangles[i], sizeof(TriangleGpu), first + uint64_t(locals[i]) * sizeof(TriangleGpu), what);
+        readExact(fd_, &normals[3 * i], 3 * sizeof(glm::vec3), firstNormal + uint64_t(locals[i]) * 3 * sizeof(glm::vec3),
+                  what);
+    }
     return fileState() == before;
 }
 

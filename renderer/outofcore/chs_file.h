@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <memory>
 #include <mutex>
+#include <span>
 #include <string>
 #include <unordered_set>
 #include <vector>
@@ -73,9 +74,11 @@ public:
     // `attributes` false: nodes and triangles only when the blob was verified before in the file's current state
     // (its checksum covers the whole blob); a first read always reads and verifies everything.
     void readSubtree(uint32_t index, uint32_t level, SubtreeData& into, bool attributes = true) const;
-    // Triangle `local` of subtree `index` (level 0) and its 3 vertex normals, without the rest of the blob: only for a
-    // blob verified in the file's current state (false otherwise, and for an index out of range; then read it whole).
-    bool readTriangle(uint32_t index, uint32_t local, TriangleGpu& triangle, glm::vec3 normals[3]) const;
+    // Triangles `locals` of subtree `index` (level 0) into triangles[i] and their 3 vertex normals each into
+    // normals[3i..3i+2], without the rest of the blob: only from a blob verified in the file's current state (false
+    // otherwise, and for an index out of range; then read it whole).
+    bool readTriangles(uint32_t index, std::span<const uint32_t> locals, TriangleGpu* triangles,
+                       glm::vec3* normals) const;
     // Reads one node (local index) of subtree `index` without the rest of the blob (thread-safe: pread), e.g.
     // its root and the root's children for the culling hierarchy's tighter bounds (CHC+RT §5.1). Not
     // checksummed: only boxes and counts are used; throws InputError for an out-of-range index.
