@@ -7,6 +7,7 @@
 #include "renderer/core/error.h"
 #include "renderer/gl/context.h"
 #include "renderer/outofcore/chs_file.h"
+#include "renderer/outofcore/compact_subtree.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -124,6 +125,23 @@ int runInfo(const InfoOptions& options) {
                          {"subtrees", h.subtreeCount}, {"upper_nodes", h.upperNodeCount}, {"parts", h.chunkCount},
                          {"file_bytes", h.fileBytes}, {"max_subtree_triangles", h.maxSubtreeTriangles},
                          {"max_subtree_nodes", h.maxSubtreeNodes}};
+        { // The subtree layout and what a triangle costs in the file and in the GPU cache (issue #19, compact_subtree.h).
+            uint64_t gpuBytes = 0;
+            for (uint32_t i = 0; i < h.subtreeCount; ++i) {
+                const outofcore::ChsSubtreeRecord& r = file.subtrees()[i];
+                gpuBytes += file.compact() ? outofcore::compactNodeTexels(r.nodeCount) * 16 + uint64_t(r.triangleCount) * 16 +
+                                                 uint64_t(file.vertexCount(i)) * 12
+                                           : uint64_t(r.nodeCount) * sizeof(BvhNodeGpu) +
+                                                 uint64_t(r.triangleCount) * sizeof(TriangleGpu);
+            }
+            const double triangles = double(std::max<uint64_t>(h.triangleCount, 1));
+            std::printf("  layout       %s: %.1f bytes per triangle in the file's subtrees, %.1f in the GPU cache\n",
+                        file.compact() ? "compact (quantized nodes, indexed triangles)" : "full",
+                        double(f.subtreeBytes) / triangles, double(gpuBytes) / triangles);
+            j["prepared"]["layout"] = file.compact() ? "compact" : "full";
+            j["prepared"]["subtree_bytes_per_triangle"] = double(f.subtreeBytes) / triangles;
+            j["prepared"]["gpu_bytes_per_triangle"] = double(gpuBytes) / triangles;
+        }
         if (file.lodLevels() > 0) { // LOD proxies (issue #19): what they cost against what they replace
             std::printf("  LOD proxies  %.1f MB = %.1f %% of the subtrees' bytes\n", double(f.proxyBytes) / 1e6,
                         f.subtreeBytes ? 100.0 * double(f.proxyBytes) / double(f.subtreeBytes) : 0.0);

@@ -24,11 +24,17 @@ int runPrepare(const PrepareCommandOptions& o) {
                          std::to_string(outofcore::kMaxLodLevels));
     }
     options.lodLevels = o.lodLevels;
+    if (o.layout != "compact" && o.layout != "full") throw InputError("--layout " + o.layout + ": expected compact or full");
+    options.compact = o.layout == "compact";
     if (!o.grid.empty()) outofcore::parseGrid(o.grid, options.gridX, options.gridZ);
     const auto progress = makeTerminalProgress(!o.quiet);
     const outofcore::PrepareReport r = outofcore::prepareScene(o.scene, o.output, options, *progress);
     std::printf("prepared %s: %llu triangles, %u subtrees, %u parts, %.1f MB in %.1f s\n", o.output.c_str(),
                 (unsigned long long)r.triangles, r.subtrees, r.chunks, double(r.fileBytes) / 1e6, r.seconds);
+    if (r.compact && r.triangles > 0) { // bytes per triangle of the subtrees (docs/outofcore.md, "Compact subtrees")
+        std::printf("compact subtrees: %.1f bytes per triangle (%.2f distinct vertices per triangle)\n",
+                    double(r.subtreeBytes) / double(r.triangles), double(r.vertices) / double(r.triangles));
+    }
     if (options.lodLevels > 0) { // what the proxies cost beside what they replace (docs/outofcore.md, "LOD proxies")
         std::printf("LOD proxies: %llu of %u subtrees x %u levels kept, %.1f MB (%.1f %% of the subtrees' %.1f MB)\n",
                     (unsigned long long)r.proxies, r.subtrees, options.lodLevels, double(r.proxyBytes) / 1e6,

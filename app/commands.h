@@ -79,6 +79,7 @@ struct PrepareCommandOptions {
     uint32_t subtreeHeight = 24;
     uint32_t lodLevels = 3; // outofcore::kDefaultLodLevels (checked in command_prepare.cpp)
     std::string grid; // "NxM" copies
+    std::string layout = "compact"; // subtree blobs: compact (version 3) | full (versions 1 and 2)
     bool quiet = false;
 };
 int runPrepare(const PrepareCommandOptions& options);

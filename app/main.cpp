@@ -143,6 +143,11 @@ CLI::App* addPrepare(CLI::App& cli, PrepareCommandOptions& prepare) {
                   "extent; the last one clusters to 1/64 of its triangles; 0 = none, at most 4)")
         ->capture_default_str();
     c->add_option("--grid", prepare.grid, "NxM copies of the scene (like the paper's Powerplant x 16)");
+    c->add_option("--layout", prepare.layout,
+                  "Subtree layout: compact (quantized nodes, indexed triangles: about half the bytes to read and "
+                  "upload) or full (the layout of files before version 3)")
+        ->check(CLI::IsMember({"compact", "full"}))
+        ->capture_default_str();
     c->add_flag("-q,--quiet", prepare.quiet, "No progress bar");
     return c;
 }

@@ -277,7 +277,8 @@ std::vector<ShaderDefine> ChcrtTracer::subtreeDefines(bool anyHit) const {
     std::vector<ShaderDefine> defines = {
         {"CHCRT_SUBTREE_STACK", std::to_string(stack)},
         {"CHCRT_CULLING_LEAF_CACHE", options_.leafCache && pureTraversal ? "1" : "0"},
-        {"CHCRT_CULLING_MERGED_BATCH", options_.mergedBatch && pureTraversal ? "1" : "0"}};
+        {"CHCRT_CULLING_MERGED_BATCH", options_.mergedBatch && pureTraversal ? "1" : "0"},
+        {"CHCRT_COMPACT_SUBTREES", source_->compactLayout() ? "1" : "0"}};
     if (options_.subtreeDefines) {
         for (ShaderDefine& d : options_.subtreeDefines(anyHit)) defines.push_back(std::move(d));
     }
@@ -879,9 +880,12 @@ bool ChcrtTracer::traceOwn(const TraceRequest& request, const RayTextures& rays,
 
 bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width,
                               int height) {
+    // A trace that failed part way (an out-of-core read error) may have left pairs queued: they index fronts that
+    // were dropped since (resetVisibility), so every trace starts with none.
     queriesInUse_ = 0;
     queue_.clear();
     multiGroups_.clear();
+    batch_.clear();
     eye_ = request.camera.eye;
     const bool anyHit = request.anyHit;
     VisibilityState& state = stateFor(request, width, height);

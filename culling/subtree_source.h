@@ -22,6 +22,9 @@ public:
     // viewer streaming a large scene); the tracer then postpones them to a later trace instead of waiting, and that
     // trace is incomplete (ChcrtStats::subtreesPostponed). Sources without a budget never do.
     virtual bool uploadBudgetExhausted() const { return false; }
+    // The bound buffers hold the compact subtree layout (shared/bvh_layout.h): the tracer's programs are compiled
+    // with CHCRT_COMPACT_SUBTREES 1 and bind nothing else to those units.
+    virtual bool compactLayout() const { return false; }
 };
 
 } // namespace chcrt

@@ -3,6 +3,7 @@
 #include "renderer/core/aabb.h"
 #include "renderer/core/error.h"
 #include "renderer/gl/context.h"
+#include "renderer/outofcore/compact_subtree.h"
 #include "renderer/outofcore/gpu_cache_slots.h"
 #include "shaders/shared/render_layout.h"
 
@@ -20,7 +21,7 @@ CachePolicy parseCachePolicy(const std::string& text) {
 const char* toString(CachePolicy policy) { return policy == CachePolicy::Lru ? "lru" : "round-robin"; }
 
 GpuSubtreeCache::GpuSubtreeCache(SubtreeStore& store, const GpuCacheOptions& options)
-    : store_(store), options_(options) {
+    : store_(store), options_(options), compact_(store.file().compact()) {
     const ChsFile& file = store.file();
     const ChsHeader& h = file.header();
     // The budget is clamped to what one texture buffer addresses and to the GPU memory the driver reports
@@ -30,55 +31,56 @@ GpuSubtreeCache::GpuSubtreeCache(SubtreeStore& store, const GpuCacheOptions& opt
     GpuCacheLimits limits{uint64_t(std::max(maxTexels, 0)), queryGpuMemory().availableBytes};
     const uint64_t budget = gpuCacheBudget(options.budgetBytes, limits);
     Pool subtrees;
-    subtrees.slotNodes = h.maxSubtreeNodes;
+    subtrees.slotNodes = nodeUnits(h.maxSubtreeNodes);
     subtrees.slotTriangles = std::max(1u, h.maxSubtreeTriangles);
-    const uint64_t slotBytes = uint64_t(subtrees.slotNodes) * sizeof(BvhNodeGpu) +
-                               uint64_t(subtrees.slotTriangles) * sizeof(TriangleGpu);
+    subtrees.slotVertices = file.maxSubtreeVertices();
+    const uint64_t slotBytes = shapeOf(subtrees).bytes();
     // chcrt-lod: a pool per proxy level, each of up to kLodPoolShare of the budget and at most one slot per proxy of
     // that level, but never at the cost of the one subtree slot that tracing needs.
     std::vector<Pool> proxyPools;
-    uint64_t proxyBytes = 0, proxyNodeTexels = 0, proxyTriangleTexels = 0;
+    uint64_t proxyBytes = 0, proxyNodeTexels = 0, proxyTriangleTexels = 0, proxyVertices = 0;
     if (lodEnabled()) {
         for (uint32_t level = 1; level <= file.lodLevels(); ++level) {
             // Slots sized for the 95th percentile of the level's proxies, not the largest: a few proxies that barely
             // simplified would otherwise make every slot as large as theirs. Those few are served at a finer level.
-            std::vector<uint32_t> nodeCounts, triangleCounts;
+            std::vector<uint32_t> nodeCounts, triangleCounts, vertexCounts;
             for (uint32_t s = 0; s < h.subtreeCount; ++s) {
                 const ChsLodRecord& r = file.lodRecord(s, level);
                 if (r.nodeCount == 0) continue;
                 nodeCounts.push_back(r.nodeCount);
                 triangleCounts.push_back(r.triangleCount);
+                vertexCounts.push_back(file.vertexCount(s, level));
             }
             Pool pool;
             const auto percentile = [](std::vector<uint32_t>& v) {
                 std::sort(v.begin(), v.end());
                 return v.empty() ? 0u : v[std::min(v.size() - 1, v.size() * 95 / 100)];
             };
-            pool.slotNodes = std::max(1u, percentile(nodeCounts));
+            pool.slotNodes = nodeUnits(std::max(1u, percentile(nodeCounts)));
             pool.slotTriangles = std::max(1u, percentile(triangleCounts));
+            pool.slotVertices = compact_ ? std::max(1u, percentile(vertexCounts)) : 0u;
             uint64_t fitting = 0;
-            for (uint32_t s = 0; s < h.subtreeCount; ++s) {
-                const ChsLodRecord& r = file.lodRecord(s, level);
-                fitting += r.nodeCount != 0 && r.nodeCount <= pool.slotNodes && r.triangleCount <= pool.slotTriangles;
-            }
-            const uint64_t bytes = uint64_t(pool.slotNodes) * sizeof(BvhNodeGpu) + uint64_t(pool.slotTriangles) * sizeof(TriangleGpu);
+            for (uint32_t s = 0; s < h.subtreeCount; ++s) fitting += proxyFits(pool, s, level);
+            const GpuSlotShape shape = shapeOf(pool);
+            const uint64_t bytes = shape.bytes();
             const double share = level == file.lodLevels() ? kLodCoarsestPoolShare : kLodPoolShare;
             uint64_t slots = std::min<uint64_t>(fitting, uint64_t(double(budget) * share) / bytes);
             if (fitting != 0 && slots == 0 && budget >= slotBytes + proxyBytes + bytes) slots = 1;
             pool.slotKey.assign(slots, kNotResident);
             proxyBytes += slots * bytes;
-            proxyNodeTexels += slots * pool.slotNodes * CHCRT_BVH_TEXELS_PER_NODE;
-            proxyTriangleTexels += slots * pool.slotTriangles * CHCRT_TRI_TEXELS_PER_TRIANGLE;
+            proxyNodeTexels += slots * shape.nodeTexels();
+            proxyTriangleTexels += slots * shape.triangleTexels();
+            proxyVertices += slots * shape.vertices;
             proxyPools.push_back(std::move(pool));
         }
     }
     if (limits.maxTextureBufferTexels != 0) {
-        const uint64_t used = std::max(proxyNodeTexels, proxyTriangleTexels);
+        const uint64_t used = std::max({proxyNodeTexels, proxyTriangleTexels, proxyVertices});
         limits.maxTextureBufferTexels = limits.maxTextureBufferTexels > used ? limits.maxTextureBufferTexels - used : 1;
     }
     limits.availableGpuBytes = 0; // applied to `budget` above
-    const uint64_t slots = gpuCacheSlots(budget > proxyBytes ? budget - proxyBytes : 0, subtrees.slotNodes,
-                                         subtrees.slotTriangles, h.subtreeCount, limits);
+    const uint64_t slots = gpuCacheSlots(budget > proxyBytes ? budget - proxyBytes : 0, shapeOf(subtrees),
+                                         h.subtreeCount, limits);
     if (slots == 0) {
         throw InputError("--gpu-cache-mb " + std::to_string(options.budgetBytes >> 20) +
                          " is too small to hold one subtree of " + file.path().string() + " (needs " +
@@ -87,23 +89,41 @@ GpuSubtreeCache::GpuSubtreeCache(SubtreeStore& store, const GpuCacheOptions& opt
     subtrees.slotKey.assign(slots, kNotResident);
     pools_.push_back(std::move(subtrees));
     for (Pool& p : proxyPools) pools_.push_back(std::move(p));
-    // Pools one after another in both buffers: the subtree pool first (slot k's root = k × slotNodes, as without LOD).
-    uint64_t nodes = 0, triangles = 0;
+    // Pools one after another in each buffer: the subtree pool first (slot k's root = k × slotNodes, as without LOD).
+    uint64_t nodes = 0, triangles = 0, vertices = 0;
     for (Pool& p : pools_) {
         p.firstNode = nodes;
         p.firstTriangle = triangles;
+        p.firstVertex = vertices;
         nodes += uint64_t(p.slotKey.size()) * p.slotNodes;
         triangles += uint64_t(p.slotKey.size()) * p.slotTriangles;
+        vertices += uint64_t(p.slotKey.size()) * p.slotVertices;
         p.lastUse.assign(p.slotKey.size(), 0);
         p.pinned.assign(p.slotKey.size(), 0);
         p.slotOf.assign(h.subtreeCount, kNotResident);
         stats_.slots += uint32_t(p.slotKey.size());
     }
     stats_.proxySlots = stats_.slots - uint32_t(pools_[0].slotKey.size());
-    nodes_ = createTextureBuffer(nullptr, nodes * sizeof(BvhNodeGpu), GL_RGBA32F);
-    triangles_ = createTextureBuffer(nullptr, triangles * sizeof(TriangleGpu), GL_RGBA32F);
-    stats_.allocatedBytes = nodes_.bytes + triangles_.bytes;
+    const GpuSlotShape total{nodes, triangles, vertices, compact_};
+    nodes_ = createTextureBuffer(nullptr, total.nodeBytes(), compact_ ? GL_RGBA32UI : GL_RGBA32F);
+    triangles_ = createTextureBuffer(nullptr, total.triangleBytes(), compact_ ? GL_RGBA32UI : GL_RGBA32F);
+    if (compact_) vertices_ = createTextureBuffer(nullptr, total.vertexBytes(), GL_RGB32F);
+    stats_.allocatedBytes = nodes_.bytes + triangles_.bytes + vertices_.bytes;
     if (stats_.allocatedBytes > options.budgetBytes) throw std::logic_error("GPU cache allocation exceeds its budget");
+}
+
+uint32_t GpuSubtreeCache::nodeUnits(uint32_t nodes) const {
+    return compact_ ? uint32_t(compactNodeTexels(nodes)) : nodes;
+}
+
+GpuSlotShape GpuSubtreeCache::shapeOf(const Pool& pool) const {
+    return {pool.slotNodes, pool.slotTriangles, pool.slotVertices, compact_};
+}
+
+bool GpuSubtreeCache::proxyFits(const Pool& pool, uint32_t subtree, uint32_t level) const {
+    const ChsLodRecord& r = store_.file().lodRecord(subtree, level);
+    return r.nodeCount != 0 && nodeUnits(r.nodeCount) <= pool.slotNodes && r.triangleCount <= pool.slotTriangles &&
+           store_.file().vertexCount(subtree, level) <= pool.slotVertices;
 }
 
 void GpuSubtreeCache::resetCounters() {
@@ -132,8 +152,7 @@ uint32_t GpuSubtreeCache::levelFor(uint32_t subtree) const {
     for (uint32_t level = uint32_t(pools_.size()) - 1; level >= 1; --level) {
         const ChsLodRecord& lod = file.lodRecord(subtree, level);
         const Pool& pool = pools_[level];
-        if (lod.nodeCount == 0 || pool.slotKey.empty() || lod.nodeCount > pool.slotNodes ||
-            lod.triangleCount > pool.slotTriangles) {
+        if (pool.slotKey.empty() || !proxyFits(pool, subtree, level)) {
             continue; // no proxy, or one larger than the level's slots: a finer level serves
         }
         if (lod.errorWorld * pixelsPerUnit < options_.lodPixels) return level;
@@ -163,12 +182,13 @@ uint32_t GpuSubtreeCache::chooseVictim(Pool& pool) {
 
 uint64_t GpuSubtreeCache::entryBytes(uint32_t level, uint32_t subtree) const {
     const ChsFile& file = store_.file();
+    uint32_t nodes, triangles;
     if (level == 0) {
-        const ChsSubtreeRecord& r = file.subtrees()[subtree];
-        return uint64_t(r.nodeCount) * sizeof(BvhNodeGpu) + uint64_t(r.triangleCount) * sizeof(TriangleGpu);
+        nodes = file.subtrees()[subtree].nodeCount, triangles = file.subtrees()[subtree].triangleCount;
+    } else {
+        nodes = file.lodRecord(subtree, level).nodeCount, triangles = file.lodRecord(subtree, level).triangleCount;
     }
-    const ChsLodRecord& r = file.lodRecord(subtree, level);
-    return uint64_t(r.nodeCount) * sizeof(BvhNodeGpu) + uint64_t(r.triangleCount) * sizeof(TriangleGpu);
+    return GpuSlotShape{nodeUnits(nodes), triangles, file.vertexCount(subtree, level), compact_}.bytes();
 }
 
 void GpuSubtreeCache::upload(uint32_t level, uint32_t subtree, uint32_t slot) {
@@ -176,17 +196,39 @@ void GpuSubtreeCache::upload(uint32_t level, uint32_t subtree, uint32_t slot) {
     const std::shared_ptr<const SubtreeData> data = store_.get(subtree, level, false); // nodes and triangles only
     const uint64_t nodeBase = pool.firstNode + uint64_t(slot) * pool.slotNodes;
     const uint64_t triBase = pool.firstTriangle + uint64_t(slot) * pool.slotTriangles;
-    UninitializedVector<BvhNodeGpu>& nodes = rebased_;
-    nodes.resize(data->nodes.size());
-    for (size_t i = 0; i < nodes.size(); ++i) {
-        nodes[i] = data->nodes[i];
-        nodes[i].leftFirst += uint32_t(nodes[i].triCount != 0 ? triBase : nodeBase);
-    }
-    const size_t nodeBytes = nodes.size() * sizeof(BvhNodeGpu), triBytes = data->triangles.size() * sizeof(TriangleGpu);
-    glNamedBufferSubData(nodes_.buffer.id(), GLintptr(nodeBase * sizeof(BvhNodeGpu)), GLsizeiptr(nodeBytes), nodes.data());
-    if (triBytes != 0) {
-        glNamedBufferSubData(triangles_.buffer.id(), GLintptr(triBase * sizeof(TriangleGpu)), GLsizeiptr(triBytes),
-                             data->triangles.data());
+    size_t nodeBytes, triBytes, vertexBytes = 0;
+    if (compact_) {
+        // As stored: indices stay local, and the root's texel 2 tells the traversal where the subtree's triangles and
+        // vertices start (shared/bvh_layout.h; its nodes start at the root).
+        const uint64_t vertexBase = pool.firstVertex + uint64_t(slot) * pool.slotVertices;
+        nodeBytes = data->compactNodes.size() * sizeof(glm::uvec4);
+        triBytes = data->compactTriangles.size() * sizeof(glm::uvec4);
+        vertexBytes = data->vertices.size() * sizeof(glm::vec3);
+        const glm::uvec4 bases{uint32_t(triBase), uint32_t(vertexBase), 0u, 0u};
+        glNamedBufferSubData(nodes_.buffer.id(), GLintptr(nodeBase * sizeof(glm::uvec4)), GLsizeiptr(nodeBytes),
+                             data->compactNodes.data());
+        glNamedBufferSubData(nodes_.buffer.id(), GLintptr((nodeBase + 2) * sizeof(glm::uvec4)), sizeof(bases), &bases);
+        if (triBytes != 0) {
+            glNamedBufferSubData(triangles_.buffer.id(), GLintptr(triBase * sizeof(glm::uvec4)), GLsizeiptr(triBytes),
+                                 data->compactTriangles.data());
+        }
+        if (vertexBytes != 0) {
+            glNamedBufferSubData(vertices_.buffer.id(), GLintptr(vertexBase * sizeof(glm::vec3)), GLsizeiptr(vertexBytes),
+                                 data->vertices.data());
+        }
+    } else {
+        UninitializedVector<BvhNodeGpu>& nodes = rebased_;
+        nodes.resize(data->nodes.size());
+        for (size_t i = 0; i < nodes.size(); ++i) {
+            nodes[i] = data->nodes[i];
+            nodes[i].leftFirst += uint32_t(nodes[i].triCount != 0 ? triBase : nodeBase);
+        }
+        nodeBytes = nodes.size() * sizeof(BvhNodeGpu), triBytes = data->triangles.size() * sizeof(TriangleGpu);
+        glNamedBufferSubData(nodes_.buffer.id(), GLintptr(nodeBase * sizeof(BvhNodeGpu)), GLsizeiptr(nodeBytes), nodes.data());
+        if (triBytes != 0) {
+            glNamedBufferSubData(triangles_.buffer.id(), GLintptr(triBase * sizeof(TriangleGpu)), GLsizeiptr(triBytes),
+                                 data->triangles.data());
+        }
     }
     const uint32_t previous = pool.slotKey[slot];
     if (previous != kNotResident) {
@@ -197,16 +239,16 @@ void GpuSubtreeCache::upload(uint32_t level, uint32_t subtree, uint32_t slot) {
     }
     pool.slotKey[slot] = subtree;
     pool.slotOf[subtree] = slot;
-    stats_.residentBytes += nodeBytes + triBytes;
+    stats_.residentBytes += nodeBytes + triBytes + vertexBytes;
     stats_.peakResidentBytes = std::max(stats_.peakResidentBytes, stats_.residentBytes);
     ++stats_.residentSubtrees;
     stats_.uploadedNodeBytes += nodeBytes;
-    stats_.uploadedTriangleBytes += triBytes;
+    stats_.uploadedTriangleBytes += triBytes + vertexBytes;
     ++stats_.misses;
     ++stats_.uploadsPerLevel[level];
     if (level != 0) {
         ++stats_.proxyUploads;
-        stats_.proxyUploadedBytes += nodeBytes + triBytes;
+        stats_.proxyUploadedBytes += nodeBytes + triBytes + vertexBytes;
     }
 }
 
@@ -258,6 +300,7 @@ void GpuSubtreeCache::acquire(std::span<const uint32_t> subtrees, std::span<uint
     }
     glBindTextureUnit(CHCRT_UNIT_BVH_NODES, nodes_.texture.id());
     glBindTextureUnit(CHCRT_UNIT_BVH_TRIANGLES, triangles_.texture.id());
+    if (compact_) glBindTextureUnit(CHCRT_UNIT_BVH_VERTICES, vertices_.texture.id());
 }
 
 } // namespace chcrt::outofcore

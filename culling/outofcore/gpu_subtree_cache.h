@@ -6,6 +6,13 @@
 // Uploads rebase the subtree's local indices by the slot's first node and triangle. The budget is checked
 // against the buffers actually allocated, which never grow.
 //
+// A file of compact subtrees (version 3, renderer/outofcore/compact_subtree.h) is kept as stored: node and triangle
+// texels (RGBA32UI) and a third buffer of vertices (RGB32F, CHCRT_UNIT_BVH_VERTICES), about half the bytes per
+// subtree, so the same budget holds about twice the subtrees; the tracer's shaders then decode it
+// (CHCRT_COMPACT_SUBTREES, compact()). Indices stay local: an upload copies the blob's parts and writes the slot's
+// triangle and vertex bases into the root's texel 2 (no pass over the nodes). Slot sizes count node texels (a
+// subtree's node count + 2) and vertices too.
+//
 // Subtree indices are indices into the file's directory (ChsFile::subtrees()).
 //
 // Level of detail (chcrt-lod, issue #19; renderer/outofcore/lod_proxies.h): with GpuCacheOptions::lodPixels > 0 and a
@@ -17,6 +24,7 @@
 // lodPixels 0: no proxy pool is allocated and no proxy is ever served (tested: proxy uploads stay 0).
 #include "culling/subtree_source.h"
 #include "renderer/gl/gl_objects.h"
+#include "renderer/outofcore/gpu_cache_slots.h"
 #include "renderer/outofcore/subtree_store.h"
 
 #include <string>
@@ -92,13 +100,17 @@ public:
     // The level a request for `subtree` is served at from the current view (0 = the subtree itself).
     uint32_t levelFor(uint32_t subtree) const;
     bool lodEnabled() const { return options_.lodPixels > 0.0f && store_.file().lodLevels() > 0; }
+    // The buffers hold the compact layout (shaders need CHCRT_COMPACT_SUBTREES 1).
+    bool compact() const { return compact_; }
+    bool compactLayout() const override { return compact_; }
 
     const GpuCacheStats& stats() const { return stats_; }
     void resetCounters(); // per-frame statistics: zero hits/misses/evictions/uploads, keep residency
     // The subtree pool (full subtrees), at the start of both buffers.
     uint32_t slotCount() const { return uint32_t(pools_[0].slotKey.size()); }
-    uint32_t slotNodes() const { return pools_[0].slotNodes; }
+    uint32_t slotNodes() const { return pools_[0].slotNodes; } // node records (compact: texels)
     uint32_t slotTriangles() const { return pools_[0].slotTriangles; }
+    uint32_t slotVertices() const { return pools_[0].slotVertices; } // 0 in the full layout
     // The index within its subtree of triangle `bufferIndex` of the subtrees' pool (level 0), UINT32_MAX when the
     // index lies outside that pool. Slots hold a subtree's triangles in file order from their first.
     uint32_t localTriangleOf(uint64_t bufferIndex) const {
@@ -115,14 +127,15 @@ public:
     uint32_t proxySlotCount(uint32_t level) const { return level < pools_.size() ? uint32_t(pools_[level].slotKey.size()) : 0u; }
     GLuint nodeBuffer() const { return nodes_.buffer.id(); }
     GLuint triangleBuffer() const { return triangles_.buffer.id(); }
+    GLuint vertexBuffer() const { return vertices_.buffer.id(); } // compact layout only
     GLuint nodeTexture() const { return nodes_.texture.id(); }
     GLuint triangleTexture() const { return triangles_.texture.id(); }
 
 private:
     // Equal slots for one level (0 = subtrees) in a range of both buffers.
     struct Pool {
-        uint32_t slotNodes = 0, slotTriangles = 0;
-        uint64_t firstNode = 0, firstTriangle = 0; // where the pool starts in the buffers
+        uint32_t slotNodes = 0, slotTriangles = 0, slotVertices = 0; // records of the layout (compact: node texels)
+        uint64_t firstNode = 0, firstTriangle = 0, firstVertex = 0;   // where the pool starts in the buffers
         std::vector<uint32_t> slotKey;  // subtree in each slot, kNotResident when empty
         std::vector<uint64_t> lastUse;
         std::vector<uint64_t> pinned;   // == acquireCount_: used by the current acquire, not evictable
@@ -132,12 +145,16 @@ private:
     };
     uint32_t chooseVictim(Pool& pool); // kNotResident when every slot is pinned
     void upload(uint32_t level, uint32_t subtree, uint32_t slot);
-    uint64_t entryBytes(uint32_t level, uint32_t subtree) const; // nodes + triangles on the GPU
+    uint64_t entryBytes(uint32_t level, uint32_t subtree) const; // nodes + triangles (+ vertices) on the GPU
+    uint32_t nodeUnits(uint32_t nodes) const;                     // node records of a subtree (compact: texels)
+    GpuSlotShape shapeOf(const Pool& pool) const;
+    bool proxyFits(const Pool& pool, uint32_t subtree, uint32_t level) const; // a kept proxy within the pool's slots
     void use(Pool& pool, uint32_t slot);                          // pins and marks it used by this trace
 
     SubtreeStore& store_;
     GpuCacheOptions options_;
-    TextureBuffer nodes_, triangles_;
+    bool compact_ = false;
+    TextureBuffer nodes_, triangles_, vertices_;
     std::vector<Pool> pools_; // [0] subtrees, [l] proxies of level l (empty pools when LOD is off)
     UninitializedVector<BvhNodeGpu> rebased_; // an upload's nodes with slot indices, reused (no allocation per upload)
     uint64_t acquireCount_ = 0, tick_ = 0;

@@ -99,14 +99,15 @@ const PrimaryResolve::DenseIdIndex* PrimaryResolve::denseIndexFor(uint64_t subtr
     DenseIdIndex index;
     index.lastUse = useClock_;
     uint32_t lo = UINT32_MAX, hi = 0;
-    for (const TriangleGpu& t : data.triangles) {
-        lo = std::min(lo, t.originalId);
-        hi = std::max(hi, t.originalId);
+    const size_t triangleCount = data.triangleCount();
+    for (size_t k = 0; k < triangleCount; ++k) {
+        lo = std::min(lo, data.originalId(k));
+        hi = std::max(hi, data.originalId(k));
     }
-    if (!data.triangles.empty() && uint64_t(hi - lo) + 1 <= denseSpanFactor_ * uint64_t(data.triangles.size())) {
+    if (triangleCount != 0 && uint64_t(hi - lo) + 1 <= denseSpanFactor_ * uint64_t(triangleCount)) {
         index.first = lo;
         index.localOf.assign(size_t(hi - lo) + 1, UINT32_MAX);
-        for (uint32_t k = 0; k < data.triangles.size(); ++k) index.localOf[data.triangles[k].originalId - lo] = k;
+        for (uint32_t k = 0; k < triangleCount; ++k) index.localOf[data.originalId(k) - lo] = k;
         denseBytes_ += index.localOf.size() * sizeof(uint32_t);
     }
     // Keep the tables within their budget: least recently used first (a few hundred entries at most).
@@ -239,8 +240,8 @@ void PrimaryResolve::resolve(const Camera& camera, const FrameTargets& t, float 
             localOf.reset(pixels.size());
             for (uint32_t p : pixels) localOf.insert(hits[p].y);
             size_t found = 0;
-            for (uint32_t k = 0; k < data->triangles.size() && found < localOf.size(); ++k) {
-                uint32_t* local = localOf.find(data->triangles[k].originalId);
+            for (uint32_t k = 0; k < data->triangleCount() && found < localOf.size(); ++k) {
+                uint32_t* local = localOf.find(data->originalId(k));
                 if (local && *local == HitIdIndex::kAbsent) {
                     *local = k;
                     ++found;
@@ -254,7 +255,7 @@ void PrimaryResolve::resolve(const Camera& camera, const FrameTargets& t, float 
                 ++stats_.unresolvedPixels;
                 continue;
             }
-            shadePixel(p, k, data->triangles[k], &data->normals[size_t(k) * 3]);
+            shadePixel(p, k, data->triangle(k), &data->normals[size_t(k) * 3]);
         }
     }
     if (width_ != w || height_ != h) {

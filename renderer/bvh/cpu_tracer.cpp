@@ -19,9 +19,9 @@
 // tLimit starts at ray.tmax and becomes the closest accepted t. Box tests and the pop compare against
 // pruneLimit(tLimit) (slightly beyond tLimit, shared/intersect.h) on purpose: a box entered at (or, after rounding,
 // just beyond) the closest t may hold a triangle at the same t
-// with a lower original id, which wins the tie. A hit's t is clamped to its leaf's box entry (an ill-conditioned
-// triangle can be hit at a computed t before its own box), so that no pruned box ever holds a candidate at or
-// below tLimit and the hit does not depend on the visiting order. Leaves are intersected as soon as they are
+// with a lower original id, which wins the tie. A hit's t is at least its triangle's bounding box entry (hitRuleT: an
+// ill-conditioned triangle can be hit at a computed t before its own box), so that no pruned box ever holds a
+// candidate at or below tLimit and the hit depends neither on the visiting order nor on the boxes. Leaves are intersected as soon as they are
 // reached (the paper's leaf postponing is a SIMD optimisation that changes nothing for a scalar loop).
 #include "renderer/bvh/cpu_tracer.h"
 
@@ -73,7 +73,6 @@ Hit traverse(const Bvh& bvh, const Ray& ray) {
         return best;
     }
     uint32_t node = 0;
-    float nodeEntry = rootEntryExit.x; // the current node's box entry: clamps its triangles' hits (bvh_nodes.glsl)
     while (true) {
         // Inner loop: descend through inner nodes until a leaf is reached or no child is hit.
         while (bvh.nodes[node].triCount == 0) {
@@ -93,10 +92,8 @@ Hit traverse(const Bvh& bvh, const Ray& ray) {
                 stackEntry[stackSize] = rightFirst ? e0.x : e1.x;
                 ++stackSize;
                 node = rightFirst ? left + 1 : left;
-                nodeEntry = rightFirst ? e1.x : e0.x;
             } else if (hit0 || hit1) {
                 node = hit0 ? left : left + 1;
-                nodeEntry = hit0 ? e0.x : e1.x;
             } else {
                 node = kNoNode;
                 break;
@@ -109,9 +106,10 @@ Hit traverse(const Bvh& bvh, const Ray& ray) {
             for (uint32_t i = first; i < last; ++i) {
                 const TriangleGpu& tri = bvh.triangles[i];
                 const glm::vec3 tuv = intersectRayTriangle(origin, direction, tri.v0, tri.v1, tri.v2);
-                // Clamped to the leaf's entry, as the GLSL tracers do: the hit never depends on visiting order.
-                const float t = std::max(tuv.x, nodeEntry);
-                if (tuv.x >= tmin && acceptsHit(t, tri.originalId, tmin, ray.tmax, best)) {
+                if (!(tuv.x >= tmin && tuv.x <= best.t)) continue;
+                // The hit rule's t, as the GLSL tracers: the hit depends neither on visiting order nor on the boxes.
+                const float t = gpu::hitRuleT(tuv.x, origin, invDir, tri.v0, tri.v1, tri.v2);
+                if (acceptsHit(t, tri.originalId, tmin, ray.tmax, best)) {
                     best.t = t;
                     best.triangleId = tri.originalId;
                     best.u = tuv.y;
@@ -129,7 +127,6 @@ Hit traverse(const Bvh& bvh, const Ray& ray) {
             --stackSize;
             if (stackEntry[stackSize] <= gpu::pruneLimit(tLimit)) {
                 node = stackNode[stackSize];
-                nodeEntry = stackEntry[stackSize];
                 break;
             }
         }

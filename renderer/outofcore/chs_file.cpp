@@ -1,6 +1,7 @@
 #include "renderer/outofcore/chs_file.h"
 
 #include "renderer/core/error.h"
+#include "renderer/outofcore/compact_subtree.h"
 
 #include <algorithm>
 #include <atomic>
@@ -83,16 +84,21 @@ void ChsFile::validate() {
     const ChsHeader& h = header_;
     if (std::memcmp(h.magic, kChsMagic, sizeof(h.magic)) != 0) throw InputError(name + ": not a prepared scene (bad magic)");
     const bool lod = (h.flags & kChsFlagLod) != 0;
-    if (h.version != kChsVersion && h.version != kChsVersionLod) {
+    const bool compact = (h.flags & kChsFlagCompact) != 0;
+    if (h.version != kChsVersion && h.version != kChsVersionLod && h.version != kChsVersionCompact) {
         throw InputError(name + ": prepared scene version " + std::to_string(h.version) + ", this build reads versions " +
-                         std::to_string(kChsVersion) + " and " + std::to_string(kChsVersionLod) + " (prepare it again)");
+                         std::to_string(kChsVersion) + " to " + std::to_string(kChsVersionCompact) + " (prepare it again)");
     }
     if (h.headerBytes != sizeof(ChsHeader) || h.headerChecksum != chsChecksum(&h, offsetof(ChsHeader, headerChecksum))) {
         throw InputError(name + ": corrupted prepared scene (header checksum mismatch)");
     }
-    if (lod != (h.version == kChsVersionLod)) {
+    if (h.version != kChsVersionCompact && lod != (h.version == kChsVersionLod)) {
         throw InputError(name + ": corrupted prepared scene (version " + std::to_string(h.version) +
                          (lod ? " with" : " without") + " LOD proxies)");
+    }
+    if (compact != (h.version == kChsVersionCompact)) {
+        throw InputError(name + ": corrupted prepared scene (version " + std::to_string(h.version) +
+                         (compact ? " with" : " without") + " compact subtrees)");
     }
     if (h.fileBytes != size) {
         throw InputError(name + ": truncated or extended prepared scene (" + std::to_string(size) + " bytes, header says " +
@@ -119,8 +125,10 @@ void ChsFile::validate() {
     // Counts the header claims beyond what the subtree area could hold (every triangle takes at least its record
     // and normals, every node its record) are refused before anything is sized by them.
     const uint64_t subtreeArea = h.metaOffset - sizeof(ChsHeader);
-    if (h.triangleCount > subtreeArea / (sizeof(TriangleGpu) + 36) || h.nodeCount > subtreeArea / sizeof(BvhNodeGpu) ||
-        h.maxSubtreeTriangles > subtreeArea / (sizeof(TriangleGpu) + 36) || h.maxSubtreeNodes > subtreeArea / sizeof(BvhNodeGpu)) {
+    const uint64_t triangleMin = compact ? chsCompactFixedBytes(0, 1, false) - 16 : sizeof(TriangleGpu) + 36;
+    const uint64_t nodeMin = compact ? 16 : sizeof(BvhNodeGpu);
+    if (h.triangleCount > subtreeArea / triangleMin || h.nodeCount > subtreeArea / nodeMin ||
+        h.maxSubtreeTriangles > subtreeArea / triangleMin || h.maxSubtreeNodes > subtreeArea / nodeMin) {
         throw InputError(name + ": corrupted prepared scene (the header claims " + std::to_string(h.triangleCount) +
                          " triangles and " + std::to_string(h.nodeCount) + " nodes, more than its " +
                          std::to_string(subtreeArea) + " bytes of subtrees can hold)");
@@ -159,25 +167,33 @@ void ChsFile::validate() {
                             : (u.subtree < h.subtreeCount && subtrees_[u.subtree].upperNode == i);
         if (!ok) throw InputError(name + ": corrupted prepared scene (upper node " + std::to_string(i) + ")");
     }
+    // The blob's size as its counts imply; a compact blob's vertex count is what its size leaves (at most 3 per
+    // triangle): recorded for the reads and the GPU cache's slots.
+    auto sizeMatches = [&](uint64_t bytes, uint32_t nodes, uint32_t triangles, std::vector<uint32_t>& vertices) {
+        if (!compact) return bytes == chsSubtreeBytes(nodes, triangles, uv);
+        vertices.push_back(chsCompactVertexCount(bytes, nodes, triangles, uv));
+        return vertices.back() != UINT32_MAX;
+    };
     for (uint32_t i = 0; i < h.subtreeCount; ++i) {
         const ChsSubtreeRecord& r = subtrees_[i];
         if (r.nodeCount == 0 || r.nodeCount > h.maxSubtreeNodes || r.triangleCount > h.maxSubtreeTriangles ||
-            r.bytes != chsSubtreeBytes(r.nodeCount, r.triangleCount, uv) || r.offset < sizeof(ChsHeader) ||
+            !sizeMatches(r.bytes, r.nodeCount, r.triangleCount, subtreeVertices_) || r.offset < sizeof(ChsHeader) ||
             r.offset > h.metaOffset || r.bytes > h.metaOffset - r.offset || r.upperNode >= h.upperNodeCount) {
             throw InputError(name + ": corrupted prepared scene (subtree record " + std::to_string(i) + ")");
         }
     }
-    if (lod && (lod_.maxProxyNodes > subtreeArea / sizeof(BvhNodeGpu) ||
-                lod_.maxProxyTriangles > subtreeArea / (sizeof(TriangleGpu) + 36))) {
+    for (uint32_t v : subtreeVertices_) maxSubtreeVertices_ = std::max(maxSubtreeVertices_, v);
+    if (lod && (lod_.maxProxyNodes > subtreeArea / nodeMin || lod_.maxProxyTriangles > subtreeArea / triangleMin)) {
         throw InputError(name + ": corrupted prepared scene (LOD directory header)");
     }
     for (size_t i = 0; i < lodRecords_.size(); ++i) {
         const ChsLodRecord& r = lodRecords_[i];
         const bool kept = r.nodeCount != 0;
+        if (compact && !kept) lodVertices_.push_back(0);
         const bool ok = std::isfinite(r.errorWorld) && r.errorWorld >= 0.0f &&
                         (!kept ? r.triangleCount == 0 && r.bytes == 0
                                : r.nodeCount <= lod_.maxProxyNodes && r.triangleCount <= lod_.maxProxyTriangles &&
-                                     r.bytes == chsSubtreeBytes(r.nodeCount, r.triangleCount, uv) &&
+                                     sizeMatches(r.bytes, r.nodeCount, r.triangleCount, lodVertices_) &&
                                      r.offset >= sizeof(ChsHeader) && r.offset <= h.metaOffset &&
                                      r.bytes <= h.metaOffset - r.offset);
         if (!ok) {
@@ -185,6 +201,17 @@ void ChsFile::validate() {
                              std::to_string(i % lod_.levels + 1) + ")");
         }
     }
+    for (uint32_t v : lodVertices_) maxProxyVertices_ = std::max(maxProxyVertices_, v);
+}
+
+uint32_t ChsFile::vertexCount(uint32_t index, uint32_t level) const {
+    if (!compact()) return 0;
+    if (level == 0) {
+        if (index >= subtreeVertices_.size()) throw InputError(path_.string() + ": no subtree " + std::to_string(index));
+        return subtreeVertices_[index];
+    }
+    (void)lodRecord(index, level); // range checks
+    return lodVertices_[size_t(index) * lod_.levels + level - 1];
 }
 
 ChsFile::~ChsFile() {
@@ -205,10 +232,21 @@ BvhNodeGpu ChsFile::readSubtreeNode(uint32_t index, uint32_t localNode) const {
     if (index >= subtrees_.size() || localNode >= subtrees_[index].nodeCount) {
         throw InputError(path_.string() + ": no node " + std::to_string(localNode) + " in subtree " + std::to_string(index));
     }
+    const std::string what = path_.string() + ": reading subtree " + std::to_string(index);
     BvhNodeGpu node;
-    readExact(fd_, &node, sizeof(node), subtrees_[index].offset + uint64_t(localNode) * sizeof(BvhNodeGpu),
-              path_.string() + ": reading subtree " + std::to_string(index));
-    return node;
+    if (!compact()) {
+        readExact(fd_, &node, sizeof(node), subtrees_[index].offset + uint64_t(localNode) * sizeof(BvhNodeGpu), what);
+        return node;
+    }
+    // The root (the frame) and the node's texel.
+    glm::uvec4 texels[3];
+    readExact(fd_, texels, 2 * sizeof(glm::uvec4), subtrees_[index].offset, what);
+    texels[2] = texels[1];
+    if (localNode != 0) {
+        readExact(fd_, &texels[2], sizeof(glm::uvec4),
+                  subtrees_[index].offset + uint64_t(compactNodeTexel(localNode)) * sizeof(glm::uvec4), what);
+    }
+    return decodeCompactNode(texels[0], texels[1], localNode == 0 ? texels[0] : texels[2], localNode == 0);
 }
 
 SubtreeData ChsFile::readSubtree(uint32_t index) const {
@@ -230,21 +268,27 @@ SubtreeData ChsFile::readSubtree(uint32_t index, uint32_t level) const {
     return d;
 }
 
-void ChsFile::readSubtree(uint32_t index, uint32_t level, SubtreeData& into, bool attributes) const {
+void ChsFile::readSubtree(uint32_t index, uint32_t level, SubtreeData& into, bool attributes, bool decode) const {
     if (level == 0) {
         if (index >= subtrees_.size()) throw InputError(path_.string() + ": no subtree " + std::to_string(index));
         const ChsSubtreeRecord& r = subtrees_[index];
-        readBlob(r.offset, r.nodeCount, r.triangleCount, r.checksum, "subtree " + std::to_string(index), into, attributes);
+        readBlob(r.offset, r.nodeCount, r.triangleCount, vertexCount(index), r.checksum, "subtree " + std::to_string(index),
+                 into, attributes, decode);
         return;
     }
     const ChsLodRecord& r = lodRecord(index, level);
     const std::string what = "subtree " + std::to_string(index) + " LOD " + std::to_string(level);
     if (r.nodeCount == 0) throw InputError(path_.string() + ": no proxy stored for " + what);
-    readBlob(r.offset, r.nodeCount, r.triangleCount, r.checksum, what, into, attributes);
+    readBlob(r.offset, r.nodeCount, r.triangleCount, vertexCount(index, level), r.checksum, what, into, attributes, decode);
 }
 
-void ChsFile::readBlob(uint64_t offset, uint32_t nodeCount, uint32_t triangleCount, uint64_t checksum,
-                       const std::string& blob, SubtreeData& d, bool attributes) const {
+void ChsFile::readBlob(uint64_t offset, uint32_t nodeCount, uint32_t triangleCount, uint32_t vertexCount,
+                       uint64_t checksum, const std::string& blob, SubtreeData& d, bool attributes, bool decode) const {
+    if (compact()) {
+        readCompactBlob(offset, nodeCount, triangleCount, vertexCount, checksum, blob, d, attributes, decode);
+        return;
+    }
+    d.compactNodes.clear(), d.compactTriangles.clear(), d.vertices.clear(), d.materials.clear();
     const FileState before = fileState();
     // Without the attributes only a blob verified in this state: the checksum needs the whole blob.
     const bool partial = !attributes && blobVerified(offset, before);
@@ -271,7 +315,7 @@ void ChsFile::readBlob(uint64_t offset, uint32_t nodeCount, uint32_t triangleCou
     const FileState after = fileState();
     if (partial && after != before) {
         // The file changed during a read that cannot be verified: read and verify the whole blob.
-        readBlob(offset, nodeCount, triangleCount, checksum, blob, d, true);
+        readBlob(offset, nodeCount, triangleCount, vertexCount, checksum, blob, d, true, decode);
         return;
     }
     if (!partial && (after != before || !blobVerified(offset, after))) {
@@ -291,6 +335,65 @@ void ChsFile::readBlob(uint64_t offset, uint32_t nodeCount, uint32_t triangleCou
     }
 }
 
+// A compact blob (version 3): the GPU payload (node and triangle texels, vertices) with one pread each part, then
+// for a whole read the materials and attributes; `decode`: also nodes and triangles in the full layout.
+void ChsFile::readCompactBlob(uint64_t offset, uint32_t nodeCount, uint32_t triangleCount, uint32_t vertexCount,
+                              uint64_t checksum, const std::string& blob, SubtreeData& d, bool attributes,
+                              bool decode) const {
+    const FileState before = fileState();
+    const bool partial = !attributes && blobVerified(offset, before);
+    d.compactNodes.resize(compactNodeTexels(nodeCount));
+    d.compactTriangles.resize(triangleCount);
+    d.vertices.resize(vertexCount);
+    d.materials.resize(partial ? 0 : triangleCount);
+    d.normals.resize(partial ? 0 : size_t(triangleCount) * 3);
+    d.texcoords.resize(!partial && hasTexcoords() ? size_t(triangleCount) * 3 : 0);
+    d.attributes = !partial;
+    const std::string what = path_.string() + ": reading " + blob;
+    uint64_t at = offset;
+    bool fail = injectedReadError();
+    auto read = [&](void* data, uint64_t bytes) {
+        readExact(fd_, data, bytes, at, what, std::exchange(fail, false));
+        at += bytes;
+    };
+    read(d.compactNodes.data(), d.compactNodes.size() * sizeof(glm::uvec4));
+    read(d.compactTriangles.data(), d.compactTriangles.size() * sizeof(glm::uvec4));
+    read(d.vertices.data(), d.vertices.size() * sizeof(glm::vec3));
+    read(d.materials.data(), d.materials.size() * sizeof(uint32_t));
+    read(d.normals.data(), d.normals.size() * sizeof(glm::vec3));
+    read(d.texcoords.data(), d.texcoords.size() * sizeof(glm::vec2));
+    const FileState after = fileState(); // as readBlob: verified once per blob and file state
+    if (partial && after != before) {
+        readCompactBlob(offset, nodeCount, triangleCount, vertexCount, checksum, blob, d, true, decode);
+        return;
+    }
+    if (!partial && (after != before || !blobVerified(offset, after))) {
+        uint64_t sum = chsChecksum(d.compactNodes.data(), d.compactNodes.size() * sizeof(glm::uvec4));
+        sum = chsChecksum(d.compactTriangles.data(), d.compactTriangles.size() * sizeof(glm::uvec4), sum);
+        sum = chsChecksum(d.vertices.data(), d.vertices.size() * sizeof(glm::vec3), sum);
+        sum = chsChecksum(d.materials.data(), d.materials.size() * sizeof(uint32_t), sum);
+        sum = chsChecksum(d.normals.data(), d.normals.size() * sizeof(glm::vec3), sum);
+        sum = chsChecksum(d.texcoords.data(), d.texcoords.size() * sizeof(glm::vec2), sum);
+        if (sum != checksum) throw InputError(path_.string() + ": corrupted prepared scene (" + blob + " checksum mismatch)");
+        if (after == before) markVerified(offset, after);
+    }
+    // Local indices in range on every read (a checksum collision must not turn into out-of-bounds GPU reads).
+    try {
+        if (!decode) {
+            checkCompactNodes(d.compactNodes, triangleCount);
+            checkCompactTriangles(d.compactTriangles, vertexCount);
+            d.nodes.clear(), d.triangles.clear();
+            return;
+        }
+        d.nodes.resize(nodeCount);
+        d.triangles.resize(triangleCount);
+        decodeCompactNodes(d.compactNodes, triangleCount, d.nodes.data());
+        decodeCompactTriangles(d.compactTriangles, d.vertices, d.materials, d.triangles.data());
+    } catch (const InputError& e) {
+        throw InputError(path_.string() + ": " + e.what() + " in " + blob);
+    }
+}
+
 bool ChsFile::readTriangles(uint32_t index, std::span<const uint32_t> locals, TriangleGpu* triangles,
                             glm::vec3* normals) const {
     if (index >= subtrees_.size()) return false;
@@ -301,6 +404,29 @@ bool ChsFile::readTriangles(uint32_t index, std::span<const uint32_t> locals, Tr
     const FileState before = fileState();
     if (!blobVerified(r.offset, before)) return false;
     const std::string what = path_.string() + ": reading subtree " + std::to_string(index);
+    if (compact()) {
+        // Triangle texel, its three vertices, material id and normals: the blob's parts in order.
+        const uint32_t vertexTotal = vertexCount(index);
+        const uint64_t triangleAt = r.offset + compactNodeTexels(r.nodeCount) * sizeof(glm::uvec4);
+        const uint64_t vertexAt = triangleAt + uint64_t(r.triangleCount) * sizeof(glm::uvec4);
+        const uint64_t materialAt = vertexAt + uint64_t(vertexTotal) * sizeof(glm::vec3);
+        const uint64_t normalAt = materialAt + uint64_t(r.triangleCount) * sizeof(uint32_t);
+        for (size_t i = 0; i < locals.size(); ++i) {
+            glm::uvec4 t;
+            readExact(fd_, &t, sizeof(t), triangleAt + uint64_t(locals[i]) * sizeof(glm::uvec4), what);
+            if (t.x >= vertexTotal || t.y >= vertexTotal || t.z >= vertexTotal) return false;
+            TriangleGpu& out = triangles[i];
+            readExact(fd_, &out.v0, sizeof(glm::vec3), vertexAt + uint64_t(t.x) * sizeof(glm::vec3), what);
+            readExact(fd_, &out.v1, sizeof(glm::vec3), vertexAt + uint64_t(t.y) * sizeof(glm::vec3), what);
+            readExact(fd_, &out.v2, sizeof(glm::vec3), vertexAt + uint64_t(t.z) * sizeof(glm::vec3), what);
+            readExact(fd_, &out.materialId, sizeof(uint32_t), materialAt + uint64_t(locals[i]) * sizeof(uint32_t), what);
+            out.originalId = t.w;
+            out.pad = 0;
+            readExact(fd_, &normals[3 * i], 3 * sizeof(glm::vec3), normalAt + uint64_t(locals[i]) * 3 * sizeof(glm::vec3),
+                      what);
+        }
+        return fileState() == before;
+    }
     const uint64_t first = r.offset + uint64_t(r.nodeCount) * sizeof(BvhNodeGpu);
     const uint64_t firstNormal = first + uint64_t(r.triangleCount) * sizeof(TriangleGpu);
     for (size_t i = 0; i < locals.size(); ++i) {

@@ -23,21 +23,44 @@ namespace chcrt::outofcore {
 
 // One decoded subtree: nodes and triangles with local indices, as stored.
 // Uninitialised vectors: a read fills them at once (core/uninitialized_vector.h says why).
+// From a compact file (version 3, compact_subtree.h) it also holds the blob's GPU payload as stored (compactNodes,
+// compactTriangles, vertices: what the GPU cache uploads); a read for a GPU upload alone (attributes false) fills only
+// those, a whole read also the materials, normals and texture coordinates, and a decoding read (ChsFile::readSubtree's
+// `decode`) also fills nodes (with the quantized boxes the traversal uses) and triangles.
 struct SubtreeData {
     UninitializedVector<BvhNodeGpu> nodes;
     UninitializedVector<TriangleGpu> triangles;
     UninitializedVector<glm::vec3> normals;   // 3 per triangle
     UninitializedVector<glm::vec2> texcoords; // 3 per triangle, or empty
+    UninitializedVector<glm::uvec4> compactNodes;     // compact files: node texels (shared/bvh_layout.h)
+    UninitializedVector<glm::uvec4> compactTriangles; // compact files: triangle texels
+    UninitializedVector<glm::vec3> vertices;          // compact files: the subtree's distinct vertices
+    UninitializedVector<uint32_t> materials;          // compact files, whole reads: material id per triangle
     bool attributes = true; // normals and texcoords were read (false: read for a GPU upload alone, both empty)
+    bool compact() const { return !compactNodes.empty(); }
+    // Triangles of either layout (a compact whole read from the host store is not decoded: primary_resolve.h).
+    size_t triangleCount() const { return compact() ? compactTriangles.size() : triangles.size(); }
+    size_t nodeCount() const { return compact() ? compactNodes.size() - (CHCRT_COMPACT_ROOT_TEXELS - 1) : nodes.size(); }
+    uint32_t originalId(size_t k) const { return compact() ? compactTriangles[k].w : triangles[k].originalId; }
+    TriangleGpu triangle(size_t k) const {
+        if (!compact()) return triangles[k];
+        const glm::uvec4& t = compactTriangles[k];
+        return {vertices[t.x], t.w, vertices[t.y], materials.empty() ? 0u : materials[k], vertices[t.z], 0u};
+    }
     // The bytes read from the file for it.
     uint64_t readBytes() const {
-        return nodes.size() * sizeof(BvhNodeGpu) + triangles.size() * sizeof(TriangleGpu) +
-               normals.size() * sizeof(glm::vec3) + texcoords.size() * sizeof(glm::vec2);
+        const bool compact = !compactNodes.empty();
+        return (compact ? 0 : nodes.size() * sizeof(BvhNodeGpu) + triangles.size() * sizeof(TriangleGpu)) +
+               normals.size() * sizeof(glm::vec3) + texcoords.size() * sizeof(glm::vec2) +
+               compactNodes.size() * sizeof(glm::uvec4) + compactTriangles.size() * sizeof(glm::uvec4) +
+               vertices.size() * sizeof(glm::vec3) + materials.size() * sizeof(uint32_t);
     }
     // The memory it holds (capacities: buffers reused for a smaller subtree keep their size).
     uint64_t bytes() const {
         return nodes.capacity() * sizeof(BvhNodeGpu) + triangles.capacity() * sizeof(TriangleGpu) +
-               normals.capacity() * sizeof(glm::vec3) + texcoords.capacity() * sizeof(glm::vec2);
+               normals.capacity() * sizeof(glm::vec3) + texcoords.capacity() * sizeof(glm::vec2) +
+               compactNodes.capacity() * sizeof(glm::uvec4) + compactTriangles.capacity() * sizeof(glm::uvec4) +
+               vertices.capacity() * sizeof(glm::vec3) + materials.capacity() * sizeof(uint32_t);
     }
 };
 
@@ -56,6 +79,12 @@ public:
     const std::string& source() const { return source_; } // generator spec or file the scene was prepared from
     const std::filesystem::path& path() const { return path_; }
     bool hasTexcoords() const { return (header_.flags & kChsFlagTexcoords) != 0; }
+    // Compact subtrees (version 3, compact_subtree.h): the distinct vertices of subtree `index` at `level` (0 = the
+    // subtree, >= 1 its proxy), and the most any subtree / any proxy has (the GPU cache's slot sizes).
+    bool compact() const { return (header_.flags & kChsFlagCompact) != 0; }
+    uint32_t vertexCount(uint32_t index, uint32_t level = 0) const;
+    uint32_t maxSubtreeVertices() const { return maxSubtreeVertices_; }
+    uint32_t maxProxyVertices() const { return maxProxyVertices_; }
     // LOD proxies (version 2, lod_proxies.h): levels per subtree (0 = none), the directory's header, and the record
     // of one (subtree, level >= 1); a record with nodeCount 0 holds no proxy. lodRecord throws InputError out of range.
     uint32_t lodLevels() const { return (header_.flags & kChsFlagLod) ? lod_.levels : 0u; }
@@ -73,7 +102,8 @@ public:
     // allocates nothing and touches no fresh page (subtree_store.h recycles the buffers of evicted subtrees).
     // `attributes` false: nodes and triangles only when the blob was verified before in the file's current state
     // (its checksum covers the whole blob); a first read always reads and verifies everything.
-    void readSubtree(uint32_t index, uint32_t level, SubtreeData& into, bool attributes = true) const;
+    // `decode` false (the host store): a compact blob stays compact (nodes and triangles empty; SubtreeData::triangle).
+    void readSubtree(uint32_t index, uint32_t level, SubtreeData& into, bool attributes = true, bool decode = true) const;
     // Triangles `locals` of subtree `index` (level 0) into triangles[i] and their 3 vertex normals each into
     // normals[3i..3i+2], without the rest of the blob: only from a blob verified in the file's current state (false
     // otherwise, and for an index out of range; then read it whole).
@@ -86,8 +116,10 @@ public:
 
 private:
     void validate(); // header, sizes, metadata and structure; throws InputError
-    void readBlob(uint64_t offset, uint32_t nodeCount, uint32_t triangleCount, uint64_t checksum,
-                  const std::string& blob, SubtreeData& d, bool attributes) const;
+    void readBlob(uint64_t offset, uint32_t nodeCount, uint32_t triangleCount, uint32_t vertexCount, uint64_t checksum,
+                  const std::string& blob, SubtreeData& d, bool attributes, bool decode) const;
+    void readCompactBlob(uint64_t offset, uint32_t nodeCount, uint32_t triangleCount, uint32_t vertexCount,
+                         uint64_t checksum, const std::string& blob, SubtreeData& d, bool attributes, bool decode) const;
     // What identifies the file's content for re-reads: a blob whose checksum matched is not summed again while
     // this stays the same (size, modification and status-change times of the open descriptor).
     struct FileState {
@@ -107,6 +139,8 @@ private:
     std::string source_;
     ChsLodHeader lod_{};
     std::vector<ChsLodRecord> lodRecords_; // lod_.levels per subtree, directory order
+    std::vector<uint32_t> subtreeVertices_, lodVertices_; // compact files: per record, from its byte count
+    uint32_t maxSubtreeVertices_ = 0, maxProxyVertices_ = 0;
     mutable std::mutex verifiedMutex_;     // reads come from the frame's thread and the prefetch thread
     mutable FileState verifiedState_;
     mutable std::unordered_set<uint64_t> verifiedBlobs_; // offsets of blobs whose checksum matched in verifiedState_

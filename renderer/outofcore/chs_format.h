@@ -15,6 +15,14 @@
 // metadata ends with a ChsLodHeader and one ChsLodRecord per (subtree, level), subtree-major in directory order.
 // Files without proxies are written as version 1, byte for byte as before; both versions are read.
 //
+// Compact subtrees (version 3, flag kChsFlagCompact, the default of `chcrt prepare`; issue #19,
+// renderer/outofcore/compact_subtree.h): every blob (subtrees and proxies alike) holds the node texels of the compact
+// layout (shared/bvh_layout.h: nodeCount + 2 texels of 16 bytes, boxes quantized in the root's frame), the triangle
+// texels (16 bytes: vertex indices, original id), the subtree's distinct vertices (12 bytes each), then per triangle
+// its material id (4 bytes), three vertex normals and, when the scene has them, three texture coordinates. The vertex
+// count follows from the record's byte count (chsCompactVertexCount). The first three parts are what the GPU cache
+// holds, read with one pread. Version 3 has LOD proxies with kChsFlagLod, as version 2.
+//
 // All integers little-endian (the only platform this runs on); records are plain structs with fixed sizes.
 #include "renderer/bvh/bvh.h"
 
@@ -27,10 +35,12 @@ namespace chcrt::outofcore {
 inline constexpr char kChsMagic[8] = {'C', 'H', 'C', 'R', 'T', 'S', 'C', 'N'};
 inline constexpr uint32_t kChsVersion = 1;    // without LOD proxies
 inline constexpr uint32_t kChsVersionLod = 2; // with LOD proxies (kChsFlagLod)
+inline constexpr uint32_t kChsVersionCompact = 3; // compact subtrees (kChsFlagCompact), LOD proxies optional
 inline constexpr uint32_t kChsNoSubtree = 0xffffffffu;
 inline constexpr uint32_t kChsFlagTexcoords = 1u << 0;
 inline constexpr uint32_t kChsFlagCamera = 1u << 1;
 inline constexpr uint32_t kChsFlagLod = 1u << 2; // version 2: LOD proxies and their directory
+inline constexpr uint32_t kChsFlagCompact = 1u << 3; // version 3: blobs in the compact layout
 
 struct ChsHeader {
     char magic[8];
@@ -117,6 +127,20 @@ static_assert(sizeof(ChsLodRecord) == 40);
 // Bytes of a subtree blob.
 inline uint64_t chsSubtreeBytes(uint64_t nodes, uint64_t triangles, bool texcoords) {
     return nodes * sizeof(BvhNodeGpu) + triangles * (sizeof(TriangleGpu) + 36 + (texcoords ? 24 : 0));
+}
+
+// Bytes of a compact blob (version 3) and the vertex count its byte count implies (UINT32_MAX when it implies none:
+// not a whole number of vertices, or more than three per triangle).
+inline uint64_t chsCompactFixedBytes(uint64_t nodes, uint64_t triangles, bool texcoords) {
+    return (nodes + CHCRT_COMPACT_ROOT_TEXELS - 1) * 16 + triangles * (16 + 4 + 36 + (texcoords ? 24 : 0));
+}
+inline uint64_t chsCompactSubtreeBytes(uint64_t nodes, uint64_t triangles, uint64_t vertices, bool texcoords) {
+    return chsCompactFixedBytes(nodes, triangles, texcoords) + vertices * 12;
+}
+inline uint32_t chsCompactVertexCount(uint64_t bytes, uint64_t nodes, uint64_t triangles, bool texcoords) {
+    const uint64_t fixed = chsCompactFixedBytes(nodes, triangles, texcoords);
+    if (bytes < fixed || (bytes - fixed) % 12 != 0 || (bytes - fixed) / 12 > 3 * triangles) return UINT32_MAX;
+    return uint32_t((bytes - fixed) / 12);
 }
 
 // 64-bit checksum of a byte range (word-wise multiply-rotate; detects flipped bytes and truncation, not an

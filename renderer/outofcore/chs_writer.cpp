@@ -239,14 +239,24 @@ void ChsWriter::checkChunk(const Scene& scene, uint64_t idOffset) {
 
 uint64_t ChsWriter::writeBlob(const std::vector<BvhNodeGpu>& nodes, const std::vector<TriangleGpu>& triangles,
                               const std::vector<glm::vec3>& normals, const std::vector<glm::vec2>& texcoords) {
-    uint64_t sum = chsChecksum(nodes.data(), nodes.size() * sizeof(BvhNodeGpu));
-    sum = chsChecksum(triangles.data(), triangles.size() * sizeof(TriangleGpu), sum);
-    sum = chsChecksum(normals.data(), normals.size() * sizeof(glm::vec3), sum);
-    sum = chsChecksum(texcoords.data(), texcoords.size() * sizeof(glm::vec2), sum);
-    write(nodes.data(), nodes.size() * sizeof(BvhNodeGpu));
-    write(triangles.data(), triangles.size() * sizeof(TriangleGpu));
-    write(normals.data(), normals.size() * sizeof(glm::vec3));
-    write(texcoords.data(), texcoords.size() * sizeof(glm::vec2));
+    uint64_t sum = 0;
+    auto put = [&](const void* data, size_t bytes) {
+        sum = chsChecksum(data, bytes, sum);
+        write(data, bytes);
+    };
+    if (options_.compact) {
+        encodeCompactSubtree(nodes, triangles, compact_);
+        put(compact_.nodes.data(), compact_.nodes.size() * sizeof(glm::uvec4));
+        put(compact_.triangles.data(), compact_.triangles.size() * sizeof(glm::uvec4));
+        put(compact_.vertices.data(), compact_.vertices.size() * sizeof(glm::vec3));
+        put(compact_.materials.data(), compact_.materials.size() * sizeof(uint32_t));
+        lastBlobVertices_ = compact_.vertices.size();
+    } else {
+        put(nodes.data(), nodes.size() * sizeof(BvhNodeGpu));
+        put(triangles.data(), triangles.size() * sizeof(TriangleGpu));
+    }
+    put(normals.data(), normals.size() * sizeof(glm::vec3));
+    put(texcoords.data(), texcoords.size() * sizeof(glm::vec2));
     return sum;
 }
 
@@ -260,6 +270,7 @@ uint32_t ChsWriter::writeSubtree(const SubtreeBlob& blob, uint32_t height) {
     const size_t before = offset_;
     record.checksum = writeBlob(blob.nodes, blob.tris, blob.normals, blob.uvs);
     record.bytes = offset_ - before;
+    vertices_ += lastBlobVertices_;
     subtreeBytes_ += record.bytes;
     records_.push_back(record);
     triangles_ += blob.tris.size();
@@ -371,9 +382,10 @@ uint64_t ChsWriter::finish(const ChsSceneInfo& info) {
     ChsHeader h{};
     std::memcpy(h.magic, kChsMagic, sizeof(h.magic));
     const bool lod = levels != 0;
-    h.version = lod ? kChsVersionLod : kChsVersion;
+    h.version = options_.compact ? kChsVersionCompact : lod ? kChsVersionLod : kChsVersion;
     h.headerBytes = sizeof(ChsHeader);
-    h.flags = (texcoords_ ? kChsFlagTexcoords : 0u) | (info.hasCamera ? kChsFlagCamera : 0u) | (lod ? kChsFlagLod : 0u);
+    h.flags = (texcoords_ ? kChsFlagTexcoords : 0u) | (info.hasCamera ? kChsFlagCamera : 0u) | (lod ? kChsFlagLod : 0u) |
+              (options_.compact ? kChsFlagCompact : 0u);
     h.subtreeCount = uint32_t(records_.size());
     h.upperNodeCount = uint32_t(upper.size());
     h.materialCount = uint32_t(info.materials.size());

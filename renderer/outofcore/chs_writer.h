@@ -7,6 +7,7 @@
 // SIGTERM or SIGHUP (RemoveOnSignal), and a stale one from a killed run is overwritten by the next.
 #include "renderer/core/signal_cleanup.h"
 #include "renderer/outofcore/chs_format.h"
+#include "renderer/outofcore/compact_subtree.h"
 #include "renderer/scene/scene.h"
 
 #include <cstdio>
@@ -21,7 +22,10 @@ struct SubtreeBlob; // one termination subtree as written (chs_writer.cpp)
 struct ChsWriterOptions {
     uint32_t subtreeTriangles = 1u << 16;
     uint32_t subtreeHeight = 24;
-    uint32_t lodLevels = 0; // LOD proxy levels per subtree (lod_proxies.h); 0 = none, a version 1 file
+    uint32_t lodLevels = 0; // LOD proxy levels per subtree (lod_proxies.h); 0 = none
+    // Blobs in the compact layout (version 3, compact_subtree.h); false: the full layout of versions 1 (no proxies)
+    // and 2, byte for byte as those versions were written.
+    bool compact = true;
 };
 
 struct ChsSceneInfo {
@@ -53,6 +57,7 @@ public:
     uint64_t subtreeBytes() const { return subtreeBytes_; } // all subtree blobs
     uint64_t proxyBytes() const { return proxyBytes_; }     // all LOD proxy blobs
     uint64_t proxyCount() const { return proxyCount_; }     // kept proxy levels
+    uint64_t vertexCount() const { return vertices_; }      // the compact subtree blobs' distinct vertices
 
 private:
     struct Chunk {
@@ -76,6 +81,8 @@ private:
     uint64_t triangles_ = 0;
     uint64_t nodes_ = 0;
     uint32_t maxNodes_ = 0, maxTriangles_ = 0;
+    uint64_t vertices_ = 0, lastBlobVertices_ = 0;
+    CompactSubtree compact_; // the blob being written, reused
     bool texcoords_ = false;
     bool texcoordsKnown_ = false;
     std::vector<ChsSubtreeRecord> records_;

@@ -18,6 +18,23 @@ struct GpuCacheLimits {
 // frame's targets and the driver need the rest).
 uint64_t gpuCacheBudget(uint64_t budgetBytes, const GpuCacheLimits& limits);
 
+// What one slot holds, in records of the cache's layout (shared/bvh_layout.h): the full layout (nodes of 32 bytes,
+// triangles of 48) or the compact one (node texels of 16 bytes, a subtree taking its node count + 1; triangle texels
+// of 16 bytes; vertices of 12 bytes in a third buffer).
+struct GpuSlotShape {
+    uint64_t nodes = 0, triangles = 0, vertices = 0;
+    bool compact = false;
+    uint64_t nodeBytes() const { return nodes * (compact ? 16 : 32); }
+    uint64_t triangleBytes() const { return triangles * (compact ? 16 : 48); }
+    uint64_t vertexBytes() const { return vertices * 12; }
+    uint64_t bytes() const { return nodeBytes() + triangleBytes() + vertexBytes(); }
+    uint64_t nodeTexels() const { return nodes * (compact ? 1 : 2); }
+    uint64_t triangleTexels() const { return triangles * (compact ? 1 : 3); }
+};
+// Slots of that shape: as many as `budgetBytes` holds, at most one per subtree, at most what one texture buffer
+// addresses, and, where GPU memory is reported, within three quarters of it. 0 when the budget holds no slot.
+uint64_t gpuCacheSlots(uint64_t budgetBytes, const GpuSlotShape& shape, uint64_t subtrees, const GpuCacheLimits& limits);
+
 // Slots of `slotNodes` nodes and `slotTriangles` triangles: as many as `budgetBytes` holds, at most one per subtree
 // (`subtrees`), at most what one texture buffer addresses, and, where GPU memory is reported, within three quarters
 // of it (the frame's targets and the driver need the rest). 0 when the budget holds no slot.

@@ -78,7 +78,7 @@ PrepareReport prepareScene(const std::string& sceneArg, const std::filesystem::p
     }
     const uint64_t copies = uint64_t(gridX) * gridZ;
     const uint64_t budgetTriangles = options.memoryBytes / kPrepareBytesPerTriangle;
-    ChsWriter writer(output, {options.subtreeTriangles, options.subtreeHeight, options.lodLevels});
+    ChsWriter writer(output, {options.subtreeTriangles, options.subtreeHeight, options.lodLevels, options.compact});
     PrepareReport report;
     ProceduralSpec spec;
     const bool procedural = parseProceduralSpec(scene, spec);
@@ -159,6 +159,8 @@ PrepareReport prepareScene(const std::string& sceneArg, const std::filesystem::p
     report.subtreeBytes = writer.subtreeBytes();
     report.proxyBytes = writer.proxyBytes();
     report.proxies = writer.proxyCount();
+    report.vertices = writer.vertexCount();
+    report.compact = options.compact;
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return report;
 }

@@ -30,7 +30,8 @@ struct PrepareOptions {
     uint64_t memoryBytes = 2048ull << 20;
     uint32_t subtreeTriangles = kDefaultSubtreeTriangles;
     uint32_t subtreeHeight = kDefaultSubtreeHeight;
-    uint32_t lodLevels = kDefaultLodLevels; // LOD proxy levels per subtree (lod_proxies.h); 0 = none (version 1 file)
+    uint32_t lodLevels = kDefaultLodLevels; // LOD proxy levels per subtree (lod_proxies.h); 0 = none
+    bool compact = true; // compact subtrees (version 3, compact_subtree.h); false: the full layout (versions 1 and 2)
     uint32_t gridX = 1, gridZ = 1; // copies of the scene (any scene; a city grid repeats the whole city)
     BvhBuildOptions bvh;
 };
@@ -43,6 +44,8 @@ struct PrepareReport {
     uint64_t subtreeBytes = 0; // the subtrees' blobs
     uint64_t proxyBytes = 0;   // the LOD proxies' blobs
     uint64_t proxies = 0;      // kept proxy levels
+    uint64_t vertices = 0;     // the compact subtree blobs' distinct vertices
+    bool compact = false;
     double seconds = 0.0;
 };
 

@@ -3,6 +3,7 @@
 chcrt_add_library(chcrt_outofcore
   outofcore/chs_checksum.cpp
   outofcore/chs_writer.cpp
+  outofcore/compact_subtree.cpp
   outofcore/chs_file.cpp
   outofcore/lod_proxies.cpp
   outofcore/prepare.cpp

@@ -7,10 +7,13 @@ std::unique_ptr<SubtreeData> SubtreeBuffers::take(uint32_t nodes, uint32_t trian
     size_t best = spare_.size();
     for (size_t i = 0; i < spare_.size(); ++i) {
         const SubtreeData& d = *spare_[i];
-        if (d.nodes.capacity() < nodes || d.triangles.capacity() < triangles ||
-            d.normals.capacity() < size_t(triangles) * 3) {
-            continue;
-        }
+        // A compact file's reads fill the compact parts (the store does not decode them).
+        const bool holds = d.compactNodes.capacity() != 0
+                               ? d.compactNodes.capacity() >= uint64_t(nodes) + CHCRT_COMPACT_ROOT_TEXELS - 1 &&
+                                     d.compactTriangles.capacity() >= triangles
+                               : d.nodes.capacity() >= nodes && d.triangles.capacity() >= triangles &&
+                                     d.normals.capacity() >= size_t(triangles) * 3;
+        if (!holds) continue;
         if (best == spare_.size() || d.bytes() < spare_[best]->bytes()) best = i;
     }
     if (best == spare_.size()) return std::make_unique<SubtreeData>();
@@ -38,7 +41,7 @@ std::shared_ptr<const SubtreeData> SubtreeStore::read(uint32_t subtree, uint32_t
         triangles = r.triangleCount;
     }
     std::unique_ptr<SubtreeData> data = buffers_->take(nodes, triangles);
-    file_.readSubtree(subtree, level, *data, attributes);
+    file_.readSubtree(subtree, level, *data, attributes, false); // compact blobs stay compact (SubtreeData::triangle)
     return {data.release(), [buffers = buffers_](const SubtreeData* d) { buffers->giveBack(const_cast<SubtreeData*>(d)); }};
 }
 

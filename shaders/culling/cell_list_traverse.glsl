@@ -56,7 +56,7 @@ void traverseCellList(uint first, uint end, vec3 origin, vec3 direction, float t
 #define TRAVERSE_ENTER(node) currentNode = (node);
 #define TRAVERSE_POP(word) currentNode = (word);
 #define TRAVERSE_VISIT_LEAF \
-    visitLeafTracked(next - 1u, currentNode, nodeFirst, nodeCount, nodeEntry, origin, direction, tmin, best, cost)
+    visitLeafTracked(next - 1u, currentNode, nodeFirst, nodeCount, origin, direction, tmin, best, cost)
 #endif
 #define TRAVERSE_NEXT_ROOT \
     traversing = nextListRoot(next, first, end, origin, invDir, tmin, best.t, nodeFirst, nodeCount, nodeEntry, cost);

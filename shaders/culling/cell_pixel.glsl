@@ -51,11 +51,11 @@ uint changedBy = 0u; // 1 + the subtree id of the listed root whose traversal la
 #define CHCRT_CELL_TRACK_LEAF 1
 uint changedLeaf = CHCRT_NO_HIT_ID; // the BVH leaf whose triangle last changed the hit
 // The leaf test, remembering which listed root (entry) and which leaf (node) changed the hit.
-bool visitLeafTracked(uint entry, uint node, uint first, uint count, float leafEntry, vec3 origin, vec3 direction,
+bool visitLeafTracked(uint entry, uint node, uint first, uint count, vec3 origin, vec3 direction,
                       float tmin, inout TraceHit best, inout TraceCost cost) {
     uint idBefore = best.triangleId;
     float tBefore = best.t;
-    bool done = intersectLeaf(first, count, origin, direction, tmin, leafEntry, best, cost);
+    bool done = intersectLeaf(first, count, origin, direction, tmin, best, cost);
     if (best.triangleId != idBefore || best.t != tBefore) {
         changedLeaf = node;
 #ifdef CHCRT_CULLING_DEBUG_SUBTREES

@@ -12,32 +12,29 @@
 struct LeafCache {
     uint cached;
     uint first0, count0, first1, count1;
-    float entry0, entry1; // the leaves' box entries (intersectLeaf's clamp)
 };
 
 // Tests the cached leaves and empties the cache; true when an any-hit query can stop.
 bool flushLeafCache(inout LeafCache cache, vec3 origin, vec3 direction, float tmin, inout TraceHit best,
                     inout TraceCost cost) {
     bool done = cache.cached >= 1u &&
-                intersectLeaf(cache.first0, cache.count0, origin, direction, tmin, cache.entry0, best, cost);
+                intersectLeaf(cache.first0, cache.count0, origin, direction, tmin, best, cost);
     if (!done && cache.cached >= 2u) {
-        done = intersectLeaf(cache.first1, cache.count1, origin, direction, tmin, cache.entry1, best, cost);
+        done = intersectLeaf(cache.first1, cache.count1, origin, direction, tmin, best, cost);
     }
     cache.cached = 0u;
     return done;
 }
 
 // Remembers a reached leaf; tests both once two have collected. True when an any-hit query can stop.
-bool cacheLeaf(inout LeafCache cache, uint first, uint count, float entry, vec3 origin, vec3 direction, float tmin,
+bool cacheLeaf(inout LeafCache cache, uint first, uint count, vec3 origin, vec3 direction, float tmin,
                inout TraceHit best, inout TraceCost cost) {
     if (cache.cached == 0u) {
         cache.first0 = first;
         cache.count0 = count;
-        cache.entry0 = entry;
     } else {
         cache.first1 = first;
         cache.count1 = count;
-        cache.entry1 = entry;
     }
     ++cache.cached;
     return cache.cached == 2u && flushLeafCache(cache, origin, direction, tmin, best, cost);
@@ -55,8 +52,8 @@ void traverseSubtreeCached(uint root, vec3 origin, vec3 direction, float tmin, i
     float stackEntry[CHCRT_MAX_BVH_DEPTH];
     int stackSize = 0;
     bool traversing = true;
-    LeafCache cache = LeafCache(0u, 0u, 0u, 0u, 0u, 0.0f, 0.0f);
-#define TRAVERSE_VISIT_LEAF cacheLeaf(cache, nodeFirst, nodeCount, nodeEntry, origin, direction, tmin, best, cost)
+    LeafCache cache = LeafCache(0u, 0u, 0u, 0u, 0u);
+#define TRAVERSE_VISIT_LEAF cacheLeaf(cache, nodeFirst, nodeCount, origin, direction, tmin, best, cost)
 #include "render/bvh_traverse_loop.glsl"
     // Nothing left (or the loop cap was reached): test what the cache still holds.
     flushLeafCache(cache, origin, direction, tmin, best, cost);

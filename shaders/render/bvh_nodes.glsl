@@ -5,7 +5,9 @@
 //
 // Host defines: TRACE_ANY_HIT (1: return the first hit in [tmin, tmax], for shadow and AO rays),
 // CHCRT_HIT_TRIANGLE_INDEX (TraceHit also carries the hit triangle's index in the BVH-ordered buffer: the
-// out-of-core primary trace records it, culling/outofcore/primary_resolve.h).
+// out-of-core primary trace records it, culling/outofcore/primary_resolve.h), CHCRT_COMPACT_SUBTREES (1: the
+// buffers hold the compact subtree layout of the out-of-core cache, shared/bvh_layout.h; every traversal then starts
+// at a subtree root, whose box sets the quantization frame the nodes below it are decoded in).
 //
 // Determinism: a hit is accepted when tmin <= t <= best t, and on equal t the lower original triangle id
 // wins; nodes are pruned only when their entry distance is beyond pruneLimit(best t) (shared/intersect.h), so a
@@ -19,9 +21,50 @@
 #define CHCRT_BVH_NODES_GLSL
 #include "shared/bvh_layout.h"
 #include "shared/intersect.h"
-#include "render/bvh_triangles.glsl"
+#ifndef CHCRT_COMPACT_SUBTREES
+#define CHCRT_COMPACT_SUBTREES 0
+#endif
+#if CHCRT_COMPACT_SUBTREES
+layout(binding = CHCRT_UNIT_BVH_NODES) uniform usamplerBuffer bvhNodes;
+layout(binding = CHCRT_UNIT_BVH_TRIANGLES) uniform usamplerBuffer bvhCompactTriangles;
+layout(binding = CHCRT_UNIT_BVH_VERTICES) uniform samplerBuffer bvhVertices;
 
+// The subtree being traversed (setNodeFrame): its root's boundsMin and steps (the quantization frame), and where its
+// nodes (its root), triangles and vertices start in their buffers (the local indices' bases).
+vec3 nodeFrameOrigin = vec3(0.0f);
+vec3 nodeFrameStep = vec3(0.0f);
+uint nodeFrameRoot = 0u;
+uint nodeFrameTriangles = 0u;
+uint nodeFrameVertices = 0u;
+
+void setNodeFrame(uint root, uvec4 root0, uvec4 root1) {
+    nodeFrameOrigin = uintBitsToFloat(root0.xyz);
+    uvec3 codes = (uvec3(root1.w) >> uvec3(0u, 8u, 16u)) & 0xFFu;
+    // A power-of-two step (0 on a flat axis): q * step is exact, so origin + q * step rounds once, as on the CPU.
+    nodeFrameStep = mix(ldexp(vec3(1.0f), ivec3(codes) - CHCRT_COMPACT_EXPONENT_BIAS), vec3(0.0f), equal(codes, uvec3(0u)));
+    uvec2 bases = texelFetch(bvhNodes, int(root) + 2).xy;
+    nodeFrameRoot = root;
+    nodeFrameTriangles = bases.x;
+    nodeFrameVertices = bases.y;
+}
+void setNodeFrame(uint root) {
+    setNodeFrame(root, texelFetch(bvhNodes, int(root)), texelFetch(bvhNodes, int(root) + 1));
+}
+vec3 compactLower(uvec4 node) {
+    return nodeFrameOrigin + vec3(node.x & 0xFFFFu, node.x >> 16, node.y & 0xFFFFu) * nodeFrameStep;
+}
+vec3 compactUpper(uvec4 node) {
+    return nodeFrameOrigin + vec3(node.y >> 16, node.z & 0xFFFFu, node.z >> 16) * nodeFrameStep;
+}
+// A header's children (inner) or triangles (leaf) in the buffers: the local index from the current subtree's bases.
+uint compactCount(uint header) { return header >> CHCRT_COMPACT_INDEX_BITS; }
+uint compactFirst(uint header) {
+    return (header & CHCRT_COMPACT_INDEX_MASK) + (compactCount(header) == 0u ? nodeFrameRoot : nodeFrameTriangles);
+}
+#else
+#include "render/bvh_triangles.glsl"
 layout(binding = CHCRT_UNIT_BVH_NODES) uniform samplerBuffer bvhNodes;
+#endif
 
 struct TraceHit {
     float t;
@@ -50,48 +93,65 @@ TraceHit makeMiss(float tmax) {
     return hit;
 }
 
-// Tests the triangles [first, first + count) of the BVH-ordered buffer against the ray, updating `best`.
-// Returns true when an any-hit query can stop.
-// `leafEntry`: the computed entry distance of the leaf's box (as the traversal computed it when it reached the leaf).
-// A hit's t is clamped to it: an ill-conditioned triangle can be hit at a computed t before its own leaf's box (seen on
-// the 1M plant: 224.27803 against a double-precision 224.283014, beyond pruneLimit's margin), and a leaf that one
-// traversal order prunes would then hold a hit nearer than the best t another order keeps. With the clamp no pruned
-// leaf holds a candidate at or below best t, so the hit never depends on the order (culling/README.md, "Exactness").
-bool intersectLeaf(uint first, uint count, vec3 origin, vec3 direction, float tmin, float leafEntry,
-                   inout TraceHit best, inout TraceCost cost) {
+// Tests the triangles [first, first + count) of the BVH-ordered buffer against the ray, updating `best` with the
+// project's hit rule (hitRuleT's t, shared/intersect.h; lower id on equal t). Returns true when an any-hit query can stop.
+bool intersectLeaf(uint first, uint count, vec3 origin, vec3 direction, float tmin, inout TraceHit best,
+                   inout TraceCost cost) {
     for (uint i = 0u; i < count && CHCRT_BELOW_ITERATION_CAP(cost); ++i) {
         CHCRT_COUNT_ITERATION(cost);
         ++cost.triangles;
+#if CHCRT_COMPACT_SUBTREES
+        uvec4 triangle = texelFetch(bvhCompactTriangles, int(first + i));
+        vec3 p0 = texelFetch(bvhVertices, int(nodeFrameVertices + triangle.x)).xyz;
+        vec3 p1 = texelFetch(bvhVertices, int(nodeFrameVertices + triangle.y)).xyz;
+        vec3 p2 = texelFetch(bvhVertices, int(nodeFrameVertices + triangle.z)).xyz;
+        uint id = triangle.w;
+#else
         int texel = int(first + i) * CHCRT_TRI_TEXELS_PER_TRIANGLE;
         vec4 v0 = triangleTexel(texel);
-        vec4 v1 = triangleTexel(texel + 1);
-        vec4 v2 = triangleTexel(texel + 2);
-        vec3 tuv = intersectRayTriangle(origin, direction, v0.xyz, v1.xyz, v2.xyz);
+        vec3 p0 = v0.xyz;
+        vec3 p1 = triangleTexel(texel + 1).xyz;
+        vec3 p2 = triangleTexel(texel + 2).xyz;
         uint id = floatBitsToUint(v0.w);
-        float t = max(tuv.x, leafEntry);
-        if (tuv.x >= tmin && t <= best.t && (t < best.t || id < best.triangleId)) {
-            best.t = t;
-            best.triangleId = id;
-            best.barycentrics = tuv.yz;
+#endif
+        vec3 tuv = intersectRayTriangle(origin, direction, p0, p1, p2);
+        if (tuv.x >= tmin && tuv.x <= best.t) {
+            float t = hitRuleT(tuv.x, origin, safeInverseDirection(direction), p0, p1, p2);
+            if (t <= best.t && (t < best.t || id < best.triangleId)) {
+                best.t = t;
+                best.triangleId = id;
+                best.barycentrics = tuv.yz;
 #ifdef CHCRT_HIT_TRIANGLE_INDEX
-            best.triangleIndex = first + i;
+                best.triangleIndex = first + i;
 #endif
 #if TRACE_ANY_HIT
-            return true;
+                return true;
 #endif
+            }
         }
     }
     return false;
 }
 // Starts a traversal at `root`: its header (nodeFirst, nodeCount) when the ray meets its box within
 // [tmin, pruneLimit(bestT)], else false (nothing below it can change the hit).
+// Compact layout: also sets the root's quantization frame.
 bool enterRoot(uint root, vec3 origin, vec3 invDir, float tmin, float bestT, out uint nodeFirst, out uint nodeCount,
                out float entry) {
+#if CHCRT_COMPACT_SUBTREES
+    uvec4 root0 = texelFetch(bvhNodes, int(root));
+    uvec4 root1 = texelFetch(bvhNodes, int(root) + 1);
+    setNodeFrame(root, root0, root1);
+    nodeFirst = compactFirst(root0.w);
+    nodeCount = compactCount(root0.w);
+    vec2 entryExit = intersectRayAabb(origin, invDir, uintBitsToFloat(root0.xyz), uintBitsToFloat(root1.xyz));
+    entry = entryExit.x;
+#else
     vec4 root0 = texelFetch(bvhNodes, int(root) * CHCRT_BVH_TEXELS_PER_NODE);
     vec4 root1 = texelFetch(bvhNodes, int(root) * CHCRT_BVH_TEXELS_PER_NODE + 1);
     nodeFirst = floatBitsToUint(root0.w);
     nodeCount = floatBitsToUint(root1.w);
     vec2 entryExit = intersectRayAabb(origin, invDir, root0.xyz, root1.xyz);
+#endif
     entry = entryExit.x;
     return rayHitsAabb(entryExit, tmin, pruneLimit(bestT));
 }

@@ -8,7 +8,7 @@
 // Expects in scope: vec3 origin, direction, invDir; float tmin; inout TraceHit best; inout TraceCost cost;
 // uint stackNode[]; float stackEntry[]; int stackSize; and the current node: uint nodeFirst, nodeCount (its
 // header: children's index for an inner node with nodeCount 0, else the leaf's triangles) and float nodeEntry (its
-// box's computed entry distance, which clamps the t of its triangles' hits: intersectLeaf) with bool traversing
+// box's computed entry distance, with which a traversal of several roots pushes the current one) with bool traversing
 // (false: nothing to visit). Pending nodes wait on the stack with their entry distance and are popped only when
 // that entry is not beyond pruneLimit(best t). Returns from the enclosing function when an any-hit query can stop.
 //
@@ -42,7 +42,7 @@
 #define TRAVERSE_PUSH(node) (node)
 #endif
 #ifndef TRAVERSE_VISIT_LEAF
-#define TRAVERSE_VISIT_LEAF intersectLeaf(nodeFirst, nodeCount, origin, direction, tmin, nodeEntry, best, cost)
+#define TRAVERSE_VISIT_LEAF intersectLeaf(nodeFirst, nodeCount, origin, direction, tmin, best, cost)
 #endif
 #ifndef TRAVERSE_NO_LEAVES
 #define TRAVERSE_NO_LEAVES 0
@@ -58,6 +58,15 @@
         while (nodeCount == 0u && TRAVERSE_DESCEND_WHILE && CHCRT_BELOW_ITERATION_CAP(cost)) {
             CHCRT_COUNT_ITERATION(cost);
             ++cost.innerNodes;
+#if CHCRT_COMPACT_SUBTREES
+            // Both children in one texel each, decoded in the subtree's frame (render/bvh_nodes.glsl).
+            uvec4 a = texelFetch(bvhNodes, int(nodeFirst));
+            uvec4 b = texelFetch(bvhNodes, int(nodeFirst) + 1);
+            vec2 entryExitA = intersectRayAabb(origin, invDir, compactLower(a), compactUpper(a));
+            vec2 entryExitB = intersectRayAabb(origin, invDir, compactLower(b), compactUpper(b));
+            uint firstA = compactFirst(a.w), countA = compactCount(a.w);
+            uint firstB = compactFirst(b.w), countB = compactCount(b.w);
+#else
             int texel = int(nodeFirst) * CHCRT_BVH_TEXELS_PER_NODE;
             vec4 a0 = texelFetch(bvhNodes, texel);
             vec4 a1 = texelFetch(bvhNodes, texel + 1);
@@ -65,6 +74,9 @@
             vec4 b1 = texelFetch(bvhNodes, texel + 3);
             vec2 entryExitA = intersectRayAabb(origin, invDir, a0.xyz, a1.xyz);
             vec2 entryExitB = intersectRayAabb(origin, invDir, b0.xyz, b1.xyz);
+            uint firstA = floatBitsToUint(a0.w), countA = floatBitsToUint(a1.w);
+            uint firstB = floatBitsToUint(b0.w), countB = floatBitsToUint(b1.w);
+#endif
             float limit = pruneLimit(best.t);
             bool hitA = rayHitsAabb(entryExitA, tmin, limit);
             bool hitB = rayHitsAabb(entryExitB, tmin, limit);
@@ -76,13 +88,13 @@
                 ++stackSize;
                 TRAVERSE_ENTER(aFirst ? nodeFirst : nodeFirst + 1u)
                 nodeEntry = aFirst ? entryExitA.x : entryExitB.x;
-                nodeFirst = floatBitsToUint(aFirst ? a0.w : b0.w);
-                nodeCount = floatBitsToUint(aFirst ? a1.w : b1.w);
+                nodeFirst = aFirst ? firstA : firstB;
+                nodeCount = aFirst ? countA : countB;
             } else if (hitA || hitB) {
                 TRAVERSE_ENTER(hitA ? nodeFirst : nodeFirst + 1u)
                 nodeEntry = hitA ? entryExitA.x : entryExitB.x;
-                nodeFirst = floatBitsToUint(hitA ? a0.w : b0.w);
-                nodeCount = floatBitsToUint(hitA ? a1.w : b1.w);
+                nodeFirst = hitA ? firstA : firstB;
+                nodeCount = hitA ? countA : countB;
             } else {
                 traversing = false;
                 break;
@@ -116,9 +128,15 @@
             --stackSize;
             if (stackEntry[stackSize] <= pruneLimit(best.t)) {
                 TRAVERSE_POP(stackNode[stackSize])
+#if CHCRT_COMPACT_SUBTREES
+                uint popped = texelFetch(bvhNodes, int(TRAVERSE_POPPED_NODE(stackNode[stackSize]))).w;
+                nodeFirst = compactFirst(popped);
+                nodeCount = compactCount(popped);
+#else
                 int popped = int(TRAVERSE_POPPED_NODE(stackNode[stackSize])) * CHCRT_BVH_TEXELS_PER_NODE;
                 nodeFirst = floatBitsToUint(texelFetch(bvhNodes, popped).w);
                 nodeCount = floatBitsToUint(texelFetch(bvhNodes, popped + 1).w);
+#endif
                 nodeEntry = stackEntry[stackSize];
                 traversing = true;
                 break;

@@ -17,6 +17,31 @@
 // the build's ordering.
 #define CHCRT_TRI_TEXELS_PER_TRIANGLE 3
 
+// Compact subtree layout (.chs version 3 and the out-of-core GPU cache; issue #19, renderer/outofcore/compact_subtree.h):
+// a termination subtree's nodes and triangles in about half the bytes, decoded in the traversal (CHCRT_COMPACT_SUBTREES,
+// render/bvh_nodes.glsl). Both buffers hold uvec4 texels (RGBA32UI); vertices are an RGB32F buffer. Indices are local
+// to the subtree, as in the file: the traversal adds the bases its root holds, so an upload copies the file's bytes and
+// writes one texel (the root's texel 2) instead of rebasing every node and triangle.
+//   Root (3 texels, full precision; its box is also the quantization frame of the whole subtree):
+//     texel 0: bits of boundsMin.xyz, header   texel 1: bits of boundsMax.xyz, step exponents (3 x 8 bits, x lowest)
+//     texel 2: where the subtree's triangles and vertices start in their buffers (0, 0 in the file), 0, 0
+//   Any other node (1 texel): its box as 16-bit steps from the root's boundsMin, rounded outwards, then its header:
+//     x: lo.x | lo.y << 16   y: lo.z | hi.x << 16   z: hi.y | hi.z << 16   w: header
+//     coordinate = boundsMin + q * step, step = 2^(exponent - CHCRT_COMPACT_EXPONENT_BIAS) per axis (0 for a code of
+//     0: a flat axis). A power-of-two step makes q * step exact, so the one rounding of the sum is the same with or
+//     without a fused multiply-add, and the writer checks that every decoded box contains the node's exact one.
+//   Header: local index (low CHCRT_COMPACT_INDEX_BITS) | triangle count << CHCRT_COMPACT_INDEX_BITS; count 0 = inner
+//     node with children at texels root + index, root + index + 1; else a leaf with triangles [index, index + count)
+//     from the subtree's first triangle.
+//   Texel of node k of a subtree, from its root: 0 for the root, k + 2 for k >= 1 (the root takes three).
+//   Triangle (1 texel): vertex indices x, y, z (from the subtree's first vertex), original id w. Vertices: each
+//     subtree's distinct positions (exactly equal floats merged), so decoded triangles are bit for bit the original ones.
+#define CHCRT_COMPACT_ROOT_TEXELS 3
+#define CHCRT_COMPACT_INDEX_BITS 27
+#define CHCRT_COMPACT_INDEX_MASK 0x07FFFFFFu
+#define CHCRT_COMPACT_MAX_STEPS 65535u
+#define CHCRT_COMPACT_EXPONENT_BIAS 128
+
 // Hit buffer convention of every tracer (GLSL, CPU, Embree): t = CHCRT_NO_HIT_T and triangle id
 // CHCRT_NO_HIT_ID for a miss. Ties on equal t go to the lower original triangle id.
 #define CHCRT_NO_HIT_ID 0xFFFFFFFFu

@@ -5,8 +5,8 @@
 #include "shared_begin.h"
 
 // --- Texture units -------------------------------------------------------------------------------------
-#define CHCRT_UNIT_BVH_NODES 0       // samplerBuffer, RGBA32F, CHCRT_BVH_TEXELS_PER_NODE per node
-#define CHCRT_UNIT_BVH_TRIANGLES 1   // samplerBuffer, RGBA32F, CHCRT_TRI_TEXELS_PER_TRIANGLE per triangle
+#define CHCRT_UNIT_BVH_NODES 0       // samplerBuffer, RGBA32F, CHCRT_BVH_TEXELS_PER_NODE per node (compact: usamplerBuffer)
+#define CHCRT_UNIT_BVH_TRIANGLES 1   // samplerBuffer, RGBA32F, CHCRT_TRI_TEXELS_PER_TRIANGLE per triangle (compact: usamplerBuffer)
 #define CHCRT_UNIT_TRI_ATTRIBUTES 2  // samplerBuffer, RGBA32F, CHCRT_ATTR_TEXELS_PER_TRIANGLE per original id
 #define CHCRT_UNIT_MATERIALS 3       // samplerBuffer, RGBA32F, CHCRT_MATERIAL_TEXELS per material
 #define CHCRT_UNIT_BASE_COLOR 4      // sampler2DArray, SRGB8_ALPHA8: one layer per scene texture
@@ -24,6 +24,7 @@
 // Units 16-21: Line Space (shaders/shared/linespace_bindings.h).
 #define CHCRT_UNIT_TRI_NORMALS 22    // usamplerBuffer, RGBA16UI ((n * 0.5 + 0.5) * 65535), per original id
 #define CHCRT_UNIT_PIXEL_GEOMETRIC_NORMAL 23 // sampler2D RGBA32F: out of core, the G-buffer pixels' geometric normals
+#define CHCRT_UNIT_BVH_VERTICES 32   // samplerBuffer, RGB32F: the compact layout's vertices (shared/bvh_layout.h)
 // Units 24-30: the N-tree and CHC+RT (shared/ntree_layout.h, shared/culling_layout.h). Units 40-48: parts 1-3 of the
 // per-triangle buffers of a scene larger than one texture buffer (below).
 

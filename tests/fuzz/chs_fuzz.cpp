@@ -2,8 +2,9 @@
 // node, summarise, and load the whole scene in core and as a proxy. Checksums would stop nearly every mutation at
 // the first check, so the harness first recomputes each checksum whose range lies inside the input (header,
 // metadata, subtree blobs): the structural validation behind them is what is fuzzed. The checksum checks
-// themselves are covered by the seeds as they are and by tests/outofcore/chs_file_test.cpp. Version 2 files (LOD
-// proxies) also get their proxy blobs' checksums and the LOD directory's share of the metadata checksum recomputed.
+// themselves are covered by the seeds as they are and by tests/outofcore/chs_file_test.cpp. Files with LOD proxies
+// (versions 2 and 3) also get their proxy blobs' checksums and the LOD directory's share of the metadata checksum
+// recomputed; compact files (version 3) their blobs' checksums over the compact parts.
 #include "renderer/outofcore/chs_file.h"
 #include "tests/fuzz/fuzz_input.h"
 
@@ -18,19 +19,30 @@ using namespace chcrt::outofcore;
 
 bool inside(uint64_t offset, uint64_t bytes, uint64_t size) { return offset <= size && bytes <= size - offset; }
 
-// A subtree or proxy blob's checksum (ChsFile::readBlob's ranges), or false when the blob is not inside the input.
-bool blobChecksum(const std::vector<uint8_t>& b, uint64_t offset, uint64_t nodeCount, uint64_t triangleCount, bool uv,
-                  uint64_t& sum) {
-    const uint64_t nodes = nodeCount * sizeof(BvhNodeGpu);
-    const uint64_t tris = triangleCount * sizeof(TriangleGpu);
-    const uint64_t normals = triangleCount * 3 * sizeof(glm::vec3);
-    const uint64_t uvs = uv ? triangleCount * 3 * sizeof(glm::vec2) : 0;
-    if (!inside(offset, nodes + tris + normals + uvs, b.size())) return false;
-    const uint8_t* blob = b.data() + offset;
-    sum = chsChecksum(blob, nodes);
-    sum = chsChecksum(blob + nodes, tris, sum);
-    sum = chsChecksum(blob + nodes + tris, normals, sum);
-    sum = chsChecksum(blob + nodes + tris + normals, uvs, sum);
+// A subtree or proxy blob's checksum (ChsFile::readBlob's and readCompactBlob's ranges), or false when the blob is
+// not inside the input (or, compact, its size implies no vertex count).
+bool blobChecksum(const std::vector<uint8_t>& b, uint64_t offset, uint64_t bytes, uint64_t nodeCount,
+                  uint64_t triangleCount, bool uv, bool compact, uint64_t& sum) {
+    std::vector<uint64_t> parts;
+    if (compact) {
+        const uint32_t vertices = chsCompactVertexCount(bytes, nodeCount, triangleCount, uv);
+        if (vertices == UINT32_MAX) return false;
+        parts = {(nodeCount + CHCRT_COMPACT_ROOT_TEXELS - 1) * 16, triangleCount * 16, uint64_t(vertices) * 12,
+                 triangleCount * 4};
+    } else {
+        parts = {nodeCount * sizeof(BvhNodeGpu), triangleCount * sizeof(TriangleGpu)};
+    }
+    parts.push_back(triangleCount * 3 * sizeof(glm::vec3));
+    parts.push_back(uv ? triangleCount * 3 * sizeof(glm::vec2) : 0);
+    uint64_t total = 0;
+    for (uint64_t p : parts) total += p;
+    if (total > (uint64_t(1) << 40) || !inside(offset, total, b.size())) return false;
+    const uint8_t* at = b.data() + offset;
+    sum = 0;
+    for (uint64_t p : parts) {
+        sum = chsChecksum(at, p, sum);
+        at += p;
+    }
     return true;
 }
 
@@ -45,11 +57,14 @@ void fixChecksums(std::vector<uint8_t>& b) {
     if (inside(h.metaOffset, metaBytes, b.size())) {
         const uint8_t* meta = b.data() + h.metaOffset;
         const bool uv = (h.flags & kChsFlagTexcoords) != 0;
+        const bool compact = (h.flags & kChsFlagCompact) != 0;
         for (uint32_t i = 0; i < h.subtreeCount; ++i) {
             ChsSubtreeRecord r;
             uint8_t* at = b.data() + h.metaOffset + upperBytes + uint64_t(i) * sizeof(ChsSubtreeRecord);
             std::memcpy(&r, at, sizeof(r));
-            if (blobChecksum(b, r.offset, r.nodeCount, r.triangleCount, uv, r.checksum)) std::memcpy(at, &r, sizeof(r));
+            if (blobChecksum(b, r.offset, r.bytes, r.nodeCount, r.triangleCount, uv, compact, r.checksum)) {
+                std::memcpy(at, &r, sizeof(r));
+            }
         }
         uint64_t sum = chsChecksum(meta, upperBytes);
         sum = chsChecksum(meta + upperBytes, recordBytes, sum);
@@ -66,7 +81,7 @@ void fixChecksums(std::vector<uint8_t>& b) {
                 for (uint64_t k = 0; k < lodRecordBytes / sizeof(ChsLodRecord); ++k) {
                     ChsLodRecord r;
                     std::memcpy(&r, records + k * sizeof(r), sizeof(r));
-                    if (blobChecksum(b, r.offset, r.nodeCount, r.triangleCount, uv, r.checksum)) {
+                    if (blobChecksum(b, r.offset, r.bytes, r.nodeCount, r.triangleCount, uv, compact, r.checksum)) {
                         std::memcpy(records + k * sizeof(r), &r, sizeof(r));
                     }
                 }

@@ -171,18 +171,25 @@ void textSeeds(const fs::path& root) {
 }
 
 void chsSeeds(const fs::path& dir, const fs::path& scratch) {
-    // Version 1 (no LOD proxies) from the two small scenes, version 2 (a LOD directory and proxy blobs) from a city
-    // small enough to stay a quick seed.
-    for (const auto& [scene, lodLevels] : {std::pair<const char*, uint32_t>{"closed-box", 0u}, {"plane-and-box", 0u},
-                                           {"city:600", 2u}}) {
+    // Full layout: version 1 (no LOD proxies) from the two small scenes, version 2 (a LOD directory and proxy blobs)
+    // from a city small enough to stay a quick seed. Compact layout (version 3): a small scene and the same city.
+    struct Seed {
+        const char* scene;
+        uint32_t lodLevels;
+        bool compact;
+        const char* name;
+    };
+    for (const Seed& seed : {Seed{"closed-box", 0u, false, "closed-box"}, Seed{"plane-and-box", 0u, false, "plane-and-box"},
+                             Seed{"city:600", 2u, false, "city-600-lod"}, Seed{"closed-box", 0u, true, "closed-box-compact"},
+                             Seed{"city:600", 2u, true, "city-600-lod-compact"}}) {
         outofcore::PrepareOptions options;
-        options.subtreeTriangles = lodLevels == 0 ? 4 : 200;
+        options.subtreeTriangles = seed.lodLevels == 0 ? 4 : 200;
         options.memoryBytes = 64ull << 20;
-        options.lodLevels = lodLevels;
-        const std::string name = std::string(scene) == "city:600" ? "city-600-lod" : scene;
-        const fs::path file = scratch / (name + ".chs");
-        outofcore::prepareScene(scene, file, options);
-        write(dir / ("seed_" + name + ".chs"), read(file));
+        options.lodLevels = seed.lodLevels;
+        options.compact = seed.compact;
+        const fs::path file = scratch / (std::string(seed.name) + ".chs");
+        outofcore::prepareScene(seed.scene, file, options);
+        write(dir / ("seed_" + std::string(seed.name) + ".chs"), read(file));
     }
 }
 

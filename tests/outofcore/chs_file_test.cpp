@@ -3,6 +3,7 @@
 #include "renderer/bvh/cpu_tracer.h"
 #include "renderer/core/error.h"
 #include "renderer/outofcore/chs_file.h"
+#include "renderer/outofcore/compact_subtree.h"
 #include "renderer/scene/procedural/procedural.h"
 #include "tests/outofcore/outofcore_test_util.h"
 
@@ -156,46 +157,49 @@ void overwriteByte(const std::filesystem::path& file, uint64_t offset, char valu
     out.put(value);
 }
 
-bool sameBytes(const void* a, const void* b, size_t bytes) { return std::memcmp(a, b, bytes) == 0; }
 
 // A blob's checksum is computed on its first read and not again while the file stays the same; a read for the GPU
 // alone (no vertex attributes) is only that cheap once the blob was verified, and any change of the file under the
 // open descriptor makes the next read verify again (docs/outofcore.md, "Reading subtrees").
 TEST(ChsFile, BlobsAreVerifiedOnFirstReadAndAgainAfterTheFileChanges) {
-    test::ScratchDir dir;
-    const auto file = dir.file("city.chs");
-    test::prepareSmall("city:20k", file, 1000);
-    const ChsFile chs(file);
-    ASSERT_GE(chs.header().subtreeCount, 3u);
-    const outofcore::ChsSubtreeRecord& one = chs.subtrees()[1];
-    const uint64_t normalsAt = one.offset + uint64_t(one.nodeCount) * sizeof(BvhNodeGpu) +
-                               uint64_t(one.triangleCount) * sizeof(TriangleGpu);
+    for (const bool compact : {true, false}) {
+        SCOPED_TRACE(compact ? "compact layout" : "full layout");
+        test::ScratchDir dir;
+        const auto file = dir.file("city.chs");
+        test::prepareSmall("city:20k", file, 1000, 256ull << 20, compact);
+        const ChsFile chs(file);
+        ASSERT_GE(chs.header().subtreeCount, 3u);
+        const outofcore::ChsSubtreeRecord& one = chs.subtrees()[1];
+        // Where the GPU's part of the blob starts (its triangles) and where the vertex normals start.
+        const uint64_t triangleAt =
+            one.offset + (compact ? outofcore::compactNodeTexels(one.nodeCount) * 16 : uint64_t(one.nodeCount) * sizeof(BvhNodeGpu));
+        const uint64_t normalsAt =
+            compact ? triangleAt + uint64_t(one.triangleCount) * (16 + 4) + uint64_t(chs.vertexCount(1)) * 12
+                    : triangleAt + uint64_t(one.triangleCount) * sizeof(TriangleGpu);
 
-    // Never read: a read for the GPU reads and checks everything, so a bad normal is found.
-    const char saved = test::readBytes(file)[normalsAt];
-    overwriteByte(file, normalsAt, char(saved ^ 0x10));
-    outofcore::SubtreeData d;
-    EXPECT_THROW(chs.readSubtree(1, 0, d, false), InputError);
-    overwriteByte(file, normalsAt, saved);
+        // Never read: a read for the GPU reads and checks everything, so a bad normal is found.
+        const char saved = test::readBytes(file)[normalsAt];
+        overwriteByte(file, normalsAt, char(saved ^ 0x10));
+        outofcore::SubtreeData d;
+        EXPECT_THROW(chs.readSubtree(1, 0, d, false), InputError);
+        overwriteByte(file, normalsAt, saved);
 
-    // Verified once: the GPU's read skips the attributes and returns the same nodes and triangles.
-    const outofcore::SubtreeData full = chs.readSubtree(1);
-    EXPECT_TRUE(full.attributes);
-    chs.readSubtree(1, 0, d, false);
-    EXPECT_FALSE(d.attributes);
-    EXPECT_TRUE(d.normals.empty());
-    ASSERT_EQ(d.nodes.size(), full.nodes.size());
-    ASSERT_EQ(d.triangles.size(), full.triangles.size());
-    EXPECT_TRUE(sameBytes(d.nodes.data(), full.nodes.data(), full.nodes.size() * sizeof(BvhNodeGpu)));
-    EXPECT_TRUE(sameBytes(d.triangles.data(), full.triangles.data(), full.triangles.size() * sizeof(TriangleGpu)));
+        // Verified once: the GPU's read skips the attributes and returns the same nodes and triangles.
+        const outofcore::SubtreeData full = chs.readSubtree(1);
+        EXPECT_TRUE(full.attributes);
+        chs.readSubtree(1, 0, d, false, false);
+        EXPECT_FALSE(d.attributes);
+        EXPECT_TRUE(d.normals.empty());
+        EXPECT_TRUE(test::sameContents(d, full));
+        EXPECT_EQ(d.compact(), compact);
 
-    // Changed in place after it was verified: the next read, whole or for the GPU, checks it again. File times
-    // are kept at the kernel's tick (a few ms), so the change is made well after the last one.
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    const uint64_t triangleAt = one.offset + uint64_t(one.nodeCount) * sizeof(BvhNodeGpu);
-    overwriteByte(file, triangleAt, char(test::readBytes(file)[triangleAt] ^ 0x10));
-    EXPECT_THROW(chs.readSubtree(1, 0, d, false), InputError);
-    EXPECT_THROW(chs.readSubtree(1), InputError);
+        // Changed in place after it was verified: the next read, whole or for the GPU, checks it again. File times
+        // are kept at the kernel's tick (a few ms), so the change is made well after the last one.
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        overwriteByte(file, triangleAt, char(test::readBytes(file)[triangleAt] ^ 0x10));
+        EXPECT_THROW(chs.readSubtree(1, 0, d, false), InputError);
+        EXPECT_THROW(chs.readSubtree(1), InputError);
+    }
 }
 
 TEST(ChsFile, VersionMismatchIsRefusedWithClearMessage) {
@@ -205,7 +209,7 @@ TEST(ChsFile, VersionMismatchIsRefusedWithClearMessage) {
     std::vector<char> bytes = test::readBytes(file);
     ChsHeader h;
     std::memcpy(&h, bytes.data(), sizeof(h));
-    h.version = outofcore::kChsVersionLod + 1;
+    h.version = outofcore::kChsVersionCompact + 1;
     h.headerChecksum = outofcore::chsChecksum(&h, offsetof(ChsHeader, headerChecksum));
     std::memcpy(bytes.data(), &h, sizeof(h));
     test::writeBytes(file, bytes);

@@ -3,6 +3,7 @@
 // the allocation stays within the budget, and the two policies pick the victims they promise.
 #include "culling/outofcore/gpu_subtree_cache.h"
 #include "renderer/core/error.h"
+#include "renderer/outofcore/compact_subtree.h"
 #include "tests/gl/gl_test_fixture.h"
 #include "tests/outofcore/outofcore_test_util.h"
 
@@ -17,17 +18,29 @@ namespace {
 using outofcore::CachePolicy;
 using outofcore::GpuSubtreeCache;
 
-class GpuSubtreeCacheTest : public test::GlTest {
+// Each test runs on the compact layout (the default, .chs version 3) and the full one.
+class GpuSubtreeCacheTest : public test::GlTest, public ::testing::WithParamInterface<bool> {
 protected:
     void SetUp() override {
         test::GlTest::SetUp();
-        test::prepareSmall("city:50k", file_, 1500);
+        test::prepareSmall("city:50k", file_, 1500, 256ull << 20, GetParam());
         chs_ = std::make_unique<outofcore::ChsFile>(file_);
+        ASSERT_EQ(chs_->compact(), GetParam());
         store_ = std::make_unique<outofcore::SubtreeStore>(*chs_, 4ull << 20);
     }
     uint64_t slotBytes() const {
-        return uint64_t(chs_->header().maxSubtreeNodes) * sizeof(BvhNodeGpu) +
-               uint64_t(chs_->header().maxSubtreeTriangles) * sizeof(TriangleGpu);
+        const outofcore::ChsHeader& h = chs_->header();
+        if (chs_->compact()) {
+            return outofcore::compactNodeTexels(h.maxSubtreeNodes) * 16 + uint64_t(h.maxSubtreeTriangles) * 16 +
+                   uint64_t(chs_->maxSubtreeVertices()) * 12;
+        }
+        return uint64_t(h.maxSubtreeNodes) * sizeof(BvhNodeGpu) + uint64_t(h.maxSubtreeTriangles) * sizeof(TriangleGpu);
+    }
+    template <class T>
+    static std::vector<T> readBack(GLuint buffer, uint64_t first, size_t count) {
+        std::vector<T> out(count);
+        if (count != 0) glGetNamedBufferSubData(buffer, GLintptr(first * sizeof(T)), GLsizeiptr(count * sizeof(T)), out.data());
+        return out;
     }
     // Every resident slot equals the file's subtree with indices rebased to the slot.
     void expectSlotsMatchFile(const GpuSubtreeCache& cache) {
@@ -35,16 +48,27 @@ protected:
             const uint32_t subtree = cache.slotSubtree(slot);
             if (subtree == SubtreeSource::kNotResident) continue;
             const outofcore::SubtreeData d = chs_->readSubtree(subtree);
-            std::vector<BvhNodeGpu> nodes(d.nodes.size());
-            std::vector<TriangleGpu> tris(d.triangles.size());
-            glGetNamedBufferSubData(cache.nodeBuffer(), GLintptr(uint64_t(slot) * cache.slotNodes() * sizeof(BvhNodeGpu)),
-                                    GLsizeiptr(nodes.size() * sizeof(BvhNodeGpu)), nodes.data());
-            glGetNamedBufferSubData(cache.triangleBuffer(),
-                                    GLintptr(uint64_t(slot) * cache.slotTriangles() * sizeof(TriangleGpu)),
-                                    GLsizeiptr(tris.size() * sizeof(TriangleGpu)), tris.data());
+            const uint64_t nodeBase = uint64_t(slot) * cache.slotNodes(), triBase = uint64_t(slot) * cache.slotTriangles();
+            if (chs_->compact()) {
+                const uint64_t vertexBase = uint64_t(slot) * cache.slotVertices();
+                const auto nodes = readBack<glm::uvec4>(cache.nodeBuffer(), nodeBase, d.compactNodes.size());
+                const auto tris = readBack<glm::uvec4>(cache.triangleBuffer(), triBase, d.compactTriangles.size());
+                const auto vertices = readBack<glm::vec3>(cache.vertexBuffer(), vertexBase, d.vertices.size());
+                // As stored, but for the root's texel 2: the slot's first triangle and vertex.
+                for (size_t k = 0; k < nodes.size(); ++k) {
+                    const glm::uvec4 expected =
+                        k == 2 ? glm::uvec4(uint32_t(triBase), uint32_t(vertexBase), 0u, 0u) : d.compactNodes[k];
+                    ASSERT_EQ(expected, nodes[k]) << "slot " << slot << " texel " << k;
+                }
+                ASSERT_EQ(0, std::memcmp(d.compactTriangles.data(), tris.data(), tris.size() * sizeof(glm::uvec4)));
+                ASSERT_EQ(0, std::memcmp(d.vertices.data(), vertices.data(), vertices.size() * sizeof(glm::vec3)));
+                continue;
+            }
+            const auto nodes = readBack<BvhNodeGpu>(cache.nodeBuffer(), nodeBase, d.nodes.size());
+            const auto tris = readBack<TriangleGpu>(cache.triangleBuffer(), triBase, d.triangles.size());
             for (size_t k = 0; k < nodes.size(); ++k) {
                 BvhNodeGpu expected = d.nodes[k];
-                expected.leftFirst += expected.triCount != 0 ? slot * cache.slotTriangles() : slot * cache.slotNodes();
+                expected.leftFirst += uint32_t(expected.triCount != 0 ? triBase : nodeBase);
                 ASSERT_EQ(0, std::memcmp(&expected, &nodes[k], sizeof(BvhNodeGpu))) << "slot " << slot << " node " << k;
             }
             ASSERT_EQ(0, std::memcmp(d.triangles.data(), tris.data(), tris.size() * sizeof(TriangleGpu))) << "slot " << slot;
@@ -56,7 +80,7 @@ protected:
     std::unique_ptr<outofcore::SubtreeStore> store_;
 };
 
-TEST_F(GpuSubtreeCacheTest, UploadsEvictAndMatchTheFileUnderTheBudget) {
+TEST_P(GpuSubtreeCacheTest, UploadsEvictAndMatchTheFileUnderTheBudget) {
     const uint32_t subtrees = chs_->header().subtreeCount;
     ASSERT_GT(subtrees, 20u);
     for (CachePolicy policy : {CachePolicy::RoundRobin, CachePolicy::Lru}) {
@@ -85,7 +109,7 @@ TEST_F(GpuSubtreeCacheTest, UploadsEvictAndMatchTheFileUnderTheBudget) {
     }
 }
 
-TEST_F(GpuSubtreeCacheTest, MoreRequestsThanSlotsAreDeferredNotDropped) {
+TEST_P(GpuSubtreeCacheTest, MoreRequestsThanSlotsAreDeferredNotDropped) {
     GpuSubtreeCache cache(*store_, {3 * slotBytes(), CachePolicy::Lru});
     ASSERT_EQ(cache.slotCount(), 3u);
     const std::vector<uint32_t> request = {0, 1, 2, 3, 4};
@@ -98,7 +122,7 @@ TEST_F(GpuSubtreeCacheTest, MoreRequestsThanSlotsAreDeferredNotDropped) {
     expectSlotsMatchFile(cache);
 }
 
-TEST_F(GpuSubtreeCacheTest, PoliciesChooseTheirVictims) {
+TEST_P(GpuSubtreeCacheTest, PoliciesChooseTheirVictims) {
     auto run = [&](CachePolicy policy) {
         GpuSubtreeCache cache(*store_, {3 * slotBytes(), policy});
         std::vector<uint32_t> root(1);
@@ -112,9 +136,12 @@ TEST_F(GpuSubtreeCacheTest, PoliciesChooseTheirVictims) {
     EXPECT_EQ(run(CachePolicy::Lru), (std::vector<uint32_t>{0, 3, 2}));
 }
 
-TEST_F(GpuSubtreeCacheTest, BudgetBelowOneSlotIsAnError) {
+TEST_P(GpuSubtreeCacheTest, BudgetBelowOneSlotIsAnError) {
     EXPECT_THROW(GpuSubtreeCache(*store_, {slotBytes() - 1, CachePolicy::Lru}), InputError);
 }
+
+INSTANTIATE_TEST_SUITE_P(Layouts, GpuSubtreeCacheTest, ::testing::Bool(),
+                         [](const ::testing::TestParamInfo<bool>& param) { return param.param ? "Compact" : "Full"; });
 
 } // namespace
 } // namespace chcrt

@@ -43,7 +43,8 @@ outofcore::PrepareReport LodFile::report_;
 
 TEST_F(LodFile, ProxiesLieInsideTheirSubtreesBoxAndShrinkLevelByLevel) {
     const ChsFile file(dir_->file("lod.chs"));
-    ASSERT_EQ(file.header().version, outofcore::kChsVersionLod);
+    ASSERT_EQ(file.header().version, outofcore::kChsVersionCompact); // compact subtrees and proxies
+    ASSERT_TRUE(file.compact());
     ASSERT_EQ(file.lodLevels(), 2u);
     uint64_t kept[3] = {0, 0, 0}, triangles[3] = {0, 0, 0};
     for (uint32_t s = 0; s < file.subtrees().size(); ++s) {
@@ -124,24 +125,30 @@ TEST_F(LodFile, ACorruptedLodRecordIsRefusedWithOneLine) {
 }
 
 TEST(LodPrepare, WithoutLevelsTheFileIsVersionOneAndHasNoProxies) {
-    test::ScratchDir dir;
-    outofcore::PrepareOptions options;
-    options.subtreeTriangles = 4000;
-    options.lodLevels = 0;
-    const outofcore::PrepareReport r = outofcore::prepareScene("city:30k", dir.file("v1.chs"), options);
-    EXPECT_EQ(r.proxyBytes, 0u);
-    const ChsFile file(dir.file("v1.chs"));
-    EXPECT_EQ(file.header().version, outofcore::kChsVersion);
-    EXPECT_EQ(file.lodLevels(), 0u);
-    EXPECT_THROW(file.lodRecord(0, 1), InputError);
-    // The same scene with proxies: the same subtrees, byte for byte, with the proxies after each.
-    options.lodLevels = 1;
-    outofcore::prepareScene("city:30k", dir.file("v2.chs"), options);
-    const ChsFile lod(dir.file("v2.chs"));
-    ASSERT_EQ(lod.subtrees().size(), file.subtrees().size());
-    for (uint32_t s = 0; s < file.subtrees().size(); ++s) {
-        EXPECT_EQ(lod.subtrees()[s].checksum, file.subtrees()[s].checksum);
-        EXPECT_EQ(lod.readSubtree(s).triangles.size(), file.readSubtree(s).triangles.size());
+    // Full layout: version 1 without proxies, 2 with them; compact: version 3 either way, the flag tells.
+    for (const bool compact : {false, true}) {
+        SCOPED_TRACE(compact ? "compact layout" : "full layout");
+        test::ScratchDir dir;
+        outofcore::PrepareOptions options;
+        options.subtreeTriangles = 4000;
+        options.lodLevels = 0;
+        options.compact = compact;
+        const outofcore::PrepareReport r = outofcore::prepareScene("city:30k", dir.file("v1.chs"), options);
+        EXPECT_EQ(r.proxyBytes, 0u);
+        const ChsFile file(dir.file("v1.chs"));
+        EXPECT_EQ(file.header().version, compact ? outofcore::kChsVersionCompact : outofcore::kChsVersion);
+        EXPECT_EQ(file.lodLevels(), 0u);
+        EXPECT_THROW(file.lodRecord(0, 1), InputError);
+        // The same scene with proxies: the same subtrees, byte for byte, with the proxies after each.
+        options.lodLevels = 1;
+        outofcore::prepareScene("city:30k", dir.file("v2.chs"), options);
+        const ChsFile lod(dir.file("v2.chs"));
+        EXPECT_EQ(lod.header().version, compact ? outofcore::kChsVersionCompact : outofcore::kChsVersionLod);
+        ASSERT_EQ(lod.subtrees().size(), file.subtrees().size());
+        for (uint32_t s = 0; s < file.subtrees().size(); ++s) {
+            EXPECT_EQ(lod.subtrees()[s].checksum, file.subtrees()[s].checksum);
+            EXPECT_EQ(lod.readSubtree(s).triangles.size(), file.readSubtree(s).triangles.size());
+        }
     }
 }
 

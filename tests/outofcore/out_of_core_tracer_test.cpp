@@ -28,10 +28,10 @@ uint64_t sceneGpuBytes(const outofcore::ChsFile& file) {
     return bytes;
 }
 
-void runExactness(outofcore::CachePolicy policy, ChcrtQueries queries = ChcrtQueries::Gl) {
+void runExactness(outofcore::CachePolicy policy, ChcrtQueries queries = ChcrtQueries::Gl, bool compact = true) {
     test::ScratchDir dir;
     const auto file = dir.file("city.chs");
-    test::prepareSmall("city:60k", file, 1000);
+    test::prepareSmall("city:60k", file, 1000, 256ull << 20, compact);
     const outofcore::LoadedPreparedScene loaded = outofcore::loadPreparedScene(file);
     RenderSettings settings;
     settings.width = 80;
@@ -98,8 +98,79 @@ void runExactness(outofcore::CachePolicy policy, ChcrtQueries queries = ChcrtQue
 
 TEST_F(OutOfCoreTracerTest, HitsEqualInCorePureBvhWithLruEvictions) { runExactness(outofcore::CachePolicy::Lru); }
 
+// In the full subtree layout (prepare --layout full; the others run on the default, compact).
 TEST_F(OutOfCoreTracerTest, HitsEqualInCorePureBvhWithRoundRobinEvictions) {
-    runExactness(outofcore::CachePolicy::RoundRobin);
+    runExactness(outofcore::CachePolicy::RoundRobin, ChcrtQueries::Gl, false);
+}
+
+// The compact layout (quantized boxes, indexed triangles) gives the full layout's hits bit for bit, out of core and
+// in core (loadPreparedScene keeps the decoded boxes): the hit rule does not depend on the boxes (shared/intersect.h,
+// hitRuleT). Any-hit rays compare hit or miss (either layout may stop at another occluder).
+TEST_F(OutOfCoreTracerTest, CompactLayoutGivesTheFullLayoutsHitsBitForBit) {
+    test::ScratchDir dir;
+    const auto compactFile = dir.file("compact.chs"), fullFile = dir.file("full.chs");
+    test::prepareSmall("city:60k", compactFile, 1000, 256ull << 20, true);
+    test::prepareSmall("city:60k", fullFile, 1000, 256ull << 20, false);
+    const outofcore::LoadedPreparedScene full = outofcore::loadPreparedScene(fullFile);
+    const outofcore::LoadedPreparedScene compact = outofcore::loadPreparedScene(compactFile);
+    ASSERT_EQ(full.bvh.nodes.size(), compact.bvh.nodes.size());
+    size_t widerBoxes = 0;
+    for (size_t k = 0; k < full.bvh.nodes.size(); ++k) {
+        widerBoxes += full.bvh.nodes[k].boundsMin != compact.bvh.nodes[k].boundsMin ||
+                      full.bvh.nodes[k].boundsMax != compact.bvh.nodes[k].boundsMax;
+    }
+    EXPECT_GT(widerBoxes, full.bvh.nodes.size() / 2); // quantized: most boxes differ, the hits may not
+    RenderSettings settings;
+    settings.width = 96;
+    settings.height = 64;
+    Renderer fullRenderer(full.scene, full.bvh, full.light, settings);
+    Renderer compactRenderer(compact.scene, compact.bvh, compact.light, settings);
+    outofcore::OutOfCoreOptions options;
+    options.hostCacheBytes = 1ull << 20;
+    {
+        const outofcore::ChsFile chs(fullFile);
+        options.gpuCacheBytes = sceneGpuBytes(chs) / 8;
+    }
+    ChcrtOptions chcrt;
+    chcrt.pairs.minTileSize = 16;
+    outofcore::OutOfCoreTracer compactTracer(compactFile, options, chcrt);
+    outofcore::OutOfCoreTracer fullTracer(fullFile, options, chcrt);
+    ASSERT_TRUE(compactTracer.cache().compact());
+    ASSERT_FALSE(fullTracer.cache().compact());
+    EXPECT_GE(compactTracer.cache().slotCount(), fullTracer.cache().slotCount() * 3 / 2); // the same budget holds more
+
+    ProceduralSpec spec;
+    ASSERT_TRUE(parseProceduralSpec(full.source, spec));
+    const CameraPath path = proceduralNearPath(spec);
+    uint64_t hits = 0;
+    for (int frame = 0; frame < 3; ++frame) {
+        const Camera camera = path.cameraAtFrame(frame);
+        FrameStats stats;
+        fullRenderer.renderGBuffer(camera, stats);
+        compactRenderer.renderGBuffer(camera, stats);
+        for (RayType type : {RayType::Primary, RayType::Shadow, RayType::Ao}) {
+            fullRenderer.generateRayPass(camera, type, 0, stats);
+            compactRenderer.generateRayPass(camera, type, 0, stats);
+            fullRenderer.traceRayPass(camera, type, 0, stats);
+            compactRenderer.traceRayPass(camera, type, 0, stats);
+            const std::vector<Hit> inCoreFull = fullRenderer.readHits(0), inCoreCompact = compactRenderer.readHits(0);
+            fullRenderer.useTracer(&fullTracer);
+            fullRenderer.traceRayPass(camera, type, 0, stats);
+            const std::vector<Hit> outOfCoreFull = fullRenderer.readHits(0);
+            fullRenderer.useTracer(&compactTracer);
+            fullRenderer.traceRayPass(camera, type, 0, stats);
+            const std::vector<Hit> outOfCoreCompact = fullRenderer.readHits(0);
+            fullRenderer.useTracer(nullptr);
+            const std::vector<Ray> rays = fullRenderer.readRays(0);
+            const bool anyHit = isAnyHit(type);
+            EXPECT_EQ(compareHitsExactly(rays, inCoreCompact, inCoreFull, anyHit).differing, 0u) << toString(type);
+            EXPECT_EQ(compareHitsExactly(rays, outOfCoreCompact, outOfCoreFull, anyHit).differing, 0u) << toString(type);
+            EXPECT_EQ(compareHitsExactly(rays, outOfCoreCompact, inCoreFull, anyHit).differing, 0u) << toString(type);
+            for (const Hit& h : inCoreFull) hits += h.hit();
+        }
+        EXPECT_EQ(stats.cappedRays, 0u);
+    }
+    EXPECT_GT(hits, 10000u);
 }
 
 // Batched queries: the out-of-core default of the chcrt methods (app/methods.cpp).

@@ -1,5 +1,7 @@
 #include "tests/outofcore/outofcore_test_util.h"
 
+#include <cstring>
+
 #include <atomic>
 #include <fstream>
 #include <unistd.h>
@@ -29,11 +31,22 @@ void writeBytes(const std::filesystem::path& file, const std::vector<char>& byte
 }
 
 outofcore::PrepareReport prepareSmall(const std::string& scene, const std::filesystem::path& file,
-                                      uint32_t subtreeTriangles, uint64_t memoryBytes) {
+                                      uint32_t subtreeTriangles, uint64_t memoryBytes, bool compact) {
     outofcore::PrepareOptions options;
+    options.compact = compact;
     options.subtreeTriangles = subtreeTriangles;
     options.memoryBytes = memoryBytes;
     return outofcore::prepareScene(scene, file, options);
+}
+
+bool sameContents(const outofcore::SubtreeData& a, const outofcore::SubtreeData& b) {
+    const auto same = [](const auto& x, const auto& y) {
+        return x.size() == y.size() && (x.empty() || std::memcmp(x.data(), y.data(), x.size() * sizeof(x[0])) == 0);
+    };
+    if (a.compact() != b.compact() || a.triangleCount() != b.triangleCount()) return false;
+    if (a.compact()) return same(a.compactNodes, b.compactNodes) && same(a.compactTriangles, b.compactTriangles) &&
+                            same(a.vertices, b.vertices);
+    return same(a.nodes, b.nodes) && same(a.triangles, b.triangles);
 }
 
 } // namespace chcrt::test

@@ -12,6 +12,13 @@
 namespace chcrt {
 namespace {
 
+// What the store holds of subtree i (a whole read, kept as stored: a compact blob is not decoded).
+uint64_t storedBytes(const outofcore::ChsFile& chs, uint32_t i) {
+    outofcore::SubtreeData d;
+    chs.readSubtree(i, 0, d, true, false);
+    return d.bytes();
+}
+
 TEST(SubtreeStore, KeepsTheMostRecentlyUsedUnderItsBudget) {
     test::ScratchDir dir;
     const auto file = dir.file("city.chs");
@@ -19,11 +26,11 @@ TEST(SubtreeStore, KeepsTheMostRecentlyUsedUnderItsBudget) {
     const outofcore::ChsFile chs(file);
     ASSERT_GT(chs.header().subtreeCount, 6u);
     uint64_t largest = 0;
-    for (uint32_t i = 0; i < 6; ++i) largest = std::max(largest, chs.readSubtree(i).bytes());
+    for (uint32_t i = 0; i < 6; ++i) largest = std::max(largest, storedBytes(chs, i));
     outofcore::SubtreeStore store(chs, 3 * largest);
     for (uint32_t i = 0; i < 6; ++i) {
         const auto d = store.get(i);
-        EXPECT_EQ(d->nodes.size(), chs.subtrees()[i].nodeCount);
+        EXPECT_EQ(d->nodeCount(), chs.subtrees()[i].nodeCount);
         EXPECT_LE(store.stats().residentBytes, store.budgetBytes());
     }
     EXPECT_EQ(store.stats().misses, 6u);
@@ -35,8 +42,12 @@ TEST(SubtreeStore, KeepsTheMostRecentlyUsedUnderItsBudget) {
     EXPECT_LE(store.stats().peakResidentBytes, store.budgetBytes());
     const auto again = store.get(0);
     const outofcore::SubtreeData direct = chs.readSubtree(0);
-    ASSERT_EQ(again->triangles.size(), direct.triangles.size());
-    EXPECT_EQ(0, std::memcmp(again->triangles.data(), direct.triangles.data(), direct.triangles.size() * sizeof(TriangleGpu)));
+    EXPECT_TRUE(test::sameContents(*again, direct));
+    ASSERT_EQ(again->triangleCount(), direct.triangles.size()); // the store keeps a compact blob compact
+    for (size_t k = 0; k < direct.triangles.size(); ++k) {
+        const TriangleGpu t = again->triangle(k);
+        ASSERT_EQ(std::memcmp(&t, &direct.triangles[k], sizeof(TriangleGpu)), 0) << "triangle " << k;
+    }
 }
 
 } // namespace
@@ -48,34 +59,38 @@ namespace {
 // Evicted subtrees' buffers are read into again (subtree_store.h, SubtreeBuffers): what a read into them returns
 // equals a fresh read, whole and for the GPU alone, and the store counts the memory they hold.
 TEST(SubtreeStore, RecycledBuffersHoldWhatAFreshReadHolds) {
-    test::ScratchDir dir;
-    const auto file = dir.file("city.chs");
-    test::prepareSmall("city:20k", file, 1000);
-    const outofcore::ChsFile chs(file);
-    const uint32_t count = chs.header().subtreeCount;
-    ASSERT_GE(count, 6u);
-    outofcore::SubtreeStore store(chs, 1); // keeps nothing: every get() reads, every subtree leaves at once
-    for (int pass = 0; pass < 2; ++pass) {
-        for (uint32_t i = 0; i < count; ++i) {
-            const bool attributes = (i + uint32_t(pass)) % 2 == 0;
-            const std::shared_ptr<const outofcore::SubtreeData> got = store.get(count - 1 - i, 0, attributes);
-            const outofcore::SubtreeData fresh = chs.readSubtree(count - 1 - i);
-            ASSERT_EQ(got->nodes.size(), fresh.nodes.size());
-            ASSERT_EQ(got->triangles.size(), fresh.triangles.size());
-            EXPECT_EQ(std::memcmp(got->nodes.data(), fresh.nodes.data(), fresh.nodes.size() * sizeof(BvhNodeGpu)), 0);
-            EXPECT_EQ(std::memcmp(got->triangles.data(), fresh.triangles.data(),
-                                  fresh.triangles.size() * sizeof(TriangleGpu)), 0);
-            if (got->attributes) {
-                ASSERT_EQ(got->normals.size(), fresh.normals.size());
-                EXPECT_EQ(std::memcmp(got->normals.data(), fresh.normals.data(),
-                                      fresh.normals.size() * sizeof(glm::vec3)), 0);
-            } else {
-                EXPECT_FALSE(attributes);
+    for (const bool compact : {true, false}) {
+        SCOPED_TRACE(compact ? "compact layout" : "full layout");
+        test::ScratchDir dir;
+        const auto file = dir.file("city.chs");
+        test::prepareSmall("city:20k", file, 1000, 256ull << 20, compact);
+        const outofcore::ChsFile chs(file);
+        const uint32_t count = chs.header().subtreeCount;
+        ASSERT_GE(count, 6u);
+        outofcore::SubtreeStore store(chs, 1); // keeps nothing: every get() reads, every subtree leaves at once
+        for (int pass = 0; pass < 2; ++pass) {
+            for (uint32_t i = 0; i < count; ++i) {
+                const bool attributes = (i + uint32_t(pass)) % 2 == 0;
+                const std::shared_ptr<const outofcore::SubtreeData> got = store.get(count - 1 - i, 0, attributes);
+                outofcore::SubtreeData fresh;
+                chs.readSubtree(count - 1 - i, 0, fresh, true, false); // as the store reads, into fresh buffers
+                ASSERT_TRUE(test::sameContents(*got, fresh)) << "subtree " << count - 1 - i;
+                if (got->attributes) {
+                    ASSERT_EQ(got->normals.size(), fresh.normals.size());
+                    EXPECT_EQ(std::memcmp(got->normals.data(), fresh.normals.data(),
+                                          fresh.normals.size() * sizeof(glm::vec3)), 0);
+                    for (size_t k = 0; k < fresh.triangleCount(); ++k) {
+                        const TriangleGpu a = got->triangle(k), b = fresh.triangle(k);
+                        ASSERT_EQ(std::memcmp(&a, &b, sizeof(TriangleGpu)), 0);
+                    }
+                } else {
+                    EXPECT_FALSE(attributes);
+                }
+                EXPECT_GE(got->bytes(), got->readBytes());
             }
-            EXPECT_GE(got->bytes(), got->readBytes());
         }
+        EXPECT_EQ(store.stats().residentBytes, 0u);
     }
-    EXPECT_EQ(store.stats().residentBytes, 0u);
 }
 
 TEST(SubtreeStore, PrefetchedSubtreesAreHits) {
@@ -88,7 +103,7 @@ TEST(SubtreeStore, PrefetchedSubtreesAreHits) {
     store.prefetch(wanted);
     store.waitForPrefetch();
     EXPECT_EQ(store.stats().prefetched, 3u);
-    for (uint32_t s : wanted) EXPECT_EQ(store.get(s)->nodes.size(), chs.subtrees()[s].nodeCount);
+    for (uint32_t s : wanted) EXPECT_EQ(store.get(s)->nodeCount(), chs.subtrees()[s].nodeCount);
     EXPECT_EQ(store.stats().hits, 3u);
     EXPECT_EQ(store.stats().misses, 3u); // the prefetch reads, none by get()
     store.prefetch(std::vector<uint32_t>{1, 5}); // 1 is resident: only 5 is read
@@ -134,7 +149,7 @@ TEST(SubtreeStore, AFileTruncatedOrOverwrittenUnderItFailsTheReadsNamingFileAndS
     test::writeBytes(file, overwritten);
     expectFailure(1, "checksum mismatch");
     expectFailure(count - 1, "checksum mismatch");
-    EXPECT_EQ(store.get(0)->nodes.size(), chs.subtrees()[0].nodeCount) << "read before the change: kept";
+    EXPECT_EQ(store.get(0)->nodeCount(), chs.subtrees()[0].nodeCount) << "read before the change: kept";
 
     // Truncated just after the first subtree.
     std::filesystem::resize_file(file, from);
@@ -160,7 +175,7 @@ TEST(SubtreeStore, PrefetchYieldsToTheFramesSubtreesAndCountsHitsAndWaste) {
     const uint32_t count = chs.header().subtreeCount;
     ASSERT_GT(count, 12u);
     std::vector<uint64_t> bytes(count);
-    for (uint32_t i = 0; i < count; ++i) bytes[i] = chs.readSubtree(i).bytes();
+    for (uint32_t i = 0; i < count; ++i) bytes[i] = storedBytes(chs, i);
     // Subtrees 0, 1 and 2 fill the budget exactly: any more needs an eviction.
     outofcore::SubtreeStore store(chs, bytes[0] + bytes[1] + bytes[2]);
     store.get(0);
