@@ -204,7 +204,8 @@ void GpuSubtreeCache::upload(uint32_t level, uint32_t subtree, uint32_t slot) {
         nodeBytes = data->compactNodes.size() * sizeof(glm::uvec4);
         triBytes = data->compactTriangles.size() * sizeof(glm::uvec4);
         vertexBytes = data->vertices.size() * sizeof(glm::vec3);
-        const glm::uvec4 bases{uint32_t(triBase), uint32_t(vertexBase), 0u, 0u};
+        const glm::uvec4 stored = data->compactNodes[2];
+        const glm::uvec4 bases{uint32_t(triBase), uint32_t(vertexBase), stored.z, stored.w}; // steps y, z kept
         glNamedBufferSubData(nodes_.buffer.id(), GLintptr(nodeBase * sizeof(glm::uvec4)), GLsizeiptr(nodeBytes),
                              data->compactNodes.data());
         glNamedBufferSubData(nodes_.buffer.id(), GLintptr((nodeBase + 2) * sizeof(glm::uvec4)), sizeof(bases), &bases);

@@ -239,14 +239,14 @@ BvhNodeGpu ChsFile::readSubtreeNode(uint32_t index, uint32_t localNode) const {
         return node;
     }
     // The root (the frame) and the node's texel.
-    glm::uvec4 texels[3];
-    readExact(fd_, texels, 2 * sizeof(glm::uvec4), subtrees_[index].offset, what);
-    texels[2] = texels[1];
+    glm::uvec4 root[CHCRT_COMPACT_ROOT_TEXELS], texel;
+    readExact(fd_, root, sizeof(root), subtrees_[index].offset, what);
+    texel = root[0];
     if (localNode != 0) {
-        readExact(fd_, &texels[2], sizeof(glm::uvec4),
+        readExact(fd_, &texel, sizeof(texel),
                   subtrees_[index].offset + uint64_t(compactNodeTexel(localNode)) * sizeof(glm::uvec4), what);
     }
-    return decodeCompactNode(texels[0], texels[1], localNode == 0 ? texels[0] : texels[2], localNode == 0);
+    return decodeCompactNode(root, texel, localNode == 0);
 }
 
 SubtreeData ChsFile::readSubtree(uint32_t index) const {
@@ -405,7 +405,8 @@ bool ChsFile::readTriangles(uint32_t index, std::span<const uint32_t> locals, Tr
     if (!blobVerified(r.offset, before)) return false;
     const std::string what = path_.string() + ": reading subtree " + std::to_string(index);
     if (compact()) {
-        // Triangle texel, its three vertices, material id and normals: the blob's parts in order.
+        // Triangle texel, its three vertices (one read when they lie close together, as vertices numbered by first
+        // use mostly do), material id and normals: the blob's parts in order.
         const uint32_t vertexTotal = vertexCount(index);
         const uint64_t triangleAt = r.offset + compactNodeTexels(r.nodeCount) * sizeof(glm::uvec4);
         const uint64_t vertexAt = triangleAt + uint64_t(r.triangleCount) * sizeof(glm::uvec4);
@@ -416,9 +417,16 @@ bool ChsFile::readTriangles(uint32_t index, std::span<const uint32_t> locals, Tr
             readExact(fd_, &t, sizeof(t), triangleAt + uint64_t(locals[i]) * sizeof(glm::uvec4), what);
             if (t.x >= vertexTotal || t.y >= vertexTotal || t.z >= vertexTotal) return false;
             TriangleGpu& out = triangles[i];
-            readExact(fd_, &out.v0, sizeof(glm::vec3), vertexAt + uint64_t(t.x) * sizeof(glm::vec3), what);
-            readExact(fd_, &out.v1, sizeof(glm::vec3), vertexAt + uint64_t(t.y) * sizeof(glm::vec3), what);
-            readExact(fd_, &out.v2, sizeof(glm::vec3), vertexAt + uint64_t(t.z) * sizeof(glm::vec3), what);
+            const uint32_t lowest = std::min({t.x, t.y, t.z}), span = std::max({t.x, t.y, t.z}) - lowest + 1;
+            if (span <= 16) {
+                glm::vec3 near[16];
+                readExact(fd_, near, span * sizeof(glm::vec3), vertexAt + uint64_t(lowest) * sizeof(glm::vec3), what);
+                out.v0 = near[t.x - lowest], out.v1 = near[t.y - lowest], out.v2 = near[t.z - lowest];
+            } else {
+                readExact(fd_, &out.v0, sizeof(glm::vec3), vertexAt + uint64_t(t.x) * sizeof(glm::vec3), what);
+                readExact(fd_, &out.v1, sizeof(glm::vec3), vertexAt + uint64_t(t.y) * sizeof(glm::vec3), what);
+                readExact(fd_, &out.v2, sizeof(glm::vec3), vertexAt + uint64_t(t.z) * sizeof(glm::vec3), what);
+            }
             readExact(fd_, &out.materialId, sizeof(uint32_t), materialAt + uint64_t(locals[i]) * sizeof(uint32_t), what);
             out.originalId = t.w;
             out.pad = 0;

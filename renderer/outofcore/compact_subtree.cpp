@@ -13,9 +13,8 @@ namespace chcrt::outofcore {
 namespace {
 
 constexpr int kMinExponent = -110; // steps stay normal floats, and so does every non-zero q * step
+constexpr int kMaxExponent = 110;  // 65,535 steps of 2^110 span any finite box
 constexpr float kMaxSteps = float(CHCRT_COMPACT_MAX_STEPS);
-
-float stepOf(uint32_t code) { return code == 0 ? 0.0f : std::ldexp(1.0f, int(code) - CHCRT_COMPACT_EXPONENT_BIAS); }
 
 // origin + q * step in float: q * step is exact (a power of two times q < 2^16), so this is the shader's result
 // whether or not its compiler fuses the multiply-add.
@@ -45,27 +44,23 @@ CompactFrame compactFrame(const glm::vec3& lower, const glm::vec3& upper) {
     frame.origin = lower;
     for (int axis = 0; axis < 3; ++axis) {
         const double extent = double(upper[axis]) - double(lower[axis]);
-        uint32_t code = 0;
         if (extent > 0.0) {
             int e = std::max(kMinExponent, int(std::ceil(std::log2(extent / double(kMaxSteps)))));
             // Rounding of the sum may leave the last step short of upper: take the next power of two then.
-            while (decodeAxis(lower[axis], std::ldexp(1.0f, e), CHCRT_COMPACT_MAX_STEPS) < upper[axis]) ++e;
-            code = uint32_t(e + CHCRT_COMPACT_EXPONENT_BIAS);
-            if (code == 0 || code > 255) throw InputError("compact subtree: box extent out of range");
+            while (e <= kMaxExponent && decodeAxis(lower[axis], std::ldexp(1.0f, e), CHCRT_COMPACT_MAX_STEPS) < upper[axis]) ++e;
+            if (e > kMaxExponent) throw InputError("compact subtree: box extent out of range");
+            frame.step[axis] = std::ldexp(1.0f, e);
         } else if (!(extent == 0.0)) {
             throw InputError("compact subtree: invalid root box");
         }
-        frame.exponents |= code << (8 * axis);
-        frame.step[axis] = stepOf(code);
     }
     return frame;
 }
 
-CompactFrame compactFrameFromExponents(const glm::vec3& origin, uint32_t exponents) {
+CompactFrame compactFrameOfRoot(const glm::uvec4& root0, const glm::uvec4& root1, const glm::uvec4& root2) {
     CompactFrame frame;
-    frame.origin = origin;
-    frame.exponents = exponents;
-    for (int axis = 0; axis < 3; ++axis) frame.step[axis] = stepOf((exponents >> (8 * axis)) & 0xffu);
+    frame.origin = {bitsFloat(root0.x), bitsFloat(root0.y), bitsFloat(root0.z)};
+    frame.step = {bitsFloat(root1.w), bitsFloat(root2.z), bitsFloat(root2.w)};
     return frame;
 }
 
@@ -119,8 +114,9 @@ void encodeCompactSubtree(std::span<const BvhNodeGpu> nodes, std::span<const Tri
         }
         if (k == 0) {
             out.nodes[0] = {floatBits(n.boundsMin.x), floatBits(n.boundsMin.y), floatBits(n.boundsMin.z), header};
-            out.nodes[1] = {floatBits(n.boundsMax.x), floatBits(n.boundsMax.y), floatBits(n.boundsMax.z), frame.exponents};
-            out.nodes[2] = glm::uvec4(0u); // the bases, written by the GPU cache's upload
+            out.nodes[1] = {floatBits(n.boundsMax.x), floatBits(n.boundsMax.y), floatBits(n.boundsMax.z), floatBits(frame.step.x)};
+            // The bases (0 here: the GPU cache's upload writes its slot's), the other two steps.
+            out.nodes[2] = {0u, 0u, floatBits(frame.step.y), floatBits(frame.step.z)};
             continue;
         }
         glm::uvec3 lo, hi;
@@ -164,14 +160,13 @@ void checkCompactNodes(std::span<const glm::uvec4> texels, uint32_t triangleCoun
     }
 }
 
-BvhNodeGpu decodeCompactNode(const glm::uvec4& root0, const glm::uvec4& root1, const glm::uvec4& texel, bool isRoot) {
+BvhNodeGpu decodeCompactNode(const glm::uvec4 root[3], const glm::uvec4& texel, bool isRoot) {
     BvhNodeGpu n;
-    const glm::vec3 lower{bitsFloat(root0.x), bitsFloat(root0.y), bitsFloat(root0.z)};
+    const CompactFrame frame = compactFrameOfRoot(root[0], root[1], root[2]);
     if (isRoot) {
-        n.boundsMin = lower;
-        n.boundsMax = {bitsFloat(root1.x), bitsFloat(root1.y), bitsFloat(root1.z)};
+        n.boundsMin = frame.origin;
+        n.boundsMax = {bitsFloat(root[1].x), bitsFloat(root[1].y), bitsFloat(root[1].z)};
     } else {
-        const CompactFrame frame = compactFrameFromExponents(lower, root1.w);
         n.boundsMin = decodeCompactCoordinate(frame, {texel.x & 0xffffu, texel.x >> 16, texel.y & 0xffffu});
         n.boundsMax = decodeCompactCoordinate(frame, {texel.y >> 16, texel.z & 0xffffu, texel.z >> 16});
     }
@@ -185,7 +180,7 @@ void decodeCompactNodes(std::span<const glm::uvec4> texels, uint32_t triangleCou
     checkCompactNodes(texels, triangleCount);
     const size_t nodeCount = texels.size() - (CHCRT_COMPACT_ROOT_TEXELS - 1);
     for (size_t k = 0; k < nodeCount; ++k) {
-        nodes[k] = decodeCompactNode(texels[0], texels[1], texels[compactNodeTexel(uint32_t(k))], k == 0);
+        nodes[k] = decodeCompactNode(texels.data(), texels[compactNodeTexel(uint32_t(k))], k == 0);
     }
 }
 

@@ -22,11 +22,11 @@ namespace chcrt::outofcore {
 struct CompactFrame {
     glm::vec3 origin{0.0f};
     glm::vec3 step{0.0f};
-    uint32_t exponents = 0; // the three 8-bit codes as stored in the root's texel 1 .w
 };
 // The frame of a root box: the smallest steps with origin + CHCRT_COMPACT_MAX_STEPS * step >= upper (in float).
 CompactFrame compactFrame(const glm::vec3& lower, const glm::vec3& upper);
-CompactFrame compactFrameFromExponents(const glm::vec3& origin, uint32_t exponents);
+// The frame a root's texels hold (boundsMin in texel 0; steps in texel 1 .w and texel 2 .zw).
+CompactFrame compactFrameOfRoot(const glm::uvec4& root0, const glm::uvec4& root1, const glm::uvec4& root2);
 // origin + q * step per axis, as the traversal shader computes it.
 glm::vec3 decodeCompactCoordinate(const CompactFrame& frame, const glm::uvec3& q);
 // The steps of the smallest decoded box that contains [lower, upper] (each within the frame).
@@ -59,7 +59,7 @@ void encodeCompactSubtree(std::span<const BvhNodeGpu> nodes, std::span<const Tri
 // triangles within `triangleCount`): a corrupted blob must not become out-of-bounds reads, on the CPU or the GPU.
 void decodeCompactNodes(std::span<const glm::uvec4> texels, uint32_t triangleCount, BvhNodeGpu* nodes);
 // One node from its texel and its subtree's root texels (indices local, as decodeCompactNodes gives them; unchecked).
-BvhNodeGpu decodeCompactNode(const glm::uvec4& root0, const glm::uvec4& root1, const glm::uvec4& texel, bool isRoot);
+BvhNodeGpu decodeCompactNode(const glm::uvec4 root[3], const glm::uvec4& texel, bool isRoot);
 // Validates the node headers as decodeCompactNodes does, without decoding (a GPU-only read).
 void checkCompactNodes(std::span<const glm::uvec4> texels, uint32_t triangleCount);
 // Decodes triangles exactly; throws InputError for a vertex index out of range.

@@ -59,7 +59,10 @@ void SubtreeStore::evictLeastRecent() {
     lru_.pop_back();
     const Entry& entry = entries_.at(victim);
     const uint64_t bytes = entry.data->bytes();
-    if (entry.prefetchedUnused) stats_.prefetchWastedBytes += bytes;
+    if (entry.prefetchedUnused) {
+        stats_.prefetchWastedBytes += bytes;
+        unusedPrefetchBytes_ -= bytes;
+    }
     stats_.residentBytes -= bytes;
     entries_.erase(victim);
     ++stats_.evictions;
@@ -88,6 +91,7 @@ std::shared_ptr<const SubtreeData> SubtreeStore::insert(uint64_t key, std::share
     if (existing != entries_.end()) {
         if (existing->second.data->attributes || !data->attributes) return existing->second.data; // a concurrent read won
         // The entry was read for the GPU alone; this read has the attributes too and replaces it.
+        if (existing->second.prefetchedUnused) unusedPrefetchBytes_ -= existing->second.data->bytes();
         stats_.residentBytes -= existing->second.data->bytes();
         lru_.erase(existing->second.position);
         entries_.erase(existing);
@@ -100,6 +104,7 @@ std::shared_ptr<const SubtreeData> SubtreeStore::insert(uint64_t key, std::share
     while (stats_.residentBytes + bytes > budget_ && !lru_.empty()) evictLeastRecent();
     lru_.push_front(key);
     entries_[key] = {data, lru_.begin(), frame_, prefetched};
+    if (prefetched) unusedPrefetchBytes_ += bytes;
     stats_.residentBytes += bytes;
     stats_.peakResidentBytes = std::max(stats_.peakResidentBytes, stats_.residentBytes);
     return data;
@@ -119,6 +124,7 @@ std::shared_ptr<const SubtreeData> SubtreeStore::get(uint32_t subtree, uint32_t 
             if (entry.prefetchedUnused) {
                 ++stats_.prefetchHits;
                 entry.prefetchedUnused = false;
+                unusedPrefetchBytes_ -= entry.data->bytes();
             }
             entry.usedFrame = frame_;
             lru_.splice(lru_.begin(), lru_, entry.position);
@@ -136,11 +142,15 @@ void SubtreeStore::prefetch(std::span<const uint32_t> subtrees, uint64_t maxByte
     {
         const std::lock_guard lock(mutex_);
         queue_.clear();
+        // Earlier guesses that no get() has used yet count against this list's bytes: while a frame's worth of them
+        // waits unused, nothing more is read (the near path of the 140M city: guesses never used, read every frame
+        // on the CPU the frames need, until the store was full).
+        const uint64_t allowed = maxBytes > unusedPrefetchBytes_ ? maxBytes - unusedPrefetchBytes_ : 0;
         uint64_t queuedBytes = 0;
         for (uint32_t s : subtrees) {
             if (s >= file_.subtrees().size() || s == inFlight_ || entries_.count(keyOf(s, 0)) != 0) continue;
             const uint64_t bytes = file_.subtrees()[s].bytes;
-            if (bytes > maxBytes - queuedBytes) break; // nearest first: the rest waits for a later list
+            if (bytes > allowed - queuedBytes) break; // nearest first: the rest waits for a later list
             queuedBytes += bytes;
             queue_.push_back(s);
         }

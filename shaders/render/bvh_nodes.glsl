@@ -38,14 +38,13 @@ uint nodeFrameTriangles = 0u;
 uint nodeFrameVertices = 0u;
 
 void setNodeFrame(uint root, uvec4 root0, uvec4 root1) {
+    uvec4 root2 = texelFetch(bvhNodes, int(root) + 2);
     nodeFrameOrigin = uintBitsToFloat(root0.xyz);
-    uvec3 codes = (uvec3(root1.w) >> uvec3(0u, 8u, 16u)) & 0xFFu;
-    // A power-of-two step (0 on a flat axis): q * step is exact, so origin + q * step rounds once, as on the CPU.
-    nodeFrameStep = mix(ldexp(vec3(1.0f), ivec3(codes) - CHCRT_COMPACT_EXPONENT_BIAS), vec3(0.0f), equal(codes, uvec3(0u)));
-    uvec2 bases = texelFetch(bvhNodes, int(root) + 2).xy;
+    // Power-of-two steps (0 on a flat axis): q * step is exact, so origin + q * step rounds once, as on the CPU.
+    nodeFrameStep = uintBitsToFloat(uvec3(root1.w, root2.zw));
     nodeFrameRoot = root;
-    nodeFrameTriangles = bases.x;
-    nodeFrameVertices = bases.y;
+    nodeFrameTriangles = root2.x;
+    nodeFrameVertices = root2.y;
 }
 void setNodeFrame(uint root) {
     setNodeFrame(root, texelFetch(bvhNodes, int(root)), texelFetch(bvhNodes, int(root) + 1));

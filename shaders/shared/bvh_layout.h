@@ -23,13 +23,14 @@
 // to the subtree, as in the file: the traversal adds the bases its root holds, so an upload copies the file's bytes and
 // writes one texel (the root's texel 2) instead of rebasing every node and triangle.
 //   Root (3 texels, full precision; its box is also the quantization frame of the whole subtree):
-//     texel 0: bits of boundsMin.xyz, header   texel 1: bits of boundsMax.xyz, step exponents (3 x 8 bits, x lowest)
-//     texel 2: where the subtree's triangles and vertices start in their buffers (0, 0 in the file), 0, 0
+//     texel 0: bits of boundsMin.xyz, header   texel 1: bits of boundsMax.xyz, bits of step.x
+//     texel 2: where the subtree's triangles and vertices start in their buffers (0, 0 in the file), bits of step.yz
 //   Any other node (1 texel): its box as 16-bit steps from the root's boundsMin, rounded outwards, then its header:
 //     x: lo.x | lo.y << 16   y: lo.z | hi.x << 16   z: hi.y | hi.z << 16   w: header
-//     coordinate = boundsMin + q * step, step = 2^(exponent - CHCRT_COMPACT_EXPONENT_BIAS) per axis (0 for a code of
-//     0: a flat axis). A power-of-two step makes q * step exact, so the one rounding of the sum is the same with or
-//     without a fused multiply-add, and the writer checks that every decoded box contains the node's exact one.
+//     coordinate = boundsMin + q * step, step a power of two per axis (0 on a flat axis; stored as a float, so the
+//     traversal does no ldexp per root). A power-of-two step makes q * step exact, so the one rounding of the sum is
+//     the same with or without a fused multiply-add, and the writer checks that every decoded box contains the
+//     node's exact one.
 //   Header: local index (low CHCRT_COMPACT_INDEX_BITS) | triangle count << CHCRT_COMPACT_INDEX_BITS; count 0 = inner
 //     node with children at texels root + index, root + index + 1; else a leaf with triangles [index, index + count)
 //     from the subtree's first triangle.
@@ -40,7 +41,6 @@
 #define CHCRT_COMPACT_INDEX_BITS 27
 #define CHCRT_COMPACT_INDEX_MASK 0x07FFFFFFu
 #define CHCRT_COMPACT_MAX_STEPS 65535u
-#define CHCRT_COMPACT_EXPONENT_BIAS 128
 
 // Hit buffer convention of every tracer (GLSL, CPU, Embree): t = CHCRT_NO_HIT_T and triangle id
 // CHCRT_NO_HIT_ID for a miss. Ties on equal t go to the lower original triangle id.

@@ -57,7 +57,8 @@ protected:
                 // As stored, but for the root's texel 2: the slot's first triangle and vertex.
                 for (size_t k = 0; k < nodes.size(); ++k) {
                     const glm::uvec4 expected =
-                        k == 2 ? glm::uvec4(uint32_t(triBase), uint32_t(vertexBase), 0u, 0u) : d.compactNodes[k];
+                        k == 2 ? glm::uvec4(uint32_t(triBase), uint32_t(vertexBase), d.compactNodes[2].z, d.compactNodes[2].w)
+                               : d.compactNodes[k];
                     ASSERT_EQ(expected, nodes[k]) << "slot " << slot << " texel " << k;
                 }
                 ASSERT_EQ(0, std::memcmp(d.compactTriangles.data(), tris.data(), tris.size() * sizeof(glm::uvec4)));

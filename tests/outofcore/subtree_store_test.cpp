@@ -252,5 +252,33 @@ TEST(SubtreeStore, PrefetchYieldsToTheFramesSubtreesAndCountsHitsAndWaste) {
     EXPECT_LE(s.peakResidentBytes, store.budgetBytes());
 }
 
+// Guesses no get() has used count against the next lists' bytes: while a list's worth waits unused nothing more is
+// read (a walkthrough whose guesses are never used stops reading after one list), and using one makes room again.
+TEST(SubtreeStore, UnusedGuessesHoldBackFurtherPrefetches) {
+    test::ScratchDir dir;
+    const auto file = dir.file("city.chs");
+    test::prepareSmall("city:20k", file, 1000);
+    const outofcore::ChsFile chs(file);
+    ASSERT_GE(chs.header().subtreeCount, 8u);
+    outofcore::SubtreeStore store(chs, 64ull << 20); // room for all: only the rule below holds prefetches back
+    const uint64_t budget = chs.subtrees()[0].bytes + chs.subtrees()[1].bytes;
+    store.prefetch(std::vector<uint32_t>{0, 1, 2}, budget); // 0 and 1 fit the list's bytes
+    store.waitForPrefetch();
+    EXPECT_EQ(store.stats().prefetched, 2u);
+    store.advanceFrame();
+    const uint64_t later = std::max(budget, chs.subtrees()[3].bytes); // would hold subtree 3 by itself
+    store.prefetch(std::vector<uint32_t>{3, 4}, later); // 0 and 1 unused: nothing more
+    store.waitForPrefetch();
+    EXPECT_EQ(store.stats().prefetched, 2u);
+    EXPECT_FALSE(store.contains(3) || store.contains(4));
+    store.get(0); // guesses used: their bytes are free for guesses again
+    store.get(1);
+    store.prefetch(std::vector<uint32_t>{3, 4}, later);
+    store.waitForPrefetch();
+    EXPECT_GE(store.stats().prefetched, 3u);
+    EXPECT_TRUE(store.contains(3));
+    EXPECT_EQ(store.stats().prefetchHits, 2u);
+}
+
 } // namespace
 } // namespace chcrt
