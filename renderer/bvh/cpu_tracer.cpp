@@ -19,9 +19,10 @@
 // tLimit starts at ray.tmax and becomes the closest accepted t. Box tests and the pop compare against
 // pruneLimit(tLimit) (slightly beyond tLimit, shared/intersect.h) on purpose: a box entered at (or, after rounding,
 // just beyond) the closest t may hold a triangle at the same t
-// with a lower original id, which wins the tie. A hit's t is at least its triangle's bounding box entry (hitRuleT: an
-// ill-conditioned triangle can be hit at a computed t before its own box), so that no pruned box ever holds a
-// candidate at or below tLimit and the hit depends neither on the visiting order nor on the boxes. Leaves are intersected as soon as they are
+// with a lower original id, which wins the tie. A hit counts only where the ray meets its triangle's bounding box, at a
+// t no less than that box's entry (hitRule: an ill-conditioned triangle can be hit at a computed t before its own box,
+// a grazing ray can meet a triangle in a box face the slab test says it misses), so that no pruned or skipped box
+// ever holds a candidate at or below tLimit and the hit depends neither on the visiting order nor on the boxes. Leaves are intersected as soon as they are
 // reached (the paper's leaf postponing is a SIMD optimisation that changes nothing for a scalar loop).
 #include "renderer/bvh/cpu_tracer.h"
 
@@ -107,9 +108,10 @@ Hit traverse(const Bvh& bvh, const Ray& ray) {
                 const TriangleGpu& tri = bvh.triangles[i];
                 const glm::vec3 tuv = intersectRayTriangle(origin, direction, tri.v0, tri.v1, tri.v2);
                 if (!(tuv.x >= tmin && tuv.x <= best.t)) continue;
-                // The hit rule's t, as the GLSL tracers: the hit depends neither on visiting order nor on the boxes.
-                const float t = gpu::hitRuleT(tuv.x, origin, invDir, tri.v0, tri.v1, tri.v2);
-                if (acceptsHit(t, tri.originalId, tmin, ray.tmax, best)) {
+                // The hit rule, as the GLSL tracers: the hit depends neither on visiting order nor on the boxes.
+                const glm::vec2 rule = gpu::hitRule(tuv.x, tmin, origin, invDir, tri.v0, tri.v1, tri.v2);
+                const float t = rule.x;
+                if (rule.y != 0.0f && acceptsHit(t, tri.originalId, tmin, ray.tmax, best)) {
                     best.t = t;
                     best.triangleId = tri.originalId;
                     best.u = tuv.y;

@@ -7,7 +7,7 @@
 //
 // Exactness: decoded boxes contain the exact ones (the encoder rounds outwards and checks the decoded value with the
 // shader's arithmetic), so traversal visits a superset of the nodes it would visit; triangles decode bit for bit. The
-// hit rule does not depend on the boxes (shared/intersect.h, hitRuleT), so hits equal those of the full layout bit for
+// hit rule does not depend on the boxes (shared/intersect.h, hitRule), so hits equal those of the full layout bit for
 // bit (tests/outofcore/compact_subtree_test.cpp). In-core tracing of a compact file (loadPreparedScene) uses the
 // decoded boxes, so it traverses exactly what the GPU cache does.
 #include "renderer/bvh/bvh.h"

@@ -93,7 +93,8 @@ TraceHit makeMiss(float tmax) {
 }
 
 // Tests the triangles [first, first + count) of the BVH-ordered buffer against the ray, updating `best` with the
-// project's hit rule (hitRuleT's t, shared/intersect.h; lower id on equal t). Returns true when an any-hit query can stop.
+// project's hit rule (shared/intersect.h, hitRule: the triangle's bounding box met, t at least its entry; lower id on
+// equal t). Returns true when an any-hit query can stop.
 bool intersectLeaf(uint first, uint count, vec3 origin, vec3 direction, float tmin, inout TraceHit best,
                    inout TraceCost cost) {
     for (uint i = 0u; i < count && CHCRT_BELOW_ITERATION_CAP(cost); ++i) {
@@ -115,8 +116,9 @@ bool intersectLeaf(uint first, uint count, vec3 origin, vec3 direction, float tm
 #endif
         vec3 tuv = intersectRayTriangle(origin, direction, p0, p1, p2);
         if (tuv.x >= tmin && tuv.x <= best.t) {
-            float t = hitRuleT(tuv.x, origin, safeInverseDirection(direction), p0, p1, p2);
-            if (t <= best.t && (t < best.t || id < best.triangleId)) {
+            vec2 rule = hitRule(tuv.x, tmin, origin, safeInverseDirection(direction), p0, p1, p2);
+            float t = rule.x;
+            if (rule.y != 0.0f && t <= best.t && (t < best.t || id < best.triangleId)) {
                 best.t = t;
                 best.triangleId = id;
                 best.barycentrics = tuv.yz;

@@ -44,16 +44,19 @@ CHCRT_INLINE vec2 intersectRayAabb(vec3 origin, vec3 invDir, vec3 boundsMin, vec
     return vec2(tEntry, tExit);
 }
 
-// The t the hit rule gives a triangle hit at computed t `tHit`: at least the computed entry distance of the triangle's
-// own bounding box. An ill-conditioned triangle can be hit at a computed t before the boxes that hold it (seen on the
-// 1M plant: 224.27803 against a double-precision 224.283014, beyond pruneLimit's margin), and a box that one traversal
-// order prunes would then hold a hit nearer than the best t another order keeps. Every box on the triangle's path
-// contains its bounding box, and the computed entry only grows as a box shrinks (the slab test is monotone in the
-// bounds), so with the clamp no pruned box holds a candidate at or below best t: the hit depends neither on the order
-// nor on the boxes themselves (the compact layout's quantized boxes give the full layout's hits bit for bit). Only a
-// candidate (tmin <= tHit <= best t) needs it: the clamp never lowers t.
-CHCRT_INLINE float hitRuleT(float tHit, vec3 origin, vec3 invDir, vec3 v0, vec3 v1, vec3 v2) {
-    return max(tHit, intersectRayAabb(origin, invDir, min(min(v0, v1), v2), max(max(v0, v1), v2)).x);
+// The hit rule for a triangle the ray meets at computed t `tHit` (tmin <= tHit <= best t): x = its t, at least the
+// computed entry distance of the triangle's own bounding box; y = 1 when the ray meets that box by the slab test, else
+// 0 (no hit). An ill-conditioned triangle can be hit at a computed t before the boxes that hold it (seen on the 1M
+// plant: 224.27803 against a double-precision 224.283014, beyond pruneLimit's margin), and a grazing ray can meet a
+// triangle that lies in a box face while the slab test says it misses the box (the 10M city's far path: three
+// pixels). Every box on the triangle's path contains its bounding box, and the slab test is monotone in the bounds
+// (a smaller box is entered no earlier and left no later), so a triangle that passes is never pruned nor skipped,
+// in any order and whatever the boxes: the hit depends neither on the traversal order nor on the BVH (the compact
+// layout's quantized boxes give the full layout's hits bit for bit). Only a candidate needs it: the clamp never
+// lowers t.
+CHCRT_INLINE vec2 hitRule(float tHit, float tmin, vec3 origin, vec3 invDir, vec3 v0, vec3 v1, vec3 v2) {
+    vec2 box = intersectRayAabb(origin, invDir, min(min(v0, v1), v2), max(max(v0, v1), v2));
+    return vec2(max(tHit, box.x), box.x <= box.y && box.y >= tmin ? 1.0f : 0.0f);
 }
 
 // The distance up to which boxes are still visited when the closest hit so far is at bestT. A triangle inside a

@@ -551,7 +551,7 @@ TEST_F(RenderTest, RecommendedConfigurationsOfSoftwareAndHardwareRenderersEqualP
 // frame 4, the primary ray of pixel (83, 114) meets triangle 575151 at a computed t of 224.27803 (224.283014 in double
 // precision), nearer than the right answer, triangle 567924 at 224.281464, but in a leaf whose box the computed t
 // lies before. Pure BVH reached 567924 first and pruned that leaf; CHC+RT's cell list reached the leaf first and kept
-// 575151 (one differing pixel before hits' t was clamped to a box's entry: shared/intersect.h, hitRuleT).
+// 575151 (one differing pixel before hits' t was clamped to a box's entry: shared/intersect.h, hitRule).
 TEST_F(RenderTest, AHitComputedBeforeItsLeafsBoxDoesNotDependOnTheVisitingOrder) {
     RenderSettings settings;
     settings.width = 256;

@@ -105,7 +105,7 @@ TEST_F(OutOfCoreTracerTest, HitsEqualInCorePureBvhWithRoundRobinEvictions) {
 
 // The compact layout (quantized boxes, indexed triangles) gives the full layout's hits bit for bit, out of core and
 // in core (loadPreparedScene keeps the decoded boxes): the hit rule does not depend on the boxes (shared/intersect.h,
-// hitRuleT). Any-hit rays compare hit or miss (either layout may stop at another occluder).
+// hitRule). Any-hit rays compare hit or miss (either layout may stop at another occluder).
 TEST_F(OutOfCoreTracerTest, CompactLayoutGivesTheFullLayoutsHitsBitForBit) {
     test::ScratchDir dir;
     const auto compactFile = dir.file("compact.chs"), fullFile = dir.file("full.chs");
