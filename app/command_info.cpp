@@ -7,7 +7,7 @@
 #include "renderer/core/error.h"
 #include "renderer/gl/context.h"
 #include "renderer/outofcore/chs_file.h"
-#include "renderer/outofcore/compact_subtree.h"
+#include "renderer/outofcore/gpu_cache_slots.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -129,10 +129,7 @@ int runInfo(const InfoOptions& options) {
             uint64_t gpuBytes = 0;
             for (uint32_t i = 0; i < h.subtreeCount; ++i) {
                 const outofcore::ChsSubtreeRecord& r = file.subtrees()[i];
-                gpuBytes += file.compact() ? outofcore::compactNodeTexels(r.nodeCount) * 16 + uint64_t(r.triangleCount) * 16 +
-                                                 uint64_t(file.vertexCount(i)) * 12
-                                           : uint64_t(r.nodeCount) * sizeof(BvhNodeGpu) +
-                                                 uint64_t(r.triangleCount) * sizeof(TriangleGpu);
+                gpuBytes += outofcore::gpuEntryShape(r.nodeCount, r.triangleCount, file.vertexCount(i), file.compact()).bytes();
             }
             const double triangles = double(std::max<uint64_t>(h.triangleCount, 1));
             std::printf("  layout       %s: %.1f bytes per triangle in the file's subtrees, %.1f in the GPU cache\n",

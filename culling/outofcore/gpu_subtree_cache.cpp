@@ -3,7 +3,6 @@
 #include "renderer/core/aabb.h"
 #include "renderer/core/error.h"
 #include "renderer/gl/context.h"
-#include "renderer/outofcore/compact_subtree.h"
 #include "renderer/outofcore/gpu_cache_slots.h"
 #include "shaders/shared/render_layout.h"
 
@@ -112,9 +111,7 @@ GpuSubtreeCache::GpuSubtreeCache(SubtreeStore& store, const GpuCacheOptions& opt
     if (stats_.allocatedBytes > options.budgetBytes) throw std::logic_error("GPU cache allocation exceeds its budget");
 }
 
-uint32_t GpuSubtreeCache::nodeUnits(uint32_t nodes) const {
-    return compact_ ? uint32_t(compactNodeTexels(nodes)) : nodes;
-}
+uint32_t GpuSubtreeCache::nodeUnits(uint32_t nodes) const { return uint32_t(gpuEntryShape(nodes, 0, 0, compact_).nodes); }
 
 GpuSlotShape GpuSubtreeCache::shapeOf(const Pool& pool) const {
     return {pool.slotNodes, pool.slotTriangles, pool.slotVertices, compact_};
@@ -188,7 +185,7 @@ uint64_t GpuSubtreeCache::entryBytes(uint32_t level, uint32_t subtree) const {
     } else {
         nodes = file.lodRecord(subtree, level).nodeCount, triangles = file.lodRecord(subtree, level).triangleCount;
     }
-    return GpuSlotShape{nodeUnits(nodes), triangles, file.vertexCount(subtree, level), compact_}.bytes();
+    return gpuEntryShape(nodes, triangles, file.vertexCount(subtree, level), compact_).bytes();
 }
 
 void GpuSubtreeCache::upload(uint32_t level, uint32_t subtree, uint32_t slot) {

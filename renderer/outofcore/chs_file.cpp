@@ -125,7 +125,8 @@ void ChsFile::validate() {
     // Counts the header claims beyond what the subtree area could hold (every triangle takes at least its record
     // and normals, every node its record) are refused before anything is sized by them.
     const uint64_t subtreeArea = h.metaOffset - sizeof(ChsHeader);
-    const uint64_t triangleMin = compact ? chsCompactFixedBytes(0, 1, false) - 16 : sizeof(TriangleGpu) + 36;
+    const uint64_t triangleMin =
+        compact ? chsCompactFixedBytes(0, 1, false) - chsCompactFixedBytes(0, 0, false) : sizeof(TriangleGpu) + 36;
     const uint64_t nodeMin = compact ? 16 : sizeof(BvhNodeGpu);
     if (h.triangleCount > subtreeArea / triangleMin || h.nodeCount > subtreeArea / nodeMin ||
         h.maxSubtreeTriangles > subtreeArea / triangleMin || h.maxSubtreeNodes > subtreeArea / nodeMin) {

@@ -49,8 +49,7 @@ struct SubtreeData {
     }
     // The bytes read from the file for it.
     uint64_t readBytes() const {
-        const bool compact = !compactNodes.empty();
-        return (compact ? 0 : nodes.size() * sizeof(BvhNodeGpu) + triangles.size() * sizeof(TriangleGpu)) +
+        return (compact() ? 0 : nodes.size() * sizeof(BvhNodeGpu) + triangles.size() * sizeof(TriangleGpu)) +
                normals.size() * sizeof(glm::vec3) + texcoords.size() * sizeof(glm::vec2) +
                compactNodes.size() * sizeof(glm::uvec4) + compactTriangles.size() * sizeof(glm::uvec4) +
                vertices.size() * sizeof(glm::vec3) + materials.size() * sizeof(uint32_t);

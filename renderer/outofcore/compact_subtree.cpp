@@ -6,8 +6,8 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <meshoptimizer.h>
 #include <string>
-#include <unordered_map>
 
 namespace chcrt::outofcore {
 namespace {
@@ -22,18 +22,6 @@ float decodeAxis(float origin, float step, uint32_t q) { return origin + float(q
 
 uint32_t floatBits(float f) { return std::bit_cast<uint32_t>(f); }
 float bitsFloat(uint32_t u) { return std::bit_cast<float>(u); }
-
-struct VertexKey {
-    uint32_t x, y, z;
-    bool operator==(const VertexKey&) const = default;
-};
-struct VertexKeyHash {
-    size_t operator()(const VertexKey& k) const {
-        uint64_t h = (uint64_t(k.x) * 0x9E3779B97F4A7C15ull) ^ (uint64_t(k.y) * 0xC2B2AE3D27D4EB4Full) ^
-                     (uint64_t(k.z) * 0x165667B19E3779F9ull);
-        return size_t(h ^ (h >> 29));
-    }
-};
 
 [[noreturn]] void corrupted(const std::string& what) { throw InputError("corrupted compact subtree (" + what + ")"); }
 
@@ -123,22 +111,30 @@ void encodeCompactSubtree(std::span<const BvhNodeGpu> nodes, std::span<const Tri
         quantizeCompactBox(frame, n.boundsMin, n.boundsMax, lo, hi);
         out.nodes[compactNodeTexel(uint32_t(k))] = {lo.x | (lo.y << 16), lo.z | (hi.x << 16), hi.y | (hi.z << 16), header};
     }
+    std::vector<uint32_t> corner;
+    weldCorners(triangles, out.vertices, corner);
     out.triangles.resize(triangles.size());
     out.materials.resize(triangles.size());
-    out.vertices.clear();
-    std::unordered_map<VertexKey, uint32_t, VertexKeyHash> index;
-    index.reserve(triangles.size() * 2);
-    auto vertexIndex = [&](const glm::vec3& v) {
-        const VertexKey key{floatBits(v.x), floatBits(v.y), floatBits(v.z)};
-        auto [it, inserted] = index.try_emplace(key, uint32_t(out.vertices.size()));
-        if (inserted) out.vertices.push_back(v);
-        return it->second;
-    };
     for (size_t t = 0; t < triangles.size(); ++t) {
-        const TriangleGpu& tri = triangles[t];
-        const uint32_t a = vertexIndex(tri.v0), b = vertexIndex(tri.v1), c = vertexIndex(tri.v2);
-        out.triangles[t] = {a, b, c, tri.originalId};
-        out.materials[t] = tri.materialId;
+        out.triangles[t] = {corner[3 * t], corner[3 * t + 1], corner[3 * t + 2], triangles[t].originalId};
+        out.materials[t] = triangles[t].materialId;
+    }
+}
+
+void weldCorners(std::span<const TriangleGpu> triangles, std::vector<glm::vec3>& positions,
+                 std::vector<uint32_t>& cornerVertex) {
+    const size_t cornerCount = triangles.size() * 3;
+    std::vector<glm::vec3> soup(cornerCount);
+    for (size_t t = 0; t < triangles.size(); ++t) {
+        soup[t * 3] = triangles[t].v0, soup[t * 3 + 1] = triangles[t].v1, soup[t * 3 + 2] = triangles[t].v2;
+    }
+    cornerVertex.resize(cornerCount);
+    const size_t unique = cornerCount == 0 ? 0
+                                           : meshopt_generateVertexRemap(cornerVertex.data(), nullptr, cornerCount,
+                                                                         soup.data(), cornerCount, sizeof(glm::vec3));
+    positions.resize(unique);
+    if (unique != 0) {
+        meshopt_remapVertexBuffer(positions.data(), soup.data(), cornerCount, sizeof(glm::vec3), cornerVertex.data());
     }
 }
 

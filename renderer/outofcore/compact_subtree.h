@@ -54,6 +54,12 @@ struct CompactSubtree {
 // InputError when a leaf holds more than kCompactMaxLeafTriangles triangles or an index does not fit.
 void encodeCompactSubtree(std::span<const BvhNodeGpu> nodes, std::span<const TriangleGpu> triangles, CompactSubtree& out);
 
+// Welds a triangle soup on bit-equal positions (meshoptimizer's vertex remap): `positions` receives the distinct ones
+// in order of first use, cornerVertex[3t + k] the position of triangle t's vertex k. Shared by the compact layout and
+// the LOD proxies (lod_proxies.cpp).
+void weldCorners(std::span<const TriangleGpu> triangles, std::vector<glm::vec3>& positions,
+                 std::vector<uint32_t>& cornerVertex);
+
 // Decodes node texels into the full layout with the decoded (conservative) boxes: `nodes` receives texels.size() - 2
 // nodes. Throws InputError for a header out of range (children after their parent and within the subtree, leaves'
 // triangles within `triangleCount`): a corrupted blob must not become out-of-bounds reads, on the CPU or the GPU.

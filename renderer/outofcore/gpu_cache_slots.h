@@ -1,6 +1,8 @@
 #pragma once
 // How many slots the GPU subtree cache (culling/outofcore/gpu_subtree_cache.h) allocates for a budget: pure
 // arithmetic, so that the limits can be tested without a GPU that has them.
+#include "shaders/shared/bvh_layout.h"
+
 #include <cstdint>
 
 namespace chcrt::outofcore {
@@ -31,6 +33,11 @@ struct GpuSlotShape {
     uint64_t nodeTexels() const { return nodes * (compact ? 1 : 2); }
     uint64_t triangleTexels() const { return triangles * (compact ? 1 : 3); }
 };
+// The shape of one subtree (or proxy) of `nodes` nodes, `triangles` triangles and `vertices` distinct vertices
+// (compact files) in the cache: a compact subtree's nodes take their count + 2 texels (its root takes three).
+inline GpuSlotShape gpuEntryShape(uint64_t nodes, uint64_t triangles, uint64_t vertices, bool compact) {
+    return {compact ? nodes + CHCRT_COMPACT_ROOT_TEXELS - 1 : nodes, triangles, compact ? vertices : 0, compact};
+}
 // Slots of that shape: as many as `budgetBytes` holds, at most one per subtree, at most what one texture buffer
 // addresses, and, where GPU memory is reported, within three quarters of it. 0 when the budget holds no slot.
 uint64_t gpuCacheSlots(uint64_t budgetBytes, const GpuSlotShape& shape, uint64_t subtrees, const GpuCacheLimits& limits);

@@ -1,5 +1,7 @@
 #include "renderer/outofcore/lod_proxies.h"
 
+#include "renderer/outofcore/compact_subtree.h"
+
 #include <meshoptimizer.h>
 
 #include <algorithm>
@@ -20,16 +22,9 @@ struct WeldedSoup {
 
 WeldedSoup weld(const std::vector<TriangleGpu>& triangles) {
     const size_t cornerCount = triangles.size() * 3;
-    std::vector<glm::vec3> soup(cornerCount);
-    for (size_t t = 0; t < triangles.size(); ++t) {
-        soup[t * 3] = triangles[t].v0, soup[t * 3 + 1] = triangles[t].v1, soup[t * 3 + 2] = triangles[t].v2;
-    }
     WeldedSoup w;
-    w.cornerVertex.resize(cornerCount);
-    const size_t unique = meshopt_generateVertexRemap(w.cornerVertex.data(), nullptr, cornerCount, soup.data(),
-                                                      cornerCount, sizeof(glm::vec3));
-    w.positions.resize(unique);
-    meshopt_remapVertexBuffer(w.positions.data(), soup.data(), cornerCount, sizeof(glm::vec3), w.cornerVertex.data());
+    weldCorners(triangles, w.positions, w.cornerVertex);
+    const size_t unique = w.positions.size();
     w.cornerBegin.assign(unique + 1, 0);
     for (uint32_t v : w.cornerVertex) ++w.cornerBegin[v + 1];
     for (size_t v = 0; v < unique; ++v) w.cornerBegin[v + 1] += w.cornerBegin[v];
