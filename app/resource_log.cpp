@@ -12,7 +12,11 @@ nlohmann::json resourcesJson(const ProcessResources& process, const GlObjectCoun
     nlohmann::json objects = nlohmann::json::object();
     for (const auto& [name, count] : gl.named()) objects[name] = count;
     objects["total"] = gl.total();
-    return {{"rss_mb", double(process.residentBytes) / double(1u << 20)},
+    constexpr double kMiB = double(1u << 20);
+    return {{"rss_mb", double(process.residentBytes) / kMiB},
+            {"rss_anon_mb", double(process.residentAnonBytes) / kMiB},
+            {"rss_file_mb", double(process.residentFileBytes) / kMiB},
+            {"heap_in_use_mb", double(process.heapInUseBytes) / kMiB},
             {"open_files", process.openFiles},
             {"threads", process.threads},
             {"gl_objects", objects}};

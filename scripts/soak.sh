@@ -69,10 +69,14 @@ changed = [s for s in after if counts(s) != counts(ref(s))]
 w, e = after[0], after[-1]
 end = (e["rss_mb"] - ref(e)["rss_mb"]) / ref(e)["rss_mb"] * 100
 note = "; counts changed at frame %d" % changed[0]["frame"] if changed else ""
+# What malloc has handed out, beside the resident memory: a growth of both is live memory, of the resident alone
+# fragmentation or memory mapped outside malloc.
+heap = max(s["heap_in_use_mb"] - ref(s)["heap_in_use_mb"] for s in after) if "heap_in_use_mb" in w else float("nan")
 print(f"{name}: {e['frame'] + 1} frames; RSS {w['rss_mb']:.1f} MB at frame {w['frame']}, {e['rss_mb']:.1f} MB at the end "
       f"({end:+.2f} % against frame {ref(e)['frame']}); drift {drift:.2f} %; GL objects {w['gl_objects']['total']} -> "
       f"{e['gl_objects']['total']}, open files {w['open_files']} -> {e['open_files']}, threads {w['threads']} -> "
-      f"{e['threads']}{note}")
+      f"{e['threads']}; heap in use {w.get('heap_in_use_mb', float('nan')):.1f} MB, at most {heap:+.2f} MB over its "
+      f"reference{note}")
 sys.exit(1 if drift >= 1.0 or changed else 0)
 EOF
 }

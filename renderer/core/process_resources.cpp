@@ -3,12 +3,41 @@
 #include <cstdio>
 #include <cstring>
 #include <dirent.h>
+#include <dlfcn.h>
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif
 #include <unistd.h>
 
 namespace chcrt {
+namespace {
+
+// jemalloc's control interface when jemalloc is the process's malloc (`LD_PRELOAD=libjemalloc.so.2`, as the
+// allocator comparisons of docs/robustness.md "Long runs" ran), looked up rather than linked; null under glibc's.
+using Mallctl = int (*)(const char*, void*, size_t*, void*, size_t);
+Mallctl jemallocControl() {
+    static const auto mallctl = reinterpret_cast<Mallctl>(::dlsym(RTLD_DEFAULT, "mallctl"));
+    return mallctl;
+}
+
+uint64_t heapInUse() {
+    if (const Mallctl mallctl = jemallocControl()) {
+        uint64_t epoch = 1;
+        size_t size = sizeof epoch;
+        mallctl("epoch", &epoch, &size, &epoch, size); // refreshes the statistics
+        size_t allocated = 0;
+        size = sizeof allocated;
+        return mallctl("stats.allocated", &allocated, &size, nullptr, 0) == 0 ? allocated : 0;
+    }
+#if defined(__GLIBC__)
+    const struct mallinfo2 info = ::mallinfo2();
+    return info.uordblks + info.hblkhd;
+#else
+    return 0;
+#endif
+}
+
+} // namespace
 
 ProcessResources sampleProcessResources() {
     ProcessResources r;
@@ -19,6 +48,17 @@ ProcessResources sampleProcessResources() {
         }
         std::fclose(f);
     }
+    if (FILE* f = std::fopen("/proc/self/status", "r")) {
+        char line[256];
+        unsigned long long kb = 0;
+        while (std::fgets(line, sizeof line, f)) {
+            if (std::sscanf(line, "RssAnon: %llu kB", &kb) == 1) r.residentAnonBytes = kb << 10;
+            else if (std::sscanf(line, "RssFile: %llu kB", &kb) == 1) r.residentFileBytes += kb << 10;
+            else if (std::sscanf(line, "RssShmem: %llu kB", &kb) == 1) r.residentFileBytes += kb << 10;
+        }
+        std::fclose(f);
+    }
+    r.heapInUseBytes = heapInUse();
     if (DIR* d = ::opendir("/proc/self/fd")) {
         int entries = 0;
         while (const dirent* e = ::readdir(d)) {
@@ -47,6 +87,12 @@ ProcessResources sampleProcessResources() {
 }
 
 void releaseFreedMemory() {
+    // jemalloc: "arena.<MALLCTL_ARENAS_ALL>.purge" (4096 in jemalloc 5) returns every arena's unused dirty pages now
+    // instead of after their decay time.
+    if (const Mallctl mallctl = jemallocControl()) {
+        mallctl("arena.4096.purge", nullptr, nullptr, nullptr, 0);
+        return;
+    }
 #if defined(__GLIBC__)
     ::malloc_trim(0);
 #endif

@@ -9,7 +9,7 @@ chcrt_add_library(chcrt_core
   core/process_resources.cpp
   scene/camera_path.cpp # header-only dependency on scene.h (Camera); kept here so it builds alone
 )
-target_link_libraries(chcrt_core PUBLIC Threads::Threads PRIVATE PkgConfig::STB tinyexr::tinyexr nlohmann_json::nlohmann_json)
+target_link_libraries(chcrt_core PUBLIC Threads::Threads PRIVATE ${CMAKE_DL_LIBS} PkgConfig::STB tinyexr::tinyexr nlohmann_json::nlohmann_json)
 # Private: only image_io.cpp and the codecs see which codec the build has (so the travelling build, docs/gpu.md,
 # compiles every other file exactly as the normal one and ccache reuses them); imageCodecName() tells the rest.
 if(CHCRT_WITH_OIIO)

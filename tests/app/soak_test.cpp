@@ -16,6 +16,7 @@ namespace {
 using namespace chcrt::clitest;
 
 constexpr int kFrames = 500, kWarmup = 50, kEvery = 25;
+constexpr double kFileBackedSlackMb = 8;
 
 // An orbit at street level around the centre of city:20k (bounds ±167 × 0..68 × ±174), one lap per 300 frames.
 std::string orbitPath() {
@@ -40,7 +41,13 @@ std::vector<nlohmann::json> readLines(const fs::path& file) {
     return lines;
 }
 
-// After the warm-up: resident memory within 1 % of the warm-up sample, the same open files, threads and GL objects.
+// After the warm-up: anonymous resident memory (heaps and anonymous maps: what a leak grows) within 1 % of the
+// warm-up sample, the same open files, threads and GL objects. Resident pages of mapped files (the libraries' code,
+// ~144 MB of the ~238 MB here, libLLVM's most) are the kernel's to map: a page fault maps its neighbours too where
+// they are in the page cache ("fault-around"), so what other processes ran decides part of it. A CI run of this test
+// beside others stepped by 4.2 MB (1.8 % of all resident memory, which was all it recorded then) between frames 50
+// and 75 and was flat after; ten runs here, alone and beside other tests, did not reproduce it. The file-backed part
+// may move by kFileBackedSlackMb.
 // `queryGrowth`: out of core, CHC+RT's pool of subtree-pass timers (two queries each, culling/chcrt_tracer.cpp
 // beginPassTimer) grows to the most cache rounds one trace has needed so far, which this walkthrough reaches after the
 // warm-up: queries may grow by that much, and never shrink.
@@ -54,9 +61,12 @@ void expectFlat(const std::vector<nlohmann::json>& samples, int frames, int quer
             EXPECT_GT(s["gl_objects"]["total"].get<int>(), 0);
             continue;
         }
-        const double rss = s["rss_mb"].get<double>(), rss0 = (*warm)["rss_mb"].get<double>();
-        EXPECT_LT(std::abs(rss - rss0) / rss0, 0.01) << "frame " << s["frame"] << ": " << rss << " MB, " << rss0
-                                                   << " MB at frame " << (*warm)["frame"];
+        const double anon = s["rss_anon_mb"].get<double>(), anon0 = (*warm)["rss_anon_mb"].get<double>();
+        EXPECT_LT(std::abs(anon - anon0) / anon0, 0.01) << "frame " << s["frame"] << ": " << anon << " MB anonymous, "
+                                                      << anon0 << " MB at frame " << (*warm)["frame"];
+        const double file = s["rss_file_mb"].get<double>(), file0 = (*warm)["rss_file_mb"].get<double>();
+        EXPECT_LT(std::abs(file - file0), kFileBackedSlackMb) << "frame " << s["frame"] << ": " << file
+                                                              << " MB of files, " << file0 << " MB at the warm-up";
         nlohmann::json objects = s["gl_objects"], warmObjects = (*warm)["gl_objects"];
         const int queries = objects["queries"].get<int>(), warmQueries = warmObjects["queries"].get<int>();
         EXPECT_GE(queries, warmQueries) << "frame " << s["frame"];

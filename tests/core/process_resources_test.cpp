@@ -33,6 +33,11 @@ TEST(ProcessResources, FollowMemoryDescriptorsAndThreads) {
     });
     const ProcessResources during = sampleProcessResources();
     EXPECT_GE(during.residentBytes, before.residentBytes + kBytes * 9 / 10);
+    EXPECT_GE(during.residentAnonBytes, before.residentAnonBytes + kBytes * 9 / 10); // a heap block: anonymous
+    EXPECT_GE(during.heapInUseBytes, before.heapInUseBytes + kBytes);
+    EXPECT_LT(during.residentFileBytes, before.residentFileBytes + kBytes / 10);
+    // VmRSS is the sum of the two parts (read a moment apart: a page or two may differ).
+    EXPECT_NEAR(double(during.residentAnonBytes + during.residentFileBytes), double(during.residentBytes), 1 << 20);
     EXPECT_EQ(during.openFiles, before.openFiles + 1);
     EXPECT_EQ(during.threads, before.threads + 1);
     {
@@ -46,6 +51,7 @@ TEST(ProcessResources, FollowMemoryDescriptorsAndThreads) {
     (void)keep;
     block.reset();
     const ProcessResources after = sampleProcessResources();
+    EXPECT_LT(after.heapInUseBytes, during.heapInUseBytes - kBytes / 2);
     EXPECT_EQ(after.openFiles, before.openFiles);
     EXPECT_EQ(after.threads, before.threads);
 }
