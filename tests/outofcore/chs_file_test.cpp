@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 #include <fstream>
@@ -199,6 +200,53 @@ TEST(ChsFile, BlobsAreVerifiedOnFirstReadAndAgainAfterTheFileChanges) {
         overwriteByte(file, triangleAt, char(test::readBytes(file)[triangleAt] ^ 0x10));
         EXPECT_THROW(chs.readSubtree(1, 0, d, false), InputError);
         EXPECT_THROW(chs.readSubtree(1), InputError);
+    }
+}
+
+// The primary resolve's read of a few triangles (ChsFile::readTriangles, gathered reads) gives what the whole
+// subtree's read gives for them, whatever their order, spacing and repetition; an index out of the subtree or a blob
+// not verified yet answers false.
+TEST(ChsFile, TrianglesReadByIndexEqualTheWholeSubtrees) {
+    for (const bool compact : {true, false}) {
+        SCOPED_TRACE(compact ? "compact layout" : "full layout");
+        test::ScratchDir dir;
+        const auto file = dir.file("city.chs");
+        test::prepareSmall("city:20k", file, 1000, 256ull << 20, compact);
+        const ChsFile chs(file);
+        std::vector<TriangleGpu> triangles;
+        std::vector<glm::vec3> normals;
+        const std::vector<uint32_t> one = {0};
+        EXPECT_FALSE(chs.readTriangles(0, one, triangles.data(), normals.data())) << "not verified yet";
+        std::mt19937 rng(3);
+        for (uint32_t i = 0; i < chs.header().subtreeCount; ++i) {
+            const outofcore::SubtreeData whole = chs.readSubtree(i);
+            const auto n = uint32_t(whole.triangleCount());
+            std::vector<std::vector<uint32_t>> sets = {{0}, {n - 1}, {n - 1, 0}, {5 % n, 5 % n, 5 % n}};
+            std::vector<uint32_t> all(n);
+            for (uint32_t k = 0; k < n; ++k) all[k] = k;
+            sets.push_back(all);
+            std::shuffle(all.begin(), all.end(), rng);
+            sets.push_back(all);                                   // every triangle, in any order
+            sets.emplace_back(all.begin(), all.begin() + n / 10); // a scattered tenth
+            std::vector<uint32_t> strided;                         // runs broken by gaps beyond one read
+            for (uint32_t k = 0; k < n; k += 300) strided.push_back(k);
+            sets.push_back(strided);
+            for (const std::vector<uint32_t>& locals : sets) {
+                triangles.assign(locals.size(), TriangleGpu{});
+                normals.assign(3 * locals.size(), glm::vec3(0.0f));
+                ASSERT_TRUE(chs.readTriangles(i, locals, triangles.data(), normals.data()));
+                for (size_t k = 0; k < locals.size(); ++k) {
+                    const TriangleGpu expected = whole.triangle(locals[k]);
+                    ASSERT_EQ(std::memcmp(&triangles[k], &expected, sizeof expected), 0)
+                        << "subtree " << i << ", triangle " << locals[k];
+                    ASSERT_EQ(std::memcmp(&normals[3 * k], &whole.normals[3 * size_t(locals[k])], 3 * sizeof(glm::vec3)),
+                              0);
+                }
+            }
+            const std::vector<uint32_t> beyond = {0, n};
+            triangles.resize(2), normals.resize(6);
+            EXPECT_FALSE(chs.readTriangles(i, beyond, triangles.data(), normals.data()));
+        }
     }
 }
 
