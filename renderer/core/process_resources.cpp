@@ -9,6 +9,18 @@
 #endif
 #include <unistd.h>
 
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define CHCRT_ASAN_MALLOC 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__)
+#define CHCRT_ASAN_MALLOC 1
+#endif
+#if defined(CHCRT_ASAN_MALLOC)
+#include <sanitizer/allocator_interface.h>
+#endif
+
 namespace chcrt {
 namespace {
 
@@ -29,7 +41,9 @@ uint64_t heapInUse() {
         size = sizeof allocated;
         return mallctl("stats.allocated", &allocated, &size, nullptr, 0) == 0 ? allocated : 0;
     }
-#if defined(__GLIBC__)
+#if defined(CHCRT_ASAN_MALLOC) // the sanitizer builds' malloc is AddressSanitizer's, not glibc's
+    return __sanitizer_get_current_allocated_bytes();
+#elif defined(__GLIBC__)
     const struct mallinfo2 info = ::mallinfo2();
     return info.uordblks + info.hblkhd;
 #else
