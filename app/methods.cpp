@@ -28,6 +28,7 @@ void aggressiveDefaults(CommonOptions& d, const CommonOptions&, uint64_t) {
 void recommendedChcrtDefaults(CommonOptions& d, const CommonOptions& user, uint64_t) {
     if (user.outOfCoreScene.enabled) {
         d.chcrt.queries = ChcrtQueries::Batched;
+        d.chcrt.cellIntersect = true;
         return;
     }
     d.chcrt = recommendedChcrtOptions();

@@ -446,6 +446,10 @@ std::vector<Parameter> describeChcrt() {
                  "CHC+RT: traverse a batch's subtrees as one traversal instead of one after another")
             .checkbox("merged batches", true)
             .onOff(FIELD(chcrt.mergedBatch)),
+        Describe(Area::Chcrt, "--chcrt-cell-intersect", "chcrtCellIntersect",
+                 "CHC+RT batched: trace each intersection round in one cell pass instead of per-tile subtree passes")
+            .checkbox("cell intersection")
+            .onOff(FIELD(chcrt.cellIntersect)),
         Describe(Area::Chcrt, "--chcrt-ray-extent", "chcrtRayExtent",
                  "CHC+RT: skip pairs out of reach of their tile's bounded rays")
             .checkbox("ray extent culling")

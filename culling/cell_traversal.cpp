@@ -24,6 +24,9 @@ const ShaderProgram& CellTraversal::program(bool anyHit, const std::string& debu
     defines.push_back({"TRACE_ANY_HIT", anyHit ? "1" : "0"});
     if (visited) defines.push_back({"CHCRT_CULLING_HINTS_VISITED", "1"});
     if (!debugDefine.empty()) defines.push_back({debugDefine, "1"});
+    // The subtree-id image comes with the hit triangle's buffer index, as from the subtree passes (the out-of-core
+    // primary resolve reads both: culling/outofcore/primary_resolve.h).
+    if (debugDefine == "CHCRT_CULLING_DEBUG_SUBTREES") defines.push_back({"CHCRT_HIT_TRIANGLE_INDEX", "1"});
     if (compute() && !compacted) defines.push_back({"CHCRT_CELL_SIZE", std::to_string(computeCellSize_)});
     ShaderProgram program =
         compacted   ? ShaderProgram({{GL_COMPUTE_SHADER, "culling/chcrt_cells_compact.comp.glsl"}}, defines)

@@ -287,8 +287,10 @@ std::vector<ShaderDefine> ChcrtTracer::subtreeDefines(bool anyHit) const {
 
 void ChcrtTracer::compilePrograms() {
     const bool bounded = decidesByBounds(options_.queries);
-    if ((options_.rayExtentCulling || bounded) && !rayExtent_) rayExtent_ = std::make_unique<RayBoundsGrid>(options_.bounds);
-    if (bounded && !cells_) {
+    if ((options_.rayExtentCulling || bounded || intersectsByCells()) && !rayExtent_) {
+        rayExtent_ = std::make_unique<RayBoundsGrid>(options_.bounds);
+    }
+    if ((bounded || intersectsByCells()) && !cells_) {
         // Cells over the list limit traverse the whole BVH: a stack as deep as the pure tracer's.
         // (The GPU's lists send a cell over CHCRT_CULLING_GPU_LIST_MAX subtrees there whatever the limit.)
         const bool wholeTree =
@@ -583,6 +585,11 @@ void ChcrtTracer::readPixelsOf(const Tile& tile) {
 
 void ChcrtTracer::intersect(std::vector<Scheduled>& work, bool anyHit) {
     if (work.empty()) return;
+    if (intersectsByCells()) {
+        intersectCells(work, anyHit, *traceRays_, *traceHits_, !cellRoundRun_, false, traceWidth_, traceHeight_);
+        cellRoundRun_ = true;
+        return;
+    }
     // §5.2 by-tile sorting: subtrees of the same tile share shader calls, nearest first within the tile.
     std::sort(work.begin(), work.end(), [](const Scheduled& a, const Scheduled& b) {
         if (a.tile.y != b.tile.y) return a.tile.y < b.tile.y;
@@ -891,6 +898,7 @@ bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& ra
     VisibilityState& state = stateFor(request, width, height);
     const bool warm = state.frame() > 0;
     auto start = Clock::now();
+    traceRays_ = &rays, traceHits_ = &hits, traceWidth_ = width, traceHeight_ = height, cellRoundRun_ = false;
     beginTrace(rays, hits, width, height);
     // Where the rays can reach (culling/ray_bounds_grid.h), for skipping pairs out of reach in every phase. Primary
     // rays reach the whole view until they hit, so before Phase 1 they need no reduction.

@@ -101,6 +101,11 @@ struct ChcrtOptions {
     // loop per subtree (our change for llvmpipe, culling/README.md "Merged batch traversal"; same hits). Not with the
     // leaf cache or Line Space traversal, which keep the loop per subtree.
     bool mergedBatch = true;
+    // Batched queries: each intersection round's (tile, subtree) pairs are traced in one cell pass (the lists of
+    // BoundsOnly, culling/cell_traversal.h: every cell of a pair's tile that its rays may reach lists the subtree)
+    // instead of per-tile subtree passes of batchSize subtrees. Same pairs, same hits; one draw per round and
+    // residency round instead of one per tile and batch (out of core, the 140M city's near path: ~200 AO passes).
+    bool cellIntersect = false;
     // Gl queries: pairs out of reach of every ray of their tile are invisible without a query, and such visible
     // leaves are not intersected (our addition; culling/ray_bounds_grid.h). Exact. BoundsOnly always uses the grid.
     bool rayExtentCulling = true;
@@ -312,6 +317,7 @@ private:
     GLuint acquireQuery();
     void schedule(const VisibilityState& state, int32_t pair, std::vector<Scheduled>& out) const;
     void intersect(std::vector<Scheduled>& work, bool anyHit);
+    bool intersectsByCells() const { return options_.cellIntersect && options_.queries == ChcrtQueries::Batched; }
     void drawBatches(const std::vector<Scheduled>& work, bool anyHit);
     void readPixelsOf(const Tile& tile); // barrier when `tile` overlaps pixels stored since the last one
     void processResult(VisibilityState& state, const PendingQuery& pending, GLuint samples,
@@ -427,6 +433,12 @@ private:
     std::unique_ptr<BatchedQueries> batched_; // options_.queries == Batched
     std::vector<PendingQuery> batch_;         // Batched: the pairs of the next round (no query objects)
     std::vector<Tile> dirtyTiles_; // tiles whose hit-image stores no barrier has published yet
+    // The trace in progress, for intersection rounds by cells (intersectsByCells): its rays, hits, size, and whether
+    // a round has run (later rounds of any-hit rays trace only the rays still without a hit).
+    const RayTextures* traceRays_ = nullptr;
+    HitTargets* traceHits_ = nullptr;
+    int traceWidth_ = 0, traceHeight_ = 0;
+    bool cellRoundRun_ = false;
     Mode mode_ = Mode::None;
     glm::vec3 eye_{0.0f};
     ChcrtStats last_, total_;

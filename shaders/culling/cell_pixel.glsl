@@ -7,7 +7,8 @@
 // Host defines: TRACE_ANY_HIT (0 | 1), CHCRT_SUBTREE_STACK (traversal stack entries: the partition's maximum
 // subtree height + 1, §5.2), CHCRT_CULLING_DEBUG_SUBTREES / _BATCHES / _COST (debug images, as the subtree pass
 // of culling/chcrt_subtrees.frag.glsl: 1 + id of the subtree that changed the hit last / subtrees listed for the
-// pixel / traversal steps, bit 31 = capped), CHCRT_CULLING_HINTS (1: visit the ray's hinted leaf first, and record
+// pixel / traversal steps, bit 31 = capped; with the subtree ids also the hit triangle's buffer index, as there),
+// CHCRT_CULLING_HINTS (1: visit the ray's hinted leaf first, and record
 // the leaf of every hit this pass finds in the ray set's hint image: for closest-hit rays the leaf of the nearest),
 // CHCRT_CULLING_HINTS_VISITED (1: the hint pass visited every ray's hint before this pass, so the visit is not
 // compiled: a variant, not a uniform, because llvmpipe runs both sides of every branch for each SIMD group —
@@ -45,6 +46,9 @@ uniform int cellSize;
 
 #ifdef CHCRT_CULLING_DEBUG_SUBTREES
 layout(binding = CHCRT_UNIT_CULLING_CELL_IDS) uniform usamplerBuffer cellIds;
+#ifdef CHCRT_HIT_TRIANGLE_INDEX
+layout(binding = CHCRT_CULLING_IMAGE_HIT_TRIANGLE, r32ui) uniform writeonly uimage2D hitTriangleImage;
+#endif
 uint changedBy = 0u; // 1 + the subtree id of the listed root whose traversal last changed the hit
 #endif
 #if defined(CHCRT_CULLING_DEBUG_SUBTREES) || CHCRT_CULLING_HINTS
@@ -128,6 +132,9 @@ void traceCellPixel(ivec2 pixel, int cellIndex) {
     }
 #ifdef CHCRT_CULLING_DEBUG_SUBTREES
     imageStore(debugImage, pixel, uvec4(changedBy));
+#ifdef CHCRT_HIT_TRIANGLE_INDEX
+    imageStore(hitTriangleImage, pixel, uvec4(best.triangleIndex));
+#endif
 #endif
     imageStore(hitImage, pixel, uvec4(floatBitsToUint(best.t), best.triangleId, floatBitsToUint(best.barycentrics)));
 #if CHCRT_CULLING_HINTS

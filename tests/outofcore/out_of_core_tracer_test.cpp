@@ -28,7 +28,8 @@ uint64_t sceneGpuBytes(const outofcore::ChsFile& file) {
     return bytes;
 }
 
-void runExactness(outofcore::CachePolicy policy, ChcrtQueries queries = ChcrtQueries::Gl, bool compact = true) {
+void runExactness(outofcore::CachePolicy policy, ChcrtQueries queries = ChcrtQueries::Gl, bool compact = true,
+                  bool cellIntersect = false) {
     test::ScratchDir dir;
     const auto file = dir.file("city.chs");
     test::prepareSmall("city:60k", file, 1000, 256ull << 20, compact);
@@ -48,6 +49,7 @@ void runExactness(outofcore::CachePolicy policy, ChcrtQueries queries = ChcrtQue
     ChcrtOptions chcrt;
     chcrt.pairs.minTileSize = 16;
     chcrt.queries = queries;
+    chcrt.cellIntersect = cellIntersect;
     outofcore::OutOfCoreTracer tracer(file, options, chcrt);
     ASSERT_LE(tracer.cache().stats().allocatedBytes, options.gpuCacheBytes);
     ASSERT_GE(tracer.cache().slotCount(), 1u);
@@ -87,6 +89,8 @@ void runExactness(outofcore::CachePolicy policy, ChcrtQueries queries = ChcrtQue
     const outofcore::OutOfCoreStats s = tracer.snapshot();
     if (queries == ChcrtQueries::Gl) EXPECT_GT(s.queries, 0u);
     else EXPECT_GT(tracer.chcrt().totalStats().pairsTestedBatched, 0u);
+    // Intersected by cell passes, or by per-tile subtree passes: never both.
+    EXPECT_EQ(tracer.chcrt().totalStats().cellsDrawn > 0, cellIntersect);
     EXPECT_EQ(s.uploadedBvhBytes + s.uploadedGeometryBytes, c.uploadedNodeBytes + c.uploadedTriangleBytes);
     // The file holds LOD proxies (prepare's default); an exact tracer never serves one (issue #19).
     ASSERT_GT(tracer.file().lodLevels(), 0u);
@@ -173,9 +177,15 @@ TEST_F(OutOfCoreTracerTest, CompactLayoutGivesTheFullLayoutsHitsBitForBit) {
     EXPECT_GT(hits, 10000u);
 }
 
-// Batched queries: the out-of-core default of the chcrt methods (app/methods.cpp).
+// Batched queries, with per-tile subtree passes and with each round in one cell pass (the out-of-core default of the
+// chcrt methods, app/methods.cpp).
 TEST_F(OutOfCoreTracerTest, HitsEqualInCorePureBvhWithBatchedQueries) {
     runExactness(outofcore::CachePolicy::Lru, ChcrtQueries::Batched);
+}
+
+TEST_F(OutOfCoreTracerTest, HitsEqualInCorePureBvhWithBatchedQueriesIntersectedByCells) {
+    runExactness(outofcore::CachePolicy::Lru, ChcrtQueries::Batched, true, true);
+    runExactness(outofcore::CachePolicy::RoundRobin, ChcrtQueries::Batched, false, true);
 }
 
 // The viewer's streaming (--uploads-per-trace): a trace that may upload only 2 subtrees leaves the rest for later
@@ -272,7 +282,7 @@ constexpr uint64_t kWholeScene = 256ull << 20;
 // hostCacheBytes: a store that holds every subtree (the resolve looks triangles up in the subtrees it holds) or one
 // of 1 MB (~10 of the file's 60 subtrees: the resolve reads the hit triangles one by one, through the hit triangle
 // image).
-void runPrimaryResolve(uint64_t denseSpanFactor, uint64_t hostCacheBytes) {
+void runPrimaryResolve(uint64_t denseSpanFactor, uint64_t hostCacheBytes, const ChcrtOptions& chcrt = ChcrtOptions{}) {
     test::ScratchDir dir;
     const auto file = dir.file("city.chs");
     test::prepareSmall("city:60k", file, 1000);
@@ -288,9 +298,9 @@ void runPrimaryResolve(uint64_t denseSpanFactor, uint64_t hostCacheBytes) {
         const outofcore::ChsFile chs(file);
         options.gpuCacheBytes = sceneGpuBytes(chs) / 15;
     }
-    outofcore::OutOfCoreTracer tracer(file, options, ChcrtOptions{});
+    outofcore::OutOfCoreTracer tracer(file, options, chcrt);
     outofcore::PrimaryResolve resolve(tracer, denseSpanFactor);
-    uint64_t subtreesByTriangles = 0;
+    uint64_t subtreesByTriangles = 0, laterSubtreesRead = 0;
     const float nearPlane = nearPlaneFor(loaded.scene.bounds());
     ProceduralSpec spec;
     ASSERT_TRUE(parseProceduralSpec(loaded.source, spec));
@@ -315,6 +325,7 @@ void runPrimaryResolve(uint64_t denseSpanFactor, uint64_t hostCacheBytes) {
         resolve.resolve(camera, t, nearPlane);
         EXPECT_EQ(resolve.lastStats().unresolvedPixels, 0u);
         subtreesByTriangles += resolve.lastStats().subtreesByTriangles;
+        if (frame > 0) laterSubtreesRead += resolve.lastStats().subtreesRead;
         const auto position2 = readRgba32f(t.gbufferPosition.id(), w, h);
         const auto normal2 = readRgba32f(t.gbufferNormal.id(), w, h);
         const auto albedo2 = readRgba32f(t.gbufferAlbedo.id(), w, h);
@@ -330,6 +341,7 @@ void runPrimaryResolve(uint64_t denseSpanFactor, uint64_t hostCacheBytes) {
     }
     EXPECT_GT(hitPixels, uint64_t(w) * h);
     EXPECT_GT(tracer.cache().stats().evictions, 0u);
+    EXPECT_EQ(tracer.chcrt().totalStats().cellsDrawn > 0, chcrt.cellIntersect && chcrt.queries == ChcrtQueries::Batched);
     // The lookup the test covered: dense id tables (the default for compact ids), scans of the subtrees, or the hit
     // triangles read one by one (subtrees the store does not hold; not in frame 0, whose reads verify the blobs).
     const outofcore::PrimaryResolveStats& last = resolve.lastStats();
@@ -344,6 +356,9 @@ void runPrimaryResolve(uint64_t denseSpanFactor, uint64_t hostCacheBytes) {
     } else {
         EXPECT_GT(last.subtreesByTriangles, 0u);
         EXPECT_GT(last.trianglesRead, 0u);
+        // After frame 0 most subtrees come from their hit triangles: the hit triangle image names them (a stale or
+        // missing image sends a subtree back to the whole read when the triangle's id is not the pixel's).
+        EXPECT_GT(2 * subtreesByTriangles, laterSubtreesRead);
     }
 }
 
@@ -357,6 +372,15 @@ TEST_F(OutOfCoreTracerTest, PrimaryResolveByScanningSubtreesMatchesTheInCoreTrac
 
 TEST_F(OutOfCoreTracerTest, PrimaryResolveReadingHitTrianglesMatchesTheInCoreTracedGBuffer) {
     runPrimaryResolve(outofcore::PrimaryResolve::kDefaultDenseSpanFactor, 1ull << 20);
+}
+
+// The same through cell passes, which write the subtree and hit triangle images too (culling/cell_pixel.glsl).
+TEST_F(OutOfCoreTracerTest, PrimaryResolveFromCellPassesMatchesTheInCoreTracedGBuffer) {
+    ChcrtOptions chcrt;
+    chcrt.queries = ChcrtQueries::Batched;
+    chcrt.cellIntersect = true;
+    runPrimaryResolve(outofcore::PrimaryResolve::kDefaultDenseSpanFactor, 1ull << 20, chcrt);
+    runPrimaryResolve(outofcore::PrimaryResolve::kDefaultDenseSpanFactor, kWholeScene, chcrt);
 }
 
 // A renderer WITHOUT the scene (geometry-free proxy) and out-of-core primary visibility
