@@ -1,13 +1,11 @@
 #include "renderer/core/process_resources.h"
 
 #include <cstdio>
-#include <cstring>
 #include <dirent.h>
 #include <dlfcn.h>
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif
-#include <unistd.h>
 
 #if defined(__has_feature)
 #if __has_feature(address_sanitizer)
@@ -55,20 +53,17 @@ uint64_t heapInUse() {
 
 ProcessResources sampleProcessResources() {
     ProcessResources r;
-    if (FILE* f = std::fopen("/proc/self/statm", "r")) {
-        unsigned long long size = 0, resident = 0;
-        if (std::fscanf(f, "%llu %llu", &size, &resident) == 2) {
-            r.residentBytes = resident * uint64_t(::sysconf(_SC_PAGESIZE));
-        }
-        std::fclose(f);
-    }
+    // One read of /proc/self/status gives the resident memory, its split and the thread count.
     if (FILE* f = std::fopen("/proc/self/status", "r")) {
         char line[256];
         unsigned long long kb = 0;
+        int threads = 0;
         while (std::fgets(line, sizeof line, f)) {
-            if (std::sscanf(line, "RssAnon: %llu kB", &kb) == 1) r.residentAnonBytes = kb << 10;
+            if (std::sscanf(line, "VmRSS: %llu kB", &kb) == 1) r.residentBytes = kb << 10;
+            else if (std::sscanf(line, "RssAnon: %llu kB", &kb) == 1) r.residentAnonBytes = kb << 10;
             else if (std::sscanf(line, "RssFile: %llu kB", &kb) == 1) r.residentFileBytes += kb << 10;
             else if (std::sscanf(line, "RssShmem: %llu kB", &kb) == 1) r.residentFileBytes += kb << 10;
+            else if (std::sscanf(line, "Threads: %d", &threads) == 1) r.threads = threads;
         }
         std::fclose(f);
     }
@@ -80,22 +75,6 @@ ProcessResources sampleProcessResources() {
         }
         ::closedir(d);
         r.openFiles = entries - 1; // the directory's own descriptor
-    }
-    if (FILE* f = std::fopen("/proc/self/stat", "r")) {
-        // "pid (comm) state ..." — comm may hold spaces and parentheses: fields count from the last ')'.
-        char buffer[1024] = {};
-        const size_t n = std::fread(buffer, 1, sizeof(buffer) - 1, f);
-        std::fclose(f);
-        buffer[n] = '\0';
-        if (const char* end = std::strrchr(buffer, ')')) {
-            long threads = 0;
-            // After ')': state(3) ppid pgrp session tty_nr tpgid flags minflt cminflt majflt cmajflt utime stime
-            // cutime cstime priority nice num_threads(20).
-            if (std::sscanf(end + 1, " %*c %*d %*d %*d %*d %*d %*u %*u %*u %*u %*u %*u %*u %*d %*d %*d %*d %ld",
-                            &threads) == 1) {
-                r.threads = int(threads);
-            }
-        }
     }
     return r;
 }

@@ -7,8 +7,8 @@
 namespace chcrt {
 
 struct ProcessResources {
-    uint64_t residentBytes = 0; // VmRSS (/proc/self/statm: resident pages × page size)
-    // VmRSS split (/proc/self/status): anonymous pages (heaps, the driver's and the allocator's maps: what a leak
+    uint64_t residentBytes = 0; // VmRSS (/proc/self/status)
+    // VmRSS split (RssAnon; RssFile + RssShmem): anonymous pages (heaps, the driver's and the allocator's maps: what a leak
     // grows) and pages of mapped files and shared memory (the libraries' code, which the kernel keeps resident or
     // not as it needs, and the Mesa shader cache's index).
     uint64_t residentAnonBytes = 0, residentFileBytes = 0;
@@ -17,7 +17,7 @@ struct ProcessResources {
     // memory mapped outside malloc (the GL driver's JIT code).
     uint64_t heapInUseBytes = 0;
     int openFiles = 0;          // entries of /proc/self/fd (the descriptor reading it not counted)
-    int threads = 0;            // /proc/self/stat field 20
+    int threads = 0;            // Threads (/proc/self/status)
 };
 
 // Fields that cannot be read stay 0 (not Linux, /proc not mounted).

@@ -36,7 +36,7 @@ TEST(ProcessResources, FollowMemoryDescriptorsAndThreads) {
     EXPECT_GE(during.residentAnonBytes, before.residentAnonBytes + kBytes * 9 / 10); // a heap block: anonymous
     EXPECT_GE(during.heapInUseBytes, before.heapInUseBytes + kBytes);
     EXPECT_LT(during.residentFileBytes, before.residentFileBytes + kBytes / 10);
-    // VmRSS is the sum of the two parts (read a moment apart: a page or two may differ).
+    // VmRSS is the sum of the two parts (RssAnon + RssFile + RssShmem, one read of /proc/self/status).
     EXPECT_NEAR(double(during.residentAnonBytes + during.residentFileBytes), double(during.residentBytes), 1 << 20);
     EXPECT_EQ(during.openFiles, before.openFiles + 1);
     EXPECT_EQ(during.threads, before.threads + 1);
