@@ -63,15 +63,20 @@ void readExact(int fd, void* data, uint64_t bytes, uint64_t offset, const std::s
 // within kGatherGapBytes of the previous one share its read, up to kGatherRunBytes a read. The triangles one frame's
 // pixels hit cluster in a subtree's arrays, and a read of a few KB from the page cache costs about what one of 16
 // bytes does (the primary resolve read 4 elements a triangle one by one: 125 ms of a far frame of the 140M city).
-// `visit(k, bytes)` gets each index's position in `indices` and its element.
+// `order` lists the positions of `indices` in ascending order of index (ascendingOrder); `visit(k, bytes)` gets each
+// index's position in `indices` and its element.
 constexpr uint64_t kGatherGapBytes = 4096, kGatherRunBytes = 256 * 1024;
 
-template <class Visit>
-void readGathered(int fd, uint64_t at, uint64_t stride, std::span<const uint32_t> indices, std::vector<uint32_t>& order,
-                  std::vector<char>& buffer, const std::string& what, Visit&& visit) {
-    order.resize(indices.size());
+std::vector<uint32_t> ascendingOrder(std::span<const uint32_t> indices) {
+    std::vector<uint32_t> order(indices.size());
     for (uint32_t k = 0; k < order.size(); ++k) order[k] = k;
     std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return indices[a] < indices[b]; });
+    return order;
+}
+
+template <class Visit>
+void readGathered(int fd, uint64_t at, uint64_t stride, std::span<const uint32_t> indices,
+                  const std::vector<uint32_t>& order, std::vector<char>& buffer, const std::string& what, Visit&& visit) {
     for (size_t i = 0; i < order.size();) {
         const uint64_t first = indices[order[i]];
         size_t j = i + 1;
@@ -433,7 +438,7 @@ bool ChsFile::readTriangles(uint32_t index, std::span<const uint32_t> locals, Tr
     const FileState before = fileState();
     if (!blobVerified(r.offset, before)) return false;
     const std::string what = path_.string() + ": reading subtree " + std::to_string(index);
-    std::vector<uint32_t> order;
+    const std::vector<uint32_t> order = ascendingOrder(locals); // shared by every part indexed by triangle
     std::vector<char> buffer;
     if (compact()) {
         // The blob's parts in order: triangle texels (three local vertex indices and the original id), vertices,
@@ -454,10 +459,13 @@ bool ChsFile::readTriangles(uint32_t index, std::span<const uint32_t> locals, Tr
             triangles[k].pad = 0;
         });
         if (!inRange) return false;
-        readGathered(fd_, vertexAt, sizeof(glm::vec3), vertices, order, buffer, what, [&](uint32_t k, const char* e) {
-            glm::vec3& v = k % 3 == 0 ? triangles[k / 3].v0 : k % 3 == 1 ? triangles[k / 3].v1 : triangles[k / 3].v2;
-            std::memcpy(&v, e, sizeof v);
-        });
+        readGathered(fd_, vertexAt, sizeof(glm::vec3), vertices, ascendingOrder(vertices), buffer, what,
+                     [&](uint32_t k, const char* e) {
+                         glm::vec3& v = k % 3 == 0   ? triangles[k / 3].v0
+                                        : k % 3 == 1 ? triangles[k / 3].v1
+                                                     : triangles[k / 3].v2;
+                         std::memcpy(&v, e, sizeof v);
+                     });
         readGathered(fd_, materialAt, sizeof(uint32_t), locals, order, buffer, what,
                      [&](uint32_t k, const char* e) { std::memcpy(&triangles[k].materialId, e, sizeof(uint32_t)); });
         readGathered(fd_, normalAt, 3 * sizeof(glm::vec3), locals, order, buffer, what,
