@@ -42,14 +42,13 @@ std::vector<nlohmann::json> readLines(const fs::path& file) {
 }
 
 // After the warm-up: anonymous resident memory (heaps and anonymous maps: what a leak grows) within 1 % of the
-// warm-up sample's resident memory (out of core the subtrees in flight move it by ~1 MB: one run measured 100.18
-// against 99.09 MB of anonymous memory, 1.1 % of it, about 0.45 % of its ~240 MB resident), the same open files, threads
-// and GL objects. Resident pages of mapped files (the libraries' code,
-// ~144 MB of the ~238 MB here, libLLVM's most) are the kernel's to map: a page fault maps its neighbours too where
-// they are in the page cache ("fault-around"), so what other processes ran decides part of it. A CI run of this test
-// beside others stepped by 4.2 MB (1.8 % of all resident memory, which was all it recorded then) between frames 50
-// and 75 and was flat after; ten runs here, alone and beside other tests, did not reproduce it. The file-backed part
-// may move by kFileBackedSlackMb.
+// warm-up sample's resident memory, the same open files, threads and GL objects. Out of core the subtrees in flight
+// move the anonymous part by ~1 MB (one run: 100.18 against 99.09 MB, about 0.45 % of its ~240 MB resident). Resident
+// pages of mapped files (the libraries' code, ~144 MB of the ~238 MB here, libLLVM's most) are the kernel's to map: a
+// page fault maps its neighbours too where they are in the page cache ("fault-around"), so what other processes ran
+// decides part of it; they may move by kFileBackedSlackMb. A CI run of this test beside others stepped by 4.2 MB (1.8 %
+// of all resident memory, which was all it recorded then) between frames 50 and 75 and was flat after; runs here,
+// alone and beside other tests, did not reproduce it.
 // `queryGrowth`: out of core, CHC+RT's pool of subtree-pass timers (two queries each, culling/chcrt_tracer.cpp
 // beginPassTimer) grows to the most cache rounds one trace has needed so far, which this walkthrough reaches after the
 // warm-up: queries may grow by that much, and never shrink.
