@@ -121,6 +121,11 @@ std::unique_ptr<Tracer> makeChcrtTracer(const MethodInfo& method, const SceneSes
     if (!method.reads(ParameterArea::ChcrtVisibility) && options.visibleThreshold > 0) {
         throw InputError("--chcrt-threshold > 0 makes culling approximate: use --method chcrt-aggressive");
     }
+    if (o.isGiven("--chcrt-cell-intersect") && options.cellIntersect && options.queries != ChcrtQueries::Batched) {
+        throw InputError(std::string("--chcrt-cell-intersect on applies to --chcrt-queries batched, not ") +
+                         toString(options.queries) + " (bounds-only and bounds-gpu always intersect by cells; gl "
+                         "queries test against depth, which cell passes do not write)");
+    }
     if (method.reads(ParameterArea::LineSpace)) addSubtreeLineSpaces(method, session, o, options);
     const bool lod = method.reads(ParameterArea::Lod);
     if (lod && !(o.outOfCore.lodPixels > 0.0f)) {

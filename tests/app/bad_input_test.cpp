@@ -65,6 +65,16 @@ TEST_F(CliTest, OutOfCoreFlagsWithoutOutOfCoreAreNamedAsIneffective) {
     EXPECT_EQ(withoutSoftwareRendererWarning(quiet.output).find("warning"), std::string::npos) << quiet.output;
 }
 
+// Cell intersection is a choice of batched queries only: asked for with another query mode it is refused, not ignored.
+TEST_F(CliTest, CellIntersectionOutsideBatchedQueriesIsRefused) {
+    expectRefused(run(std::string("render ") + kCity + "--method chcrt-noadapt --chcrt-cell-intersect on -o a.png -q"),
+                  "--chcrt-cell-intersect on applies to --chcrt-queries batched, not bounds-only");
+    EXPECT_FALSE(exists("a.png"));
+    const Result batched = run(std::string("render ") + kCity +
+                               "--method chcrt-noadapt --chcrt-queries batched --chcrt-cell-intersect on -o b.png -q");
+    EXPECT_EQ(batched.exitCode, 0) << batched.output;
+}
+
 TEST_F(CliTest, ScenesThatAreNeitherFilesNorGeneratorsSaySo) {
     const Result town = run("render --scene town:10k -o a.png -q");
     expectRefused(town, "town:10k: neither a scene file (no such file) nor a generator (city, interior");
