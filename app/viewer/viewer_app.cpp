@@ -182,7 +182,10 @@ Viewer::Viewer(const ViewOptions& options)
     }
     showPanel_ = !options.hidePanel;
     playing_ = options.play;
-    if (!options.script.empty()) script_.emplace(loadViewerScript(options.script));
+    if (!options.script.empty()) {
+        script_.emplace(loadViewerScript(options.script));
+        log_.reserveTimes(script_->totalFrames());
+    }
     if (!options.resourceLog.empty()) resourceLog_ = ResourceLog(options.resourceLog, options.resourceEvery);
     openWindow();
     // Out of core the interactive viewer streams a cold cache over frames (at most 16 subtree uploads per trace;

@@ -3,6 +3,7 @@
 #include "renderer/core/error.h"
 #include "renderer/render/render_settings.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -212,6 +213,12 @@ ScriptRunner::Advance ScriptRunner::advance(const std::function<void(const Scrip
     --framesLeft_;
     ++frame_;
     return Advance::Frame;
+}
+
+size_t ScriptRunner::totalFrames() const {
+    size_t total = 0;
+    for (const ScriptStep& s : steps_) total += size_t(std::max(s.frames, 0));
+    return total;
 }
 
 } // namespace chcrt::app

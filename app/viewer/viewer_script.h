@@ -96,6 +96,7 @@ public:
     const ScriptStep* current() const { return current_; } // the step whose frames render
     size_t currentIndex() const { return next_ - 1; }      // 0-based, for messages
     int frame() const { return frame_; }                   // frames advanced so far
+    size_t totalFrames() const;                            // frames of all steps (fewer if an expectation fails)
     void fail() { ++failures_; }
     int failures() const { return failures_; }
 

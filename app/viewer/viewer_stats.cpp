@@ -105,6 +105,12 @@ void ViewerLog::addFrame(const FrameRecord& f) {
     frames_.push_back(std::move(entry));
 }
 
+void ViewerLog::reserveTimes(size_t frames) {
+    if (!keepTimes_) return;
+    loopMs_.reserve(frames);
+    rendererMs_.reserve(frames);
+}
+
 void ViewerLog::setLoopMs(double ms) {
     if (keepTimes_ && !loopMs_.empty()) loopMs_.back() = ms;
     if (!frames_.empty()) frames_.back()["loop_ms"] = ms;

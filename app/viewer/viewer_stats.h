@@ -43,8 +43,9 @@ struct FrameRecord {
 
 // What the session keeps of its frames. Every frame's JSON (and each loading sample) only for --stats-json, whose
 // file lists them all: it grows with the session (a few kB a frame). Otherwise only counters, the graph's last
-// kFrameHistory times and, in scripted sessions, two times a frame for the medians of the summary line, so that a
-// session of any length keeps its memory flat (docs/robustness.md, "Long runs").
+// kFrameHistory times and, in scripted sessions, two times a frame for the medians of the summary line (room for
+// the script's frames allocated at its start), so that a session of any length keeps its memory flat
+// (docs/robustness.md, "Long runs").
 class ViewerLog {
 public:
     static constexpr size_t kFrameHistory = 120;
@@ -53,6 +54,10 @@ public:
     void addFrame(const FrameRecord& frame); // numbered in order
     void setLoopMs(double ms);                // of the last frame added: the whole loop iteration
     void addToHistory(float ms);              // the panel's frame-time graph
+    // Room for the times of this many frames (keepTimes), allocated once: a scripted session knows its length, and
+    // times kept in a vector that doubled as it went freed its old blocks between long-lived ones, a few hundred kB
+    // of glibc's heap pinned by each doubling (docs/robustness.md, "Long runs").
+    void reserveTimes(size_t frames);
     // A frame that failed (its error); failed frames are not numbered among the rendered ones.
     void addFailure(const std::string& error);
     // A sample of the loading worker's progress; one per change.
