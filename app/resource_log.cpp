@@ -1,6 +1,7 @@
 #include "app/resource_log.h"
 
 #include "renderer/core/error.h"
+#include "renderer/gl/gl.h"
 
 #include <cerrno>
 #include <cstring>
@@ -51,7 +52,10 @@ ResourceLog& ResourceLog::operator=(ResourceLog&& o) noexcept {
 void ResourceLog::frameDone(uint64_t frame, bool last, const nlohmann::json& extra) {
     if (!out_ || (!last && frame % uint64_t(every_) != 0) || int64_t(frame) == lastWritten_) return;
     lastWritten_ = int64_t(frame);
-    // The sample counts what the process holds, not the free pages the allocator kept since its last release.
+    // The sample counts what the process holds once the GL work queued so far is done (the driver frees what a
+    // deleted object's last draw still used when that draw completes), not the free pages the allocator kept since
+    // its last release.
+    glFinish();
     releaseFreedMemory();
     nlohmann::json line = sampleResourcesJson();
     line["frame"] = frame;
