@@ -899,7 +899,7 @@ bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& ra
     const bool warm = state.frame() > 0;
     auto start = Clock::now();
     traceRays_ = &rays, traceHits_ = &hits, traceWidth_ = width, traceHeight_ = height, cellRoundRun_ = false;
-    beginTrace(rays, hits, width, height);
+    beginTrace(rays, hits, width, height, true);
     // Where the rays can reach (culling/ray_bounds_grid.h), for skipping pairs out of reach in every phase. Primary
     // rays reach the whole view until they hit, so before Phase 1 they need no reduction.
     if (rayExtent_) {
@@ -981,7 +981,7 @@ bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& ra
     return warm;
 }
 
-void ChcrtTracer::beginTrace(const RayTextures& rays, HitTargets& hits, int width, int height) {
+void ChcrtTracer::beginTrace(const RayTextures& rays, HitTargets& hits, int width, int height, bool hitDepth) {
     if (debugKind_ != ChcrtDebugImage::None) {
         ensureDebugTexture(width, height);
         glBindImageTexture(CHCRT_CULLING_IMAGE_DEBUG, debugTexture_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
@@ -999,7 +999,7 @@ void ChcrtTracer::beginTrace(const RayTextures& rays, HitTargets& hits, int widt
     glDepthMask(GL_TRUE);
     glClearTexImage(hits.hit.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, missHitTexel().data());
     const GLfloat farDepth = 1.0f;
-    glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &farDepth);
+    if (hitDepth) glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &farDepth); // skipped: ~4 % of a culled shadow trace
     glBindTextureUnit(CHCRT_UNIT_RAY_ORIGIN, rays.origin.id());
     glBindTextureUnit(CHCRT_UNIT_RAY_DIRECTION, rays.direction.id());
     glBindImageTexture(CHCRT_CULLING_IMAGE_HIT, hits.hit.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32UI);

@@ -72,7 +72,7 @@ bool ChcrtTracer::traceBoundedGpu(const TraceRequest& request, const RayTextures
     const bool anyHit = request.anyHit;
     bool warm = tracesRun_ > 1; // every trace is alike; the first compiles and fills caches
     auto start = Clock::now();
-    beginTrace(rays, hits, width, height);
+    beginTrace(rays, hits, width, height, false);
     const bool hintPass = startHints(request, rays, width, height, warm);
     // The reduction and the lists are queued one after the other; the CPU waits for neither (the times below are
     // the CPU's, submitting them; the cell pass's GPU time is subtreePassMs).
@@ -221,7 +221,7 @@ bool ChcrtTracer::traceBounded(const TraceRequest& request, const RayTextures& r
     // Without the previous front every trace is alike; only the first (compiling, filling caches) is not typical.
     bool warm = options_.boundsPreviousFront ? state.frame() > 0 : tracesRun_ > 1;
     auto start = Clock::now();
-    beginTrace(rays, hits, width, height);
+    beginTrace(rays, hits, width, height, false);
     // Hit hints (any-hit ray sets): the cell passes first visit each ray's hinted leaf and record the leaves of new
     // hits there.
     const bool hintPass = startHints(request, rays, width, height, warm);
