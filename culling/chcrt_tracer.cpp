@@ -899,7 +899,7 @@ bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& ra
     const bool warm = state.frame() > 0;
     auto start = Clock::now();
     traceRays_ = &rays, traceHits_ = &hits, traceWidth_ = width, traceHeight_ = height, cellRoundRun_ = false;
-    beginTrace(rays, hits, width, height, true);
+    beginTrace(rays, hits, width, height, !intersectsByCells()); // batched tests read the hit image, not depth
     // Where the rays can reach (culling/ray_bounds_grid.h), for skipping pairs out of reach in every phase. Primary
     // rays reach the whole view until they hit, so before Phase 1 they need no reduction.
     if (rayExtent_) {

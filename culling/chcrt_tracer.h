@@ -335,8 +335,8 @@ private:
     // BoundsOnly (chcrt_tracer_bounds.cpp): Algorithm 1 with the ray bounds grid deciding every pair.
     bool traceBounded(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width, int height);
     // Clears the hits to misses and binds them; `hitDepth`: also the hit set's depth to "no hit yet", for traces
-    // whose passes test against it or write it (GL queries, subtree passes). The grid's traces only use it as the
-    // later rounds' mask, which they clear themselves (CellTraversal::draw).
+    // whose passes test against it or write it (GL queries, subtree passes). Cell passes only use it as the later
+    // rounds' mask, which they clear themselves (CellTraversal::draw).
     void beginTrace(const RayTextures& rays, HitTargets& hits, int width, int height, bool hitDepth);
     void endTrace(VisibilityState& state, int width, int height); // pull-up, fronts' statistics, then finishTrace
     void finishTrace(int width, int height);                      // GL state, glFinish, the passes' GPU times
