@@ -39,6 +39,7 @@ TEST(RecommendedChcrtOptions, TheRendererChangesOnlyTheListDecisionsAndTheStage)
         EXPECT_EQ(o->partition.maxSubtreeHeight, 12u);
         EXPECT_EQ(o->adaptiveHeights, (std::vector<uint32_t>{10, 14}));
         EXPECT_EQ(o->cellListLimit, 64u);
+        EXPECT_EQ(o->bounds.cellSize, 16); // measured on llvmpipe (culling/README.md "Parameters"), on every renderer
         EXPECT_TRUE(o->hitHints);
         EXPECT_TRUE(o->adaptive);
         EXPECT_TRUE(decidesByBounds(o->queries));
