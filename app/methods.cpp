@@ -24,13 +24,14 @@ void aggressiveDefaults(CommonOptions& d, const CommonOptions&, uint64_t) {
 // 140M city's near path 168.6 against 195.7 ms per frame and 337 against 403 cold uploads, far path exact 7.2 against
 // 7.5-8.2 s per frame, the same images; docs/outofcore.md), each intersection round traced in one cell pass
 // (cellIntersect: near frames 180-188 -> 145-154 ms, far -5 to -8 %, the same images; culling/README.md "Cell
-// intersection"). A forced --chcrt-height leaves no other height to try.
+// intersection") over 16-pixel ray bounds cells (kRecommendedBoundsCellSize). A forced --chcrt-height leaves no other height to try.
 // The renderer is not known yet: these are the software renderer's choices, and the tracer's factory takes the
 // renderer's list decisions once its context is current (MethodInfo::recommendedChcrt, app/method_tracers.cpp).
 void recommendedChcrtDefaults(CommonOptions& d, const CommonOptions& user, uint64_t) {
     if (user.outOfCoreScene.enabled) {
         d.chcrt.queries = ChcrtQueries::Batched;
         d.chcrt.cellIntersect = true;
+        d.chcrt.bounds.cellSize = kRecommendedBoundsCellSize;
         return;
     }
     d.chcrt = recommendedChcrtOptions();

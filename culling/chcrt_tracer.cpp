@@ -92,11 +92,8 @@ ChcrtOptions recommendedChcrtOptions(const RendererTraits& renderer) {
     // GPUs, decided on the CPU and traced in fragment passes on software rasterisers.
     options.queries = renderer.software ? ChcrtQueries::BoundsOnly : ChcrtQueries::BoundsGpu;
     options.computeCellPass = autoTraceStage(renderer) == TraceStage::Compute;
-    // 16-pixel cells: a quarter of the cells to reduce, decide and list; on llvmpipe faster on every near row
-    // measured (city near at 256², 2026-12-05: primary 1.21–1.26× → 1.41–1.51×, AO 1.37× → 1.47–1.48×, shadow
-    // unchanged; culling/README.md "Parameters"). Not yet measured on a GPU (the in-core defaults take this on
-    // every renderer; only the list decisions and the stage follow the renderer, app/method_tracers.cpp).
-    options.bounds.cellSize = 16;
+    // On every renderer: only the list decisions and the stage follow the renderer (app/method_tracers.cpp).
+    options.bounds.cellSize = kRecommendedBoundsCellSize;
     return options;
 }
 

@@ -150,6 +150,13 @@ struct ChcrtOptions {
 ChcrtOptions recommendedChcrtOptions(const RendererTraits& renderer);
 ChcrtOptions recommendedChcrtOptions();
 
+// Pixels per ray bounds cell edge of the recommended configuration, in core and out of core: a quarter of the cells
+// of 8-pixel ones to reduce, decide and list. On llvmpipe faster on every near row measured (city near at 256²,
+// 2026-12-05: primary 1.21–1.26× → 1.41–1.51×, AO 1.37× → 1.47–1.48×, shadow unchanged; out of core, the compact
+// 140M city's near path, 640×360: 179–182 → 153–167 ms per frame; culling/README.md "Parameters"). Not yet measured
+// on a GPU.
+inline constexpr int kRecommendedBoundsCellSize = 16;
+
 // Counters of one trace (lastStats) or summed over traces (totalStats).
 struct ChcrtStats {
     uint64_t traces = 0;

@@ -196,6 +196,14 @@ TEST(MethodRegistry, MethodDefaultsApplyToParametersNotGiven) {
     EXPECT_EQ(resolveMethodOptions(findMethod("chcrt"), parse({"--chcrt-cell-list-limit", "0"}), 0).chcrt.cellListLimit,
               0u);
     EXPECT_EQ(resolveMethodOptions(findMethod("chcrt-aggressive"), parse({}), 0).chcrt.queries, ChcrtQueries::Gl);
+    // Out of core: batched queries, rounds intersected by cells of the recommended size; a given size wins.
+    const CommonOptions outOfCore = resolveMethodOptions(findMethod("chcrt"), parse({"--out-of-core"}), 0);
+    EXPECT_EQ(outOfCore.chcrt.queries, ChcrtQueries::Batched);
+    EXPECT_TRUE(outOfCore.chcrt.cellIntersect);
+    EXPECT_EQ(outOfCore.chcrt.bounds.cellSize, kRecommendedBoundsCellSize);
+    EXPECT_EQ(resolveMethodOptions(findMethod("chcrt-lod"), parse({"--out-of-core"}), 0).chcrt.bounds.cellSize, 16);
+    EXPECT_EQ(resolveMethodOptions(findMethod("chcrt"), parse({"--out-of-core", "--chcrt-bounds-cell", "8"}), 0)
+                  .chcrt.bounds.cellSize, 8);
     // The worked example's path (docs/architecture.md): a --chcrt-* flag reaches the ChcrtOptions field.
     EXPECT_EQ(resolveMethodOptions(findMethod("chcrt"), parse({"--chcrt-min-tile", "16"}), 0).chcrt.pairs.minTileSize, 16);
     // ntree+ls: shadow level d - 1 of the given N-tree, unless given.
