@@ -32,6 +32,8 @@ void recommendedChcrtDefaults(CommonOptions& d, const CommonOptions& user, uint6
         d.chcrt.queries = ChcrtQueries::Batched;
         d.chcrt.cellIntersect = true;
         d.chcrt.bounds.cellSize = kRecommendedBoundsCellSize;
+        d.chcrt.hitHints = true;
+        d.chcrt.hintPass = true;
         return;
     }
     d.chcrt = recommendedChcrtOptions();

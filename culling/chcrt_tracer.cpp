@@ -309,7 +309,11 @@ void ChcrtTracer::compilePrograms() {
         if (wholeTree) cells_->setWholeTree(0u, options_.cellListLimit);
         const bool hintPass = hints && options_.hintPass;
         cells_->compile(hintPass);
-        if (hintPass) hintPass_ = std::make_unique<HintPass>(options_.computeCellPass, options_.bounds.cellSize);
+        if (hintPass) {
+            hintPass_ = std::make_unique<HintPass>(
+                options_.computeCellPass, options_.bounds.cellSize,
+                std::vector<ShaderDefine>{{"CHCRT_COMPACT_SUBTREES", source_->compactLayout() ? "1" : "0"}});
+        }
     }
     if (options_.queries == ChcrtQueries::Batched && !batched_) batched_ = std::make_unique<BatchedQueries>();
     if (options_.queries == ChcrtQueries::BoundsGpu && !gpuLists_) {
@@ -404,31 +408,37 @@ GLuint ChcrtTracer::framebufferFor(const HitTargets& hits) {
 }
 
 bool ChcrtTracer::hintsAvailable() const {
-    // Hints name nodes of the in-core BVH; out of core a cache slot's nodes change as subtrees come and go.
-    return options_.hitHints && bvh_ != nullptr && decidesByBounds(options_.queries);
+    if (!options_.hitHints) return false;
+    if (bvh_ != nullptr) return decidesByBounds(options_.queries);
+    // Out of core a cache slot's nodes change as subtrees come and go: hints are dropped whenever one did
+    // (hintImageFor), visited only by the hint pass at a trace's start, before this trace replaces any, and recorded
+    // by the cell passes of batched rounds.
+    return intersectsByCells() && source_->hintsSupported();
 }
 
 GLuint ChcrtTracer::hintTexture(const TraceRequest& request) const {
     const auto it = hintStore_->find(rayStateKey(request));
-    return it == hintStore_->end() ? 0 : it->second.id();
+    return it == hintStore_->end() ? 0 : it->second.texture.id();
 }
 
 GLuint ChcrtTracer::hintImageFor(const TraceRequest& request, int width, int height, bool& fresh) {
     fresh = false;
     if (!hintsAvailable() || (!request.anyHit && !options_.closestHitHints)) return 0;
-    GlTexture& hint = (*hintStore_)[rayStateKey(request)];
+    HintImage& image = (*hintStore_)[rayStateKey(request)];
+    GlTexture& hint = image.texture;
     GLint w = 0, h = 0;
     if (hint.id() != 0) {
         glGetTextureLevelParameteriv(hint.id(), 0, GL_TEXTURE_WIDTH, &w);
         glGetTextureLevelParameteriv(hint.id(), 0, GL_TEXTURE_HEIGHT, &h);
     }
-    if (hint.id() == 0 || w != width || h != height) {
-        hint = createTexture2D(width, height, GL_R32UI);
-        const GLuint none = CHCRT_NO_HIT_ID;
-        glClearTexImage(hint.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
-        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
-        fresh = true;
-    }
+    const uint64_t epoch = source_->contentEpoch();
+    if (hint.id() == 0 || w != width || h != height) hint = createTexture2D(width, height, GL_R32UI);
+    else if (image.epoch == epoch) return hint.id();
+    const GLuint none = CHCRT_NO_HIT_ID;
+    glClearTexImage(hint.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    image.epoch = epoch;
+    fresh = true;
     return hint.id();
 }
 
@@ -588,7 +598,9 @@ void ChcrtTracer::readPixelsOf(const Tile& tile) {
 void ChcrtTracer::intersect(std::vector<Scheduled>& work, bool anyHit) {
     if (work.empty()) return;
     if (intersectsByCells()) {
-        intersectCells(work, anyHit, *traceRays_, *traceHits_, !cellRoundRun_, false, traceWidth_, traceHeight_);
+        if (compactedRounds_) hintPass_->bindDispatch(); // the queries' dispatches may have bound another
+        intersectCells(work, anyHit, *traceRays_, *traceHits_, !cellRoundRun_, compactedRounds_, traceWidth_,
+                       traceHeight_);
         cellRoundRun_ = true;
         return;
     }
@@ -901,13 +913,28 @@ bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& ra
     const bool warm = state.frame() > 0;
     auto start = Clock::now();
     traceRays_ = &rays, traceHits_ = &hits, traceWidth_ = width, traceHeight_ = height, cellRoundRun_ = false;
+    compactedRounds_ = false;
     beginTrace(rays, hits, width, height, !intersectsByCells()); // batched tests read the hit image, not depth
+    // Hit hints out of core (culling/README.md "Hit hints out of core"): the hint pass visits every ray's hinted leaf
+    // before anything else, so the reduction below leaves out the any-hit rays it finished, and Phase 1 and the
+    // queries skip what only they could reach. Visits happen there only, before this trace replaces any cache slot;
+    // the cell passes record the leaves of new hits.
+    bool hintPass = false;
+    if (hintsAvailable()) {
+        bool unusedWarm = false; // no adaptive choice out of core
+        hintPass = startHints(request, rays, width, height, unusedWarm);
+        cells_->setHintsVisited(true);
+    }
     // Where the rays can reach (culling/ray_bounds_grid.h), for skipping pairs out of reach in every phase. Primary
     // rays reach the whole view until they hit, so before Phase 1 they need no reduction.
     if (rayExtent_) {
-        if (request.rayType == RayType::Primary && !request.bounceShadow) rayExtent_->forget();
-        else updateBounds(rays, 0, anyHit, width, height);
+        if (request.rayType == RayType::Primary && !request.bounceShadow && !hintPass) rayExtent_->forget();
+        else updateBounds(rays, hintPass ? hits.hit.id() : 0, anyHit, width, height,
+                          hintPass && anyHit ? hintPass_->cellMarks() : 0);
     }
+    // After the hint pass every round of any-hit rays traces only the rays it left, in one compacted dispatch (as in
+    // core: a pass over all rays makes each SIMD group wait for its slowest ray in every loop).
+    compactedRounds_ = hintPass && anyHit;
 
     // Phase 1 (Algorithm 1, lines 1-4): intersect the previously visible leaves, initialising depth.
     std::vector<int32_t> visibleLeaves, invisibleLeaves;
@@ -979,6 +1006,7 @@ bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& ra
     }
     intersect(newlyVisible, anyHit);
     endTrace(state, width, height);
+    if (hintPass) finishHintPass(request, width, height);
     last_.phase3Ms = millisecondsSince(start);
     return warm;
 }

@@ -65,7 +65,8 @@ struct ChcrtOptions {
     // instead (cell_traversal.h; 0 = never). Long lists come from rays of diverse directions (diffuse) whose
     // cell bounds meet much of the scene: each listed root costs a box test the pure traversal would mostly skip.
     uint32_t cellListLimit = 0;
-    // BoundsOnly in core: hit hints for any-hit rays (culling/README.md "Hit hints"). Every shadow and AO ray set
+    // BoundsOnly in core, and out of core with cellIntersect: hit hints for any-hit rays (culling/README.md "Hit
+    // hints"; out of core: "Hit hints out of core"). Every shadow and AO ray set
     // keeps, per ray, the BVH leaf in which its previous trace found a hit; a ray visits that leaf before its cell's
     // list and is done when it hits there. Algorithm 1's Phase 1 (the previous visible front first) at the finest
     // granularity: one leaf per pixel.
@@ -364,14 +365,15 @@ private:
     void beginPassTimer();
     void endPassTimer();
     void readPassTimers();
-    // Whether traces use hit hints: hitHints, bounds-decided cell lists and the in-core BVH (closest-hit ray sets also
-    // closestHitHints).
+    // Whether traces use hit hints: hitHints with bounds-decided cell lists on the in-core BVH, or out of core with
+    // rounds intersected by cells from a source whose nodes hints may name (closest-hit ray sets also closestHitHints).
     bool hintsAvailable() const;
     // The hint image of the request's ray set (R32UI of the traced size, CHCRT_CULLING_IMAGE_HINT), made on first
-    // use with no hints (`fresh` = true then); 0 when the ray set has none (hints off, or closest-hit rays without
-    // closestHitHints).
+    // use with no hints (`fresh` = true then), and emptied (fresh again) when the source's contentEpoch changed since
+    // its last use: its nodes may then hold other subtrees. 0 when the ray set has none (hints off, or closest-hit
+    // rays without closestHitHints).
     GLuint hintImageFor(const TraceRequest& request, int width, int height, bool& fresh);
-    // The start of a BoundsOnly / BoundsGpu trace's hints: binds the ray set's hint image and runs the hint pass when
+    // The start of a BoundsOnly / BoundsGpu trace's hints (and out of core of a trace intersected by cells): binds the ray set's hint image and runs the hint pass when
     // it is due (options_.hintPass, hints from an earlier trace, the debug image allows it, and hintPassDue). Clears
     // `warm` for a trace that is no sample of culling's cost: its ray set had no hints yet, or it is this tracer's
     // first hint pass (llvmpipe compiles a program's variants at their first use). Returns whether the pass ran.
@@ -411,12 +413,16 @@ private:
     int debugWidth_ = 0, debugHeight_ = 0;
     std::map<GLuint, GlFramebuffer> framebuffers_; // by depth texture id
     std::map<uint64_t, std::unique_ptr<VisibilityState>> states_;
-    std::map<uint64_t, GlTexture> hints_; // hit hints per ray set (rayStateKey), hitHints only
+    struct HintImage {
+        GlTexture texture;
+        uint64_t epoch = 0; // the source's contentEpoch when the hints were last known to name its nodes
+    };
+    std::map<uint64_t, HintImage> hints_; // hit hints per ray set (rayStateKey), hitHints only
     // The hints this tracer reads and writes: its own, or for the tracers of adaptiveHeights those of the tracer that
     // owns them. Hints name leaves of the one in-core BVH, whatever the termination height, so every arm continues
     // from the hints of the last culled trace of the ray set; a probe of another height is then measured as it would
     // run, not from cold hints.
-    std::map<uint64_t, GlTexture>* hintStore_ = &hints_;
+    std::map<uint64_t, HintImage>* hintStore_ = &hints_;
     // Per ray kind (adaptiveKey: whether hints finish most rays depends on the kind of ray in the scene, not on the
     // sample or the height; shared with the adaptiveHeights tracers as the hints are): its hint passes in a row that
     // left too many rays, and its traces since the last one. From kHintPassMisses such passes on (one may come from
@@ -449,6 +455,7 @@ private:
     HitTargets* traceHits_ = nullptr;
     int traceWidth_ = 0, traceHeight_ = 0;
     bool cellRoundRun_ = false;
+    bool compactedRounds_ = false; // out of core after a hint pass: rounds trace the rays it left (drawCompacted)
     Mode mode_ = Mode::None;
     glm::vec3 eye_{0.0f};
     ChcrtStats last_, total_;

@@ -145,8 +145,9 @@ bool ChcrtTracer::startHints(const TraceRequest& request, const RayTextures& ray
     warm = warm && hintPassRan_;
     hintPassRan_ = true;
     beginPassTimer();
+    source_->bind(); // out of core: the cache's buffers (the renderer bound the in-core scene's, if any)
     hintPass_->run(request.anyHit, width, height, maskFramebufferFor(rays.active.id()),
-                   debugKind_ == ChcrtDebugImage::Cost);
+                   debugKind_ == ChcrtDebugImage::Cost, source_->hintSlotNodes());
     endPassTimer();
     ++last_.shaderCalls;
     ++last_.hintPasses;

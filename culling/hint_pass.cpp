@@ -6,7 +6,8 @@
 
 namespace chcrt {
 
-HintPass::HintPass(bool compute, int cellSize) : compute_(compute), cellSize_(cellSize) {
+HintPass::HintPass(bool compute, int cellSize, std::vector<ShaderDefine> defines)
+    : compute_(compute), defines_(std::move(defines)), cellSize_(cellSize) {
     program(true, false);
     program(false, false);
 }
@@ -14,7 +15,8 @@ HintPass::HintPass(bool compute, int cellSize) : compute_(compute), cellSize_(ce
 const ShaderProgram& HintPass::program(bool anyHit, bool debugCost) {
     ShaderProgram& program = programs_[anyHit ? 1 : 0][debugCost ? 1 : 0];
     if (!program.valid()) {
-        std::vector<ShaderDefine> defines = {{"TRACE_ANY_HIT", anyHit ? "1" : "0"}};
+        std::vector<ShaderDefine> defines = defines_;
+        defines.push_back({"TRACE_ANY_HIT", anyHit ? "1" : "0"});
         if (debugCost) defines.push_back({"CHCRT_CULLING_DEBUG_COST", "1"});
         program = compute_ ? ShaderProgram({{GL_COMPUTE_SHADER, "culling/chcrt_hints.comp.glsl"}}, defines)
                            : ShaderProgram({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
@@ -24,7 +26,7 @@ const ShaderProgram& HintPass::program(bool anyHit, bool debugCost) {
     return program;
 }
 
-void HintPass::run(bool anyHit, int width, int height, GLuint maskFramebuffer, bool debugCost) {
+void HintPass::run(bool anyHit, int width, int height, GLuint maskFramebuffer, bool debugCost, uint32_t slotNodes) {
     const size_t rays = size_t(width) * size_t(height);
     if (rays > capacity_) {
         buffer_ = createBuffer((CHCRT_CULLING_COMPACT_HEADER + rays) * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -45,6 +47,7 @@ void HintPass::run(bool anyHit, int width, int height, GLuint maskFramebuffer, b
     pass.use();
     pass.set("cellsX", cellsX);
     pass.set("cellSize", cellSize_);
+    if (slotNodes != 0) pass.set("hintSlotNodes", slotNodes);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, CHCRT_CULLING_COMPACT_BUFFER, buffer_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, CHCRT_CULLING_COMPACT_CELLS, marks_.id());
     if (compute_) {

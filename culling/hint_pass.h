@@ -10,15 +10,16 @@
 #include "renderer/gl/shader.h"
 
 #include <cstdint>
+#include <vector>
 
 namespace chcrt {
 
 class HintPass {
 public:
     // `compute`: the pass is a compute dispatch (GPUs); else a full-screen fragment pass behind the active-ray mask.
-    // `cellSize`: the ray bounds grid's cell edge (its marks are per cell). Compiles the pass's programs now, so that
-    // no trace pays for them.
-    HintPass(bool compute, int cellSize);
+    // `cellSize`: the ray bounds grid's cell edge (its marks are per cell). `defines`: the subtree buffers' layout
+    // (CHCRT_COMPACT_SUBTREES out of core). Compiles the pass's programs now, so that no trace pays for them.
+    HintPass(bool compute, int cellSize, std::vector<ShaderDefine> defines = {});
 
     // Visits the hinted leaves of a width × height ray set: the ray textures, the hit image (cleared) and the hint
     // image must be bound as the cell passes bind them (culling_layout.h). `maskFramebuffer`: a depth-only target
@@ -26,8 +27,8 @@ public:
     // to the cost debug image (bound at CHCRT_CULLING_IMAGE_DEBUG). Leaves the compaction buffer bound as the shader
     // storage buffer CHCRT_CULLING_COMPACT_BUFFER and as GL_DISPATCH_INDIRECT_BUFFER, ordered before later reads.
     // `anyHit`: the ray set's kind (shaders/culling/hint_pass.glsl: any-hit rays that hit are finished, closest-hit
-    // rays bounded).
-    void run(bool anyHit, int width, int height, GLuint maskFramebuffer, bool debugCost);
+    // rays bounded). `slotNodes`: the compact layout's node records per cache slot (SubtreeSource::hintSlotNodes).
+    void run(bool anyHit, int width, int height, GLuint maskFramebuffer, bool debugCost, uint32_t slotNodes = 0);
     // The marks of the last run (a uint per ray bounds cell of `cellSize` pixels: nonzero where a ray was listed),
     // for the reduction that follows it (RayBoundsGrid::update's `cellMarks`).
     GLuint cellMarks() const { return marks_.id(); }
@@ -40,6 +41,7 @@ private:
     const ShaderProgram& program(bool anyHit, bool debugCost);
 
     bool compute_ = false;
+    std::vector<ShaderDefine> defines_;
     ShaderProgram programs_[2][2]; // [anyHit][debugCost]; the debug variants compiled on first use
     int cellSize_ = 8;
     GlBuffer buffer_, marks_;

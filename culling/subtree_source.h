@@ -25,6 +25,20 @@ public:
     // The bound buffers hold the compact subtree layout (shared/bvh_layout.h): the tracer's programs are compiled
     // with CHCRT_COMPACT_SUBTREES 1 and bind nothing else to those units.
     virtual bool compactLayout() const { return false; }
+
+    // Hit hints (culling/README.md "Hit hints") name nodes of the bound buffers, which must still hold the subtrees
+    // the hints were recorded in. contentEpoch() changes whenever a node the buffers held may have changed (a cache
+    // slot given to another subtree): the tracer then drops its hints. In core it never changes.
+    virtual uint64_t contentEpoch() const { return 0; }
+    // Whether hints may name this source's nodes at all (false where entries of other shapes share the buffers,
+    // e.g. LOD proxies).
+    virtual bool hintsSupported() const { return true; }
+    // Compact layout: the node records of each slot, which start at multiples of it, so that a hinted node's subtree
+    // root (the frame its box and triangles decode in) is node - node % hintSlotNodes(). 0 otherwise.
+    virtual uint32_t hintSlotNodes() const { return 0; }
+    // Binds the buffers as acquire() does, for a pass that reads resident subtrees before this trace asks for any
+    // (the hint pass). In core the renderer has bound them.
+    virtual void bind() {}
 };
 
 } // namespace chcrt

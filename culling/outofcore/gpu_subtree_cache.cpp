@@ -233,6 +233,7 @@ void GpuSubtreeCache::upload(uint32_t level, uint32_t subtree, uint32_t slot) {
         stats_.residentBytes -= entryBytes(level, previous);
         pool.slotOf[previous] = kNotResident;
         ++stats_.evictions;
+        ++replacements_;
         --stats_.residentSubtrees;
     }
     pool.slotKey[slot] = subtree;
@@ -296,6 +297,10 @@ void GpuSubtreeCache::acquire(std::span<const uint32_t> subtrees, std::span<uint
         use(pool, slot);
         gpuRoots[i] = pool.root(slot);
     }
+    bind();
+}
+
+void GpuSubtreeCache::bind() {
     glBindTextureUnit(CHCRT_UNIT_BVH_NODES, nodes_.texture.id());
     glBindTextureUnit(CHCRT_UNIT_BVH_TRIANGLES, triangles_.texture.id());
     if (compact_) glBindTextureUnit(CHCRT_UNIT_BVH_VERTICES, vertices_.texture.id());

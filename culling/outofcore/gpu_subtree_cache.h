@@ -103,6 +103,12 @@ public:
     // The buffers hold the compact layout (shaders need CHCRT_COMPACT_SUBTREES 1).
     bool compact() const { return compact_; }
     bool compactLayout() const override { return compact_; }
+    // Hit hints: the epoch counts the uploads that replaced a resident entry (any pool); proxies share the buffers
+    // in slots of other sizes, so a cache serving LOD proxies takes none.
+    uint64_t contentEpoch() const override { return replacements_; }
+    bool hintsSupported() const override { return !lodEnabled(); }
+    uint32_t hintSlotNodes() const override { return compact_ ? pools_[0].slotNodes : 0u; }
+    void bind() override;
 
     const GpuCacheStats& stats() const { return stats_; }
     void resetCounters(); // per-frame statistics: zero hits/misses/evictions/uploads, keep residency
@@ -158,6 +164,7 @@ private:
     std::vector<Pool> pools_; // [0] subtrees, [l] proxies of level l (empty pools when LOD is off)
     UninitializedVector<BvhNodeGpu> rebased_; // an upload's nodes with slot indices, reused (no allocation per upload)
     uint64_t acquireCount_ = 0, tick_ = 0;
+    uint64_t replacements_ = 0; // contentEpoch(): never reset (the per-frame evictions are)
     uint32_t uploadsThisTrace_ = 0, slotsUsedThisTrace_ = 0;
     uint64_t traceStartTick_ = 0;
     glm::vec3 eye_{0.0f};

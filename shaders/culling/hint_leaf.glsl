@@ -4,10 +4,38 @@
 // leaf's box by float rounding is not taken from a hint). Needs render/bvh_nodes.glsl. Returns true when the ray
 // met the box (the leaf counts as visited).
 #if CHCRT_COMPACT_SUBTREES
-// Hints need the in-core BVH (ChcrtTracer::hintsAvailable): out of core, where the compact layout lives, there are none.
-#if CHCRT_CULLING_HINTS
-#error "hit hints need the in-core BVH"
-#endif
+// Out of core, compact layout: a hint is a node of the cache's buffers, whose slot still holds the subtree the hint
+// was recorded in (the tracer drops its hints once a slot changed: SubtreeSource::contentEpoch). Slots start at
+// multiples of hintSlotNodes node texels, so the node's subtree root — the frame its box and triangles decode in —
+// is found from the node alone. The leaf's box is read as the traversal reads it: from its own texel, decoded in
+// that frame, or the root's full-precision box when the subtree is one leaf.
+uniform uint hintSlotNodes;
+
+bool visitHintLeaf(uint leaf, vec3 origin, vec3 direction, float tmin, inout TraceHit best, inout TraceCost cost) {
+    uint root = leaf - leaf % hintSlotNodes;
+    uvec4 root0 = texelFetch(bvhNodes, int(root));
+    uvec4 root1 = texelFetch(bvhNodes, int(root) + 1);
+    setNodeFrame(root, root0, root1);
+    vec3 lower, upper;
+    uint header;
+    if (leaf == root) {
+        lower = uintBitsToFloat(root0.xyz);
+        upper = uintBitsToFloat(root1.xyz);
+        header = root0.w;
+    } else {
+        uvec4 node = texelFetch(bvhNodes, int(leaf));
+        lower = compactLower(node);
+        upper = compactUpper(node);
+        header = node.w;
+    }
+    vec2 entryExit = intersectRayAabb(origin, safeInverseDirection(direction), lower, upper);
+    if (!rayHitsAabb(entryExit, tmin, pruneLimit(best.t))) {
+        return false;
+    }
+    ++cost.leaves;
+    intersectLeaf(compactFirst(header), compactCount(header), origin, direction, tmin, best, cost);
+    return true;
+}
 #else
 bool visitHintLeaf(uint leaf, vec3 origin, vec3 direction, float tmin, inout TraceHit best, inout TraceCost cost) {
     int texel = int(leaf) * CHCRT_BVH_TEXELS_PER_NODE;

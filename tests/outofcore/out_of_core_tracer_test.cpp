@@ -28,8 +28,10 @@ uint64_t sceneGpuBytes(const outofcore::ChsFile& file) {
     return bytes;
 }
 
+// `budgetDivisor`: the GPU cache holds 1/budgetDivisor of the scene (1: all of it, no evictions). `hints`: hit hints
+// and the hint pass (batched rounds intersected by cells only).
 void runExactness(outofcore::CachePolicy policy, ChcrtQueries queries = ChcrtQueries::Gl, bool compact = true,
-                  bool cellIntersect = false) {
+                  bool cellIntersect = false, bool hints = false, uint64_t budgetDivisor = 15) {
     test::ScratchDir dir;
     const auto file = dir.file("city.chs");
     test::prepareSmall("city:60k", file, 1000, 256ull << 20, compact);
@@ -44,12 +46,13 @@ void runExactness(outofcore::CachePolicy policy, ChcrtQueries queries = ChcrtQue
     options.hostCacheBytes = 1ull << 20; // smaller than the file too: subtrees are re-read
     {
         const outofcore::ChsFile chs(file);
-        options.gpuCacheBytes = sceneGpuBytes(chs) / 15; // the scene is ~15x the budget
+        options.gpuCacheBytes = sceneGpuBytes(chs) / budgetDivisor; // the scene is ~budgetDivisor x the budget
     }
     ChcrtOptions chcrt;
     chcrt.pairs.minTileSize = 16;
     chcrt.queries = queries;
     chcrt.cellIntersect = cellIntersect;
+    chcrt.hitHints = chcrt.hintPass = hints;
     outofcore::OutOfCoreTracer tracer(file, options, chcrt);
     ASSERT_LE(tracer.cache().stats().allocatedBytes, options.gpuCacheBytes);
     ASSERT_GE(tracer.cache().slotCount(), 1u);
@@ -58,7 +61,8 @@ void runExactness(outofcore::CachePolicy policy, ChcrtQueries queries = ChcrtQue
     ASSERT_TRUE(parseProceduralSpec(loaded.source, spec));
     const CameraPath path = proceduralNearPath(spec);
     uint64_t hits = 0, compared = 0;
-    for (int frame = 0; frame < 4; ++frame) { // consecutive frames: the fronts and the cache carry over
+    const int frames = hints ? 6 : 4;
+    for (int frame = 0; frame < frames; ++frame) { // consecutive frames: the fronts, the cache and hints carry over
         const Camera camera = path.cameraAtFrame(frame);
         FrameStats stats;
         renderer.renderGBuffer(camera, stats);
@@ -82,8 +86,17 @@ void runExactness(outofcore::CachePolicy policy, ChcrtQueries queries = ChcrtQue
     }
     EXPECT_GT(hits, compared / 4);
     const outofcore::GpuCacheStats& c = tracer.cache().stats();
-    EXPECT_GT(c.evictions, 0u);
-    EXPECT_GT(c.misses, c.slots);
+    if (budgetDivisor > 1) {
+        EXPECT_GT(c.evictions, 0u);
+        EXPECT_GT(c.misses, c.slots);
+    } else {
+        EXPECT_EQ(c.evictions, 0u);
+    }
+    EXPECT_EQ(tracer.cache().contentEpoch(), c.evictions); // every replaced slot moves the hints' epoch on
+    // Hints are visited only where no slot changed since they were recorded (ChcrtTracer::hintImageFor): with every
+    // subtree resident the hint pass runs from the second frame on.
+    if (hints && budgetDivisor == 1) EXPECT_GT(tracer.chcrt().totalStats().hintPasses, 0u);
+    if (!hints) EXPECT_EQ(tracer.chcrt().totalStats().hintPasses, 0u);
     EXPECT_LE(c.residentBytes, c.allocatedBytes);
     EXPECT_LE(c.allocatedBytes, options.gpuCacheBytes);
     const outofcore::OutOfCoreStats s = tracer.snapshot();
@@ -186,6 +199,17 @@ TEST_F(OutOfCoreTracerTest, HitsEqualInCorePureBvhWithBatchedQueries) {
 TEST_F(OutOfCoreTracerTest, HitsEqualInCorePureBvhWithBatchedQueriesIntersectedByCells) {
     runExactness(outofcore::CachePolicy::Lru, ChcrtQueries::Batched, true, true);
     runExactness(outofcore::CachePolicy::RoundRobin, ChcrtQueries::Batched, false, true);
+}
+
+// Hit hints out of core (culling/README.md "Hit hints out of core"): hints name nodes of cache slots, visited by the
+// hint pass, dropped whenever a slot changed. Exact with every subtree resident (the hint pass runs; compact and full
+// layouts: the compact visit decodes the leaf in its subtree's frame), with a fifth of the scene (some traces replace
+// slots, some do not), and with a fifteenth (nearly every trace replaces slots).
+TEST_F(OutOfCoreTracerTest, HitsEqualInCorePureBvhWithHitHints) {
+    runExactness(outofcore::CachePolicy::Lru, ChcrtQueries::Batched, true, true, true, 1);
+    runExactness(outofcore::CachePolicy::Lru, ChcrtQueries::Batched, false, true, true, 1);
+    runExactness(outofcore::CachePolicy::Lru, ChcrtQueries::Batched, true, true, true, 5);
+    runExactness(outofcore::CachePolicy::RoundRobin, ChcrtQueries::Batched, true, true, true, 15);
 }
 
 // The viewer's streaming (--uploads-per-trace): a trace that may upload only 2 subtrees leaves the rest for later
