@@ -34,6 +34,7 @@ void recommendedChcrtDefaults(CommonOptions& d, const CommonOptions& user, uint6
         d.chcrt.bounds.cellSize = kRecommendedBoundsCellSize;
         d.chcrt.hitHints = true;
         d.chcrt.hintPass = true;
+        d.chcrt.hintPassMaxLeft = 0.5f;
         return;
     }
     d.chcrt = recommendedChcrtOptions();

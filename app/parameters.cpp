@@ -493,6 +493,11 @@ std::vector<Parameter> describeChcrt() {
                  "(compacted)")
             .checkbox("hint pass")
             .onOff(FIELD(chcrt.hintPass)),
+        Describe(Area::Chcrt, "--chcrt-hint-pass-max-left", "chcrtHintPassMaxLeft",
+                 "CHC+RT with the hint pass: a ray kind whose passes leave more than this share of the pixels to "
+                 "trace twice in a row stops the pass, retrying every 16 traces")
+            .defaults("0.25; out of core 0.5")
+            .number(FIELD(chcrt.hintPassMaxLeft), 0.0, 1.0),
     };
 }
 

@@ -85,8 +85,10 @@ struct ChcrtOptions {
     // the near paths) the pass over all rays costs more than the compaction saves (Table 2's settings, 20 spp, frames
     // 0-7: chcrt-noadapt city AO 1.20x with it against 1.38x without, interior 1.18x either way, plant 0.77x against
     // 1.09x). A ray kind whose hint passes left more than this share of the pixels twice in a row visits its hints in
-    // the cell pass instead, and tries the hint pass again every hintPassRetryInterval traces.
-    double hintPassMaxLeft = 0.25;
+    // the cell pass instead, and tries the hint pass again every hintPassRetryInterval traces. Out of core the cell
+    // passes visit no hints (a slot may change within a trace), so stopping the pass stops the hints; there the
+    // recommended share is a half (app/methods.cpp).
+    float hintPassMaxLeft = 0.25f;
     uint32_t hintPassRetryInterval = 16;
     // BoundsOnly and BoundsGpu: trace the cell lists in compute dispatches (a work group per cell) instead of fragment
     // passes; for GPUs whose fragment work runs on few units (docs/architecture.md). Same hits.
