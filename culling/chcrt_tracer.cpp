@@ -304,15 +304,17 @@ void ChcrtTracer::compilePrograms() {
                 if (wholeTree && d.name == "CHCRT_SUBTREE_STACK") d.value = std::to_string(CHCRT_MAX_BVH_DEPTH);
             }
             defines.push_back({"CHCRT_CULLING_HINTS", hints && (anyHit || options_.closestHitHints) ? "1" : "0"});
+            defines.push_back(hintSlotsDefine());
             return defines;
         }, options_.computeCellPass ? options_.bounds.cellSize : 0);
         if (wholeTree) cells_->setWholeTree(0u, options_.cellListLimit);
         const bool hintPass = hints && options_.hintPass;
         cells_->compile(hintPass);
         if (hintPass) {
-            hintPass_ = std::make_unique<HintPass>(
-                options_.computeCellPass, options_.bounds.cellSize,
-                std::vector<ShaderDefine>{{"CHCRT_COMPACT_SUBTREES", source_->compactLayout() ? "1" : "0"}});
+            hintPass_ = std::make_unique<HintPass>(options_.computeCellPass, options_.bounds.cellSize,
+                                                   std::vector<ShaderDefine>{hintSlotsDefine(),
+                                                                             {"CHCRT_COMPACT_SUBTREES",
+                                                                              source_->compactLayout() ? "1" : "0"}});
         }
     }
     if (options_.queries == ChcrtQueries::Batched && !batched_) batched_ = std::make_unique<BatchedQueries>();
@@ -410,9 +412,9 @@ GLuint ChcrtTracer::framebufferFor(const HitTargets& hits) {
 bool ChcrtTracer::hintsAvailable() const {
     if (!options_.hitHints) return false;
     if (bvh_ != nullptr) return decidesByBounds(options_.queries);
-    // Out of core a cache slot's nodes change as subtrees come and go: hints are dropped whenever one did
-    // (hintImageFor), visited only by the hint pass at a trace's start, before this trace replaces any, and recorded
-    // by the cell passes of batched rounds.
+    // Out of core a cache slot's nodes change as subtrees come and go: hints are visited only by the hint pass at a
+    // trace's start, before this trace replaces any slot, which drops those whose slot was replaced since they were
+    // validated (shaders/culling/hint_leaf.glsl), and recorded by the cell passes of batched rounds.
     return intersectsByCells() && source_->hintsSupported();
 }
 
@@ -431,15 +433,27 @@ GLuint ChcrtTracer::hintImageFor(const TraceRequest& request, int width, int hei
         glGetTextureLevelParameteriv(hint.id(), 0, GL_TEXTURE_WIDTH, &w);
         glGetTextureLevelParameteriv(hint.id(), 0, GL_TEXTURE_HEIGHT, &h);
     }
+    // Hints of slots replaced since are dropped by the hint pass (shaders/culling/hint_leaf.glsl), which compares
+    // 32-bit epochs: an image that old is emptied.
     const uint64_t epoch = source_->contentEpoch();
     if (hint.id() == 0 || w != width || h != height) hint = createTexture2D(width, height, GL_R32UI);
-    else if (image.epoch == epoch) return hint.id();
+    else if (epoch - image.epoch < (uint64_t(1) << 31)) return hint.id();
     const GLuint none = CHCRT_NO_HIT_ID;
     glClearTexImage(hint.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
     image.epoch = epoch;
+    image.passed = false;
     fresh = true;
     return hint.id();
+}
+
+HintSlots ChcrtTracer::validateHints(const TraceRequest& request) {
+    HintImage& image = (*hintStore_)[rayStateKey(request)];
+    const uint64_t epoch = source_->contentEpoch();
+    const HintSlots slots{source_->hintSlotNodes(), uint32_t(image.epoch), uint32_t(epoch - image.epoch)};
+    hintSlotsReplaced_ = epoch != image.epoch;
+    image.epoch = epoch;
+    return slots;
 }
 
 bool ChcrtTracer::hintPassDue(const TraceRequest& request) {
@@ -452,6 +466,14 @@ void ChcrtTracer::finishHintPass(const TraceRequest& request, int width, int hei
     last_.hintRaysLeft = hintPass_->raysLeft();
     HintPassRecord& record = (*hintPassRecords_)[adaptiveKey(request)];
     record.skipped = 0;
+    // The first pass over a ray set's hints is no sample of what they leave: they come from the set's first trace,
+    // which may have been a renderer's warm-up under a one-pixel scissor (Renderer::warmUp) or a cold trace. Nor is
+    // a pass that dropped the hints of replaced cache slots (out of core, while the working set changes).
+    HintImage& image = (*hintStore_)[rayStateKey(request)];
+    if (!image.passed || hintSlotsReplaced_) {
+        image.passed = true;
+        return;
+    }
     const bool tooMany = double(last_.hintRaysLeft) > options_.hintPassMaxLeft * double(width) * double(height);
     record.misses = tooMany ? record.misses + 1 : 0;
 }

@@ -370,16 +370,21 @@ private:
     // Whether traces use hit hints: hitHints with bounds-decided cell lists on the in-core BVH, or out of core with
     // rounds intersected by cells from a source whose nodes hints may name (closest-hit ray sets also closestHitHints).
     bool hintsAvailable() const;
+    // CHCRT_CULLING_HINT_SLOTS: 1 where hints name nodes of cache slots (out of core; shaders/culling/hint_leaf.glsl).
+    ShaderDefine hintSlotsDefine() const { return {"CHCRT_CULLING_HINT_SLOTS", source_->hintSlotNodes() != 0 ? "1" : "0"}; }
     // The hint image of the request's ray set (R32UI of the traced size, CHCRT_CULLING_IMAGE_HINT), made on first
-    // use with no hints (`fresh` = true then), and emptied (fresh again) when the source's contentEpoch changed since
-    // its last use: its nodes may then hold other subtrees. 0 when the ray set has none (hints off, or closest-hit
-    // rays without closestHitHints).
+    // use with no hints (`fresh` = true then). Out of core the hint pass drops the hints whose cache slot was replaced
+    // since the image's epoch; an image 2^31 replacements old is emptied here instead (fresh again). 0 when the ray
+    // set has none (hints off, or closest-hit rays without closestHitHints).
     GLuint hintImageFor(const TraceRequest& request, int width, int height, bool& fresh);
-    // The start of a BoundsOnly / BoundsGpu trace's hints (and out of core of a trace intersected by cells): binds the ray set's hint image and runs the hint pass when
-    // it is due (options_.hintPass, hints from an earlier trace, the debug image allows it, and hintPassDue). Clears
+    // The start of a BoundsOnly / BoundsGpu trace's hints (out of core: of a trace intersected by cells): binds the
+    // ray set's hint image and runs the hint pass when it is due (options_.hintPass, hints from an earlier trace, the debug image allows it, and hintPassDue). Clears
     // `warm` for a trace that is no sample of culling's cost: its ray set had no hints yet, or it is this tracer's
     // first hint pass (llvmpipe compiles a program's variants at their first use). Returns whether the pass ran.
     bool startHints(const TraceRequest& request, const RayTextures& rays, int width, int height, bool& warm);
+    // Out of core, for the hint pass about to run: what it checks each hint's cache slot against (the slots replaced
+    // since the image's hints were last validated); the pass validates them all, so the image's epoch moves on.
+    HintSlots validateHints(const TraceRequest& request);
     // Whether its ray kind's recent hint passes left at most hintPassMaxLeft of the pixels, or a retry is due.
     bool hintPassDue(const TraceRequest& request);
     // After a trace that ran the hint pass (its GPU work finished): the rays it left, into the statistics and the
@@ -417,7 +422,8 @@ private:
     std::map<uint64_t, std::unique_ptr<VisibilityState>> states_;
     struct HintImage {
         GlTexture texture;
-        uint64_t epoch = 0; // the source's contentEpoch when the hints were last known to name its nodes
+        uint64_t epoch = 0;  // the source's contentEpoch when its hints were last validated (by a hint pass)
+        bool passed = false; // a hint pass has run over them (the first does not count in HintPassRecord)
     };
     std::map<uint64_t, HintImage> hints_; // hit hints per ray set (rayStateKey), hitHints only
     // The hints this tracer reads and writes: its own, or for the tracers of adaptiveHeights those of the tracer that
@@ -437,6 +443,7 @@ private:
     std::map<uint64_t, HintPassRecord> ownHintPassRecords_;
     std::map<uint64_t, HintPassRecord>* hintPassRecords_ = &ownHintPassRecords_;
     bool hintPassRan_ = false; // this tracer ran the hint pass before
+    bool hintSlotsReplaced_ = false; // the last hint pass dropped the hints of cache slots replaced since (validateHints)
     std::map<uint64_t, AdaptiveChoice> adaptive_; // per ray kind
     std::unique_ptr<RayBoundsGrid> rayExtent_;    // with options_.rayExtentCulling or BoundsOnly, updated per trace
     std::unique_ptr<CellTraversal> cells_;        // BoundsOnly's and BoundsGpu's intersection rounds

@@ -147,7 +147,7 @@ bool ChcrtTracer::startHints(const TraceRequest& request, const RayTextures& ray
     beginPassTimer();
     source_->bind(); // out of core: the cache's buffers (the renderer bound the in-core scene's, if any)
     hintPass_->run(request.anyHit, width, height, maskFramebufferFor(rays.active.id()),
-                   debugKind_ == ChcrtDebugImage::Cost, source_->hintSlotNodes());
+                   debugKind_ == ChcrtDebugImage::Cost, validateHints(request));
     endPassTimer();
     ++last_.shaderCalls;
     ++last_.hintPasses;

@@ -26,7 +26,7 @@ const ShaderProgram& HintPass::program(bool anyHit, bool debugCost) {
     return program;
 }
 
-void HintPass::run(bool anyHit, int width, int height, GLuint maskFramebuffer, bool debugCost, uint32_t slotNodes) {
+void HintPass::run(bool anyHit, int width, int height, GLuint maskFramebuffer, bool debugCost, const HintSlots& slots) {
     const size_t rays = size_t(width) * size_t(height);
     if (rays > capacity_) {
         buffer_ = createBuffer((CHCRT_CULLING_COMPACT_HEADER + rays) * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -47,7 +47,11 @@ void HintPass::run(bool anyHit, int width, int height, GLuint maskFramebuffer, b
     pass.use();
     pass.set("cellsX", cellsX);
     pass.set("cellSize", cellSize_);
-    if (slotNodes != 0) pass.set("hintSlotNodes", slotNodes);
+    if (slots.slotNodes != 0) {
+        pass.set("hintSlotNodes", slots.slotNodes);
+        pass.set("hintEpoch", slots.epoch);
+        pass.set("hintEpochSpan", slots.span);
+    }
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, CHCRT_CULLING_COMPACT_BUFFER, buffer_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, CHCRT_CULLING_COMPACT_CELLS, marks_.id());
     if (compute_) {

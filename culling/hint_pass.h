@@ -14,6 +14,13 @@
 
 namespace chcrt {
 
+// Out of core: what a hint pass checks each hint's GPU cache slot against (shaders/culling/hint_leaf.glsl).
+struct HintSlots {
+    uint32_t slotNodes = 0; // node records per GPU cache slot (SubtreeSource::hintSlotNodes); 0 in core
+    uint32_t epoch = 0;     // low 32 bits of the cache's contentEpoch when the hints were last validated
+    uint32_t span = 0;      // the epoch now minus that
+};
+
 class HintPass {
 public:
     // `compute`: the pass is a compute dispatch (GPUs); else a full-screen fragment pass behind the active-ray mask.
@@ -27,8 +34,8 @@ public:
     // to the cost debug image (bound at CHCRT_CULLING_IMAGE_DEBUG). Leaves the compaction buffer bound as the shader
     // storage buffer CHCRT_CULLING_COMPACT_BUFFER and as GL_DISPATCH_INDIRECT_BUFFER, ordered before later reads.
     // `anyHit`: the ray set's kind (shaders/culling/hint_pass.glsl: any-hit rays that hit are finished, closest-hit
-    // rays bounded). `slotNodes`: the compact layout's node records per cache slot (SubtreeSource::hintSlotNodes).
-    void run(bool anyHit, int width, int height, GLuint maskFramebuffer, bool debugCost, uint32_t slotNodes = 0);
+    // rays bounded). `slots`: out of core, what the hints are checked against.
+    void run(bool anyHit, int width, int height, GLuint maskFramebuffer, bool debugCost, const HintSlots& slots = {});
     // The marks of the last run (a uint per ray bounds cell of `cellSize` pixels: nonzero where a ray was listed),
     // for the reduction that follows it (RayBoundsGrid::update's `cellMarks`).
     GLuint cellMarks() const { return marks_.id(); }

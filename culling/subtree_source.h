@@ -27,14 +27,16 @@ public:
     virtual bool compactLayout() const { return false; }
 
     // Hit hints (culling/README.md "Hit hints") name nodes of the bound buffers, which must still hold the subtrees
-    // the hints were recorded in. contentEpoch() changes whenever a node the buffers held may have changed (a cache
-    // slot given to another subtree): the tracer then drops its hints. In core it never changes.
+    // the hints were recorded in. contentEpoch() counts the replacements of resident subtrees (a cache slot given to
+    // another one); in core it never changes.
     virtual uint64_t contentEpoch() const { return 0; }
     // Whether hints may name this source's nodes at all (false where entries of other shapes share the buffers,
     // e.g. LOD proxies).
     virtual bool hintsSupported() const { return true; }
-    // Compact layout: the node records of each slot, which start at multiples of it, so that a hinted node's subtree
-    // root (the frame its box and triangles decode in) is node - node % hintSlotNodes(). 0 otherwise.
+    // Slots: the node records of each (nonzero out of core), which start at multiples of it: a hinted node's slot is
+    // node / hintSlotNodes(), and in the compact layout its subtree root (the frame its box and triangles decode in)
+    // node - node % hintSlotNodes(). bind() then also binds, at CHCRT_UNIT_CULLING_HINT_SLOTS, each slot's epoch
+    // (shared/culling_layout.h), so that the hint pass drops only the hints of the slots replaced since.
     virtual uint32_t hintSlotNodes() const { return 0; }
     // Binds the buffers as acquire() does, for a pass that reads resident subtrees before this trace asks for any
     // (the hint pass). In core the renderer has bound them.

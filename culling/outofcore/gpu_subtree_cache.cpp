@@ -4,6 +4,7 @@
 #include "renderer/core/error.h"
 #include "renderer/gl/context.h"
 #include "renderer/outofcore/gpu_cache_slots.h"
+#include "shaders/shared/culling_layout.h"
 #include "shaders/shared/render_layout.h"
 
 #include <algorithm>
@@ -86,6 +87,7 @@ GpuSubtreeCache::GpuSubtreeCache(SubtreeStore& store, const GpuCacheOptions& opt
                          std::to_string((slotBytes + (1u << 20) - 1) >> 20) + " MB; prepare with smaller --subtree-triangles)");
     }
     subtrees.slotKey.assign(slots, kNotResident);
+    slotEpochs_.assign(slots, 0u);
     pools_.push_back(std::move(subtrees));
     for (Pool& p : proxyPools) pools_.push_back(std::move(p));
     // Pools one after another in each buffer: the subtree pool first (slot k's root = k × slotNodes, as without LOD).
@@ -234,6 +236,10 @@ void GpuSubtreeCache::upload(uint32_t level, uint32_t subtree, uint32_t slot) {
         pool.slotOf[previous] = kNotResident;
         ++stats_.evictions;
         ++replacements_;
+        if (level == 0) {
+            slotEpochs_[slot] = uint32_t(replacements_);
+            slotEpochsChanged_ = true;
+        }
         --stats_.residentSubtrees;
     }
     pool.slotKey[slot] = subtree;
@@ -304,6 +310,13 @@ void GpuSubtreeCache::bind() {
     glBindTextureUnit(CHCRT_UNIT_BVH_NODES, nodes_.texture.id());
     glBindTextureUnit(CHCRT_UNIT_BVH_TRIANGLES, triangles_.texture.id());
     if (compact_) glBindTextureUnit(CHCRT_UNIT_BVH_VERTICES, vertices_.texture.id());
+    if (slotEpochsChanged_) { // the slots' epochs for the hint pass (SubtreeSource::hintSlotNodes)
+        const size_t bytes = slotEpochs_.size() * sizeof(uint32_t); // at least one slot (the constructor checks)
+        if (slotEpochTexture_.bytes != bytes) slotEpochTexture_ = createTextureBuffer(nullptr, bytes, GL_R32UI);
+        glNamedBufferSubData(slotEpochTexture_.buffer.id(), 0, GLsizeiptr(bytes), slotEpochs_.data());
+        slotEpochsChanged_ = false;
+    }
+    glBindTextureUnit(CHCRT_UNIT_CULLING_HINT_SLOTS, slotEpochTexture_.texture.id());
 }
 
 } // namespace chcrt::outofcore

@@ -107,7 +107,7 @@ public:
     // in slots of other sizes, so a cache serving LOD proxies takes none.
     uint64_t contentEpoch() const override { return replacements_; }
     bool hintsSupported() const override { return !lodEnabled(); }
-    uint32_t hintSlotNodes() const override { return compact_ ? pools_[0].slotNodes : 0u; }
+    uint32_t hintSlotNodes() const override { return pools_[0].slotNodes; }
     void bind() override;
 
     const GpuCacheStats& stats() const { return stats_; }
@@ -165,6 +165,11 @@ private:
     UninitializedVector<BvhNodeGpu> rebased_; // an upload's nodes with slot indices, reused (no allocation per upload)
     uint64_t acquireCount_ = 0, tick_ = 0;
     uint64_t replacements_ = 0; // contentEpoch(): never reset (the per-frame evictions are)
+    // Per slot of the subtree pool: replacements_ (its low 32 bits) right after the slot's last replacement; uploaded
+    // to slotEpochTexture_ by bind() when changed (shared/culling_layout.h, CHCRT_UNIT_CULLING_HINT_SLOTS).
+    std::vector<uint32_t> slotEpochs_;
+    bool slotEpochsChanged_ = true;
+    TextureBuffer slotEpochTexture_;
     uint32_t uploadsThisTrace_ = 0, slotsUsedThisTrace_ = 0;
     uint64_t traceStartTick_ = 0;
     glm::vec3 eye_{0.0f};

@@ -51,7 +51,13 @@ void visitHintOfPixel(ivec2 pixel) {
     TraceHit best = makeMiss(directionTmax.w);
     TraceCost cost = TraceCost(0u, 0u, 0u, 0u);
     uint hintLeaf = imageLoad(hintImage, pixel).x;
-    if (hintLeaf != CHCRT_NO_HIT_ID) {
+#if CHCRT_CULLING_HINT_SLOTS
+    // Out of core: a hint whose cache slot changed since is dropped unvisited (its node may hold another subtree).
+    bool valid = hintLeaf != CHCRT_NO_HIT_ID && !hintSlotReplaced(hintLeaf);
+#else
+    bool valid = hintLeaf != CHCRT_NO_HIT_ID;
+#endif
+    if (valid) {
         visitHintLeaf(hintLeaf, originTmin.xyz, directionTmax.xyz, originTmin.w, best, cost);
     }
 #ifdef CHCRT_CULLING_DEBUG_COST
@@ -62,7 +68,7 @@ void visitHintOfPixel(ivec2 pixel) {
         return; // any-hit: finished; closest-hit: bounded. The hint stays
     }
     if (hintLeaf != CHCRT_NO_HIT_ID) {
-        imageStore(hintImage, pixel, uvec4(CHCRT_NO_HIT_ID)); // a hint that no longer hits is dropped
+        imageStore(hintImage, pixel, uvec4(CHCRT_NO_HIT_ID)); // a hint that no longer hits (or is stale) is dropped
     }
     uint slot = atomicAdd(listed, 1u);
     if (slot % uint(CHCRT_CULLING_COMPACT_GROUP) == 0u) {

@@ -16,6 +16,11 @@
 // hinted leaf before its cell's list and record the leaf of every hit they find (culling/README.md, "Hit hints").
 #define CHCRT_CULLING_IMAGE_HINT 2
 
+// Out of core (culling/README.md "Hit hints out of core"): texture unit of the GPU cache's slot epochs (R32UI texture
+// buffer, one texel per slot of the subtree pool: the low 32 bits of the cache's contentEpoch right after the slot's
+// last replacement, 0 for none). A hint whose slot was replaced since its image was last validated is dropped.
+#define CHCRT_UNIT_CULLING_HINT_SLOTS 33
+
 // Image unit of the hit triangle image (R32UI), written beside the subtree-id debug image when the subtree passes
 // are compiled with CHCRT_HIT_TRIANGLE_INDEX: the index, in the BVH-ordered triangle buffer, of the triangle that
 // produced the pixel's latest hit change. The out-of-core primary resolve reads that one triangle of a subtree
