@@ -95,8 +95,12 @@ void runExactness(outofcore::CachePolicy policy, ChcrtQueries queries = ChcrtQue
     EXPECT_EQ(tracer.cache().contentEpoch(), c.evictions); // every replaced slot moves the hints' epoch on
     // Hints are visited only where no slot changed since they were recorded (ChcrtTracer::hintImageFor): with every
     // subtree resident the hint pass runs from the second frame on.
-    if (hints && budgetDivisor == 1) EXPECT_GT(tracer.chcrt().totalStats().hintPasses, 0u);
-    if (!hints) EXPECT_EQ(tracer.chcrt().totalStats().hintPasses, 0u);
+    if (hints && budgetDivisor == 1) {
+        EXPECT_GT(tracer.chcrt().totalStats().hintPasses, 0u);
+    }
+    if (!hints) {
+        EXPECT_EQ(tracer.chcrt().totalStats().hintPasses, 0u);
+    }
     EXPECT_LE(c.residentBytes, c.allocatedBytes);
     EXPECT_LE(c.allocatedBytes, options.gpuCacheBytes);
     const outofcore::OutOfCoreStats s = tracer.snapshot();
