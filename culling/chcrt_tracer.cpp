@@ -451,7 +451,7 @@ HintSlots ChcrtTracer::validateHints(const TraceRequest& request) {
     HintImage& image = (*hintStore_)[rayStateKey(request)];
     const uint64_t epoch = source_->contentEpoch();
     const HintSlots slots{source_->hintSlotNodes(), uint32_t(image.epoch), uint32_t(epoch - image.epoch)};
-    hintSlotsReplaced_ = epoch != image.epoch;
+    image.droppedStale = epoch != image.epoch;
     image.epoch = epoch;
     return slots;
 }
@@ -470,7 +470,7 @@ void ChcrtTracer::finishHintPass(const TraceRequest& request, int width, int hei
     // which may have been a renderer's warm-up under a one-pixel scissor (Renderer::warmUp) or a cold trace. Nor is
     // a pass that dropped the hints of replaced cache slots (out of core, while the working set changes).
     HintImage& image = (*hintStore_)[rayStateKey(request)];
-    if (!image.passed || hintSlotsReplaced_) {
+    if (!image.passed || image.droppedStale) {
         image.passed = true;
         return;
     }

@@ -423,7 +423,8 @@ private:
     struct HintImage {
         GlTexture texture;
         uint64_t epoch = 0;  // the source's contentEpoch when its hints were last validated (by a hint pass)
-        bool passed = false; // a hint pass has run over them (the first does not count in HintPassRecord)
+        bool passed = false;       // a hint pass has run over them (the first does not count in HintPassRecord)
+        bool droppedStale = false; // the last pass dropped hints of cache slots replaced since (validateHints)
     };
     std::map<uint64_t, HintImage> hints_; // hit hints per ray set (rayStateKey), hitHints only
     // The hints this tracer reads and writes: its own, or for the tracers of adaptiveHeights those of the tracer that
@@ -443,7 +444,6 @@ private:
     std::map<uint64_t, HintPassRecord> ownHintPassRecords_;
     std::map<uint64_t, HintPassRecord>* hintPassRecords_ = &ownHintPassRecords_;
     bool hintPassRan_ = false; // this tracer ran the hint pass before
-    bool hintSlotsReplaced_ = false; // the last hint pass dropped the hints of cache slots replaced since (validateHints)
     std::map<uint64_t, AdaptiveChoice> adaptive_; // per ray kind
     std::unique_ptr<RayBoundsGrid> rayExtent_;    // with options_.rayExtentCulling or BoundsOnly, updated per trace
     std::unique_ptr<CellTraversal> cells_;        // BoundsOnly's and BoundsGpu's intersection rounds

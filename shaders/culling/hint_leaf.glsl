@@ -23,6 +23,19 @@ bool hintSlotReplaced(uint node) {
 }
 #endif
 
+// The visit of a leaf whose box and triangle range the layout has read: the box against the ray up to
+// pruneLimit(best t), then the triangles with the hit rule — one rule for both layouts.
+bool visitLeafInBox(vec3 lower, vec3 upper, uint first, uint count, vec3 origin, vec3 direction, float tmin,
+                    inout TraceHit best, inout TraceCost cost) {
+    vec2 entryExit = intersectRayAabb(origin, safeInverseDirection(direction), lower, upper);
+    if (!rayHitsAabb(entryExit, tmin, pruneLimit(best.t))) {
+        return false;
+    }
+    ++cost.leaves;
+    intersectLeaf(first, count, origin, direction, tmin, best, cost);
+    return true;
+}
+
 #if CHCRT_COMPACT_SUBTREES
 // Out of core, compact layout: the node's subtree root — the frame its box and triangles decode in — is the first node
 // of its slot. The leaf's box is read as the traversal reads it: from its own texel, decoded in that frame, or the
@@ -35,37 +48,20 @@ bool visitHintLeaf(uint leaf, vec3 origin, vec3 direction, float tmin, inout Tra
     uvec4 root0 = texelFetch(bvhNodes, int(root));
     uvec4 root1 = texelFetch(bvhNodes, int(root) + 1);
     setNodeFrame(root, root0, root1);
-    vec3 lower, upper;
-    uint header;
     if (leaf == root) {
-        lower = uintBitsToFloat(root0.xyz);
-        upper = uintBitsToFloat(root1.xyz);
-        header = root0.w;
-    } else {
-        uvec4 node = texelFetch(bvhNodes, int(leaf));
-        lower = compactLower(node);
-        upper = compactUpper(node);
-        header = node.w;
+        return visitLeafInBox(uintBitsToFloat(root0.xyz), uintBitsToFloat(root1.xyz), compactFirst(root0.w),
+                              compactCount(root0.w), origin, direction, tmin, best, cost);
     }
-    vec2 entryExit = intersectRayAabb(origin, safeInverseDirection(direction), lower, upper);
-    if (!rayHitsAabb(entryExit, tmin, pruneLimit(best.t))) {
-        return false;
-    }
-    ++cost.leaves;
-    intersectLeaf(compactFirst(header), compactCount(header), origin, direction, tmin, best, cost);
-    return true;
+    uvec4 node = texelFetch(bvhNodes, int(leaf));
+    return visitLeafInBox(compactLower(node), compactUpper(node), compactFirst(node.w), compactCount(node.w), origin,
+                          direction, tmin, best, cost);
 }
 #else
 bool visitHintLeaf(uint leaf, vec3 origin, vec3 direction, float tmin, inout TraceHit best, inout TraceCost cost) {
     int texel = int(leaf) * CHCRT_BVH_TEXELS_PER_NODE;
     vec4 leaf0 = texelFetch(bvhNodes, texel);
     vec4 leaf1 = texelFetch(bvhNodes, texel + 1);
-    vec2 entryExit = intersectRayAabb(origin, safeInverseDirection(direction), leaf0.xyz, leaf1.xyz);
-    if (!rayHitsAabb(entryExit, tmin, pruneLimit(best.t))) {
-        return false;
-    }
-    ++cost.leaves;
-    intersectLeaf(floatBitsToUint(leaf0.w), floatBitsToUint(leaf1.w), origin, direction, tmin, best, cost);
-    return true;
+    return visitLeafInBox(leaf0.xyz, leaf1.xyz, floatBitsToUint(leaf0.w), floatBitsToUint(leaf1.w), origin, direction,
+                          tmin, best, cost);
 }
 #endif
