@@ -105,6 +105,7 @@ GpuSubtreeCache::GpuSubtreeCache(SubtreeStore& store, const GpuCacheOptions& opt
         stats_.slots += uint32_t(p.slotKey.size());
     }
     stats_.proxySlots = stats_.slots - uint32_t(pools_[0].slotKey.size());
+    lastAcquired_.assign(h.subtreeCount, 0);
     const GpuSlotShape total{nodes, triangles, vertices, compact_};
     nodes_ = createTextureBuffer(nullptr, total.nodeBytes(), compact_ ? GL_RGBA32UI : GL_RGBA32F);
     triangles_ = createTextureBuffer(nullptr, total.triangleBytes(), compact_ ? GL_RGBA32UI : GL_RGBA32F);
@@ -269,6 +270,7 @@ void GpuSubtreeCache::acquire(std::span<const uint32_t> subtrees, std::span<uint
     for (size_t i = 0; i < subtrees.size(); ++i) {
         levels[i] = levelFor(subtrees[i]);
         ++stats_.requestsPerLevel[levels[i]];
+        lastAcquired_.at(subtrees[i]) = acquireCount_;
     }
     // Resident ones first, so that a miss never evicts a subtree this same request needs (CHC+RT §5.4:
     // resident scheduled subtrees are intersected first).

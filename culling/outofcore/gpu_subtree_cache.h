@@ -129,6 +129,10 @@ public:
     uint32_t slotSubtree(uint32_t slot) const { return pools_[0].slotKey[slot]; }
     // The subtree itself (level 0) is in the cache (prefetch leaves resident ones out).
     bool isResident(uint32_t subtree) const { return pools_[0].slotOf.at(subtree) != kNotResident; }
+    // Calls of acquire() so far, and whether `subtree` was asked for (at any level) by one after the first `calls`
+    // of them: the prefetch tells a subtree the frame used from one it did not (subtree_prefetch.h).
+    uint64_t acquireCount() const { return acquireCount_; }
+    bool acquiredAfter(uint32_t subtree, uint64_t calls) const { return lastAcquired_.at(subtree) > calls; }
     // Slots of the pool of proxy level `level` >= 1 (0 when it has none).
     uint32_t proxySlotCount(uint32_t level) const { return level < pools_.size() ? uint32_t(pools_[level].slotKey.size()) : 0u; }
     GLuint nodeBuffer() const { return nodes_.buffer.id(); }
@@ -164,6 +168,7 @@ private:
     std::vector<Pool> pools_; // [0] subtrees, [l] proxies of level l (empty pools when LOD is off)
     UninitializedVector<BvhNodeGpu> rebased_; // an upload's nodes with slot indices, reused (no allocation per upload)
     uint64_t acquireCount_ = 0, tick_ = 0;
+    std::vector<uint64_t> lastAcquired_; // per subtree: acquireCount_ of the last acquire() that asked for it
     uint64_t replacements_ = 0; // contentEpoch(): never reset (the per-frame evictions are)
     // Per slot of the subtree pool: replacements_ (its low 32 bits) right after the slot's last replacement; uploaded
     // to slotEpochTexture_ by bind() when changed (shared/culling_layout.h, CHCRT_UNIT_CULLING_HINT_SLOTS).

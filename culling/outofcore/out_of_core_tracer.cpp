@@ -7,6 +7,7 @@
 #include "shaders/shared/render_layout.h"
 
 #include <cmath>
+#include <utility>
 
 namespace chcrt::outofcore {
 namespace {
@@ -147,11 +148,13 @@ void OutOfCoreTracer::trace(const TraceRequest& request, const RayTextures& rays
 
 void OutOfCoreTracer::prefetchAfterFrame(const Camera& current, std::span<const Camera> next, int width, int height) {
     store_->advanceFrame();
+    const uint64_t frameFirstAcquire = std::exchange(frameFirstAcquire_, cache_->acquireCount());
     if (options_.prefetchFrames == 0) return;
     std::vector<uint32_t> front;
     chcrt_->collectInvisibleFrontNextToVisible(front);
     const PrefetchRequest request{front, current, next.first(std::min<size_t>(next.size(), options_.prefetchFrames)),
-                                  width, height};
+                                  width, height,
+                                  [&](uint32_t subtree) { return cache_->acquiredAfter(subtree, frameFirstAcquire); }};
     // Prefetch reads whole subtrees: under chcrt-lod those served as proxies from this view are left out, so that
     // a far view does not fill the host store with subtrees it traces as proxies.
     const std::vector<uint32_t> subtrees =

@@ -90,9 +90,9 @@ public:
     const OutOfCoreOptions& options() const { return options_; }
     // Read-ahead for the next frames, called once a frame is rendered (subtree_prefetch.h): queues for the host
     // store's background thread the subtrees of the fronts next to visible pairs (ranked from `current`'s eye) and
-    // those in the frustums of the first options().prefetchFrames of `next` (width × height frames), leaving out
-    // subtrees resident in the GPU cache, up to prefetchBytesPerFrame. Starts the store's next frame. Nothing is
-    // queued when prefetchFrames is 0.
+    // those entering the frustums of the first options().prefetchFrames of `next` (width × height frames) or in them
+    // and asked for since the previous call, leaving out subtrees resident in the GPU cache, up to
+    // prefetchBytesPerFrame. Starts the store's next frame. Nothing is queued when prefetchFrames is 0.
     void prefetchAfterFrame(const Camera& current, std::span<const Camera> next, int width, int height);
     // Cumulative counters since construction (take differences for a frame).
     OutOfCoreStats snapshot() const;
@@ -104,6 +104,7 @@ private:
     std::unique_ptr<GpuSubtreeCache> cache_;
     std::unique_ptr<ChcrtTracer> chcrt_;
     bool recordPrimarySubtrees_ = false;
+    uint64_t frameFirstAcquire_ = 0; // the cache's acquireCount() at the previous prefetchAfterFrame
     std::unique_ptr<PrimaryResolve> primaryResolve_; // last: destroyed first (it uses the tracer)
 };
 

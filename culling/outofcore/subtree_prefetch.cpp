@@ -48,12 +48,19 @@ std::vector<uint32_t> choosePrefetchSubtrees(const CullingHierarchy& hierarchy, 
         }
     }
 
-    // (b) The next cameras' frustums.
-    for (const Camera& camera : request.next) {
-        const CameraFrame frame = makeCameraFrame(camera, request.width, request.height);
-        for (uint32_t s = 0; s < hierarchy.subtrees.size(); ++s) {
-            const CullingHierarchy::Node& root = hierarchy.nodes[hierarchy.subtrees[s].node];
-            if (boxMeetsFrustum(frame, root.boxMin, root.boxMax)) propose(s, camera.eye);
+    // (b) The next cameras' frustums, less the current frustum's subtrees the current frame did not ask for.
+    if (!request.next.empty()) {
+        const CameraFrame currentFrame = makeCameraFrame(request.current, request.width, request.height);
+        for (const Camera& camera : request.next) {
+            const CameraFrame frame = makeCameraFrame(camera, request.width, request.height);
+            for (uint32_t s = 0; s < hierarchy.subtrees.size(); ++s) {
+                const CullingHierarchy::Node& root = hierarchy.nodes[hierarchy.subtrees[s].node];
+                if (boxMeetsFrustum(frame, root.boxMin, root.boxMax) &&
+                    ((request.usedNow && request.usedNow(s)) ||
+                     !boxMeetsFrustum(currentFrame, root.boxMin, root.boxMax))) {
+                    propose(s, camera.eye);
+                }
+            }
         }
     }
 

@@ -201,6 +201,14 @@ TEST(MethodRegistry, MethodDefaultsApplyToParametersNotGiven) {
     EXPECT_EQ(outOfCore.chcrt.queries, ChcrtQueries::Batched);
     EXPECT_TRUE(outOfCore.chcrt.cellIntersect);
     EXPECT_EQ(outOfCore.chcrt.bounds.cellSize, kRecommendedBoundsCellSize);
+    // ... and hit hints with the hint pass, which stops only above half the rays left (culling/README.md, "Hit hints
+    // out of core"; a quarter in core); --chcrt-hints off still turns them off.
+    EXPECT_TRUE(outOfCore.chcrt.hitHints);
+    EXPECT_TRUE(outOfCore.chcrt.hintPass);
+    EXPECT_EQ(outOfCore.chcrt.hintPassMaxLeft, 0.5f);
+    EXPECT_EQ(recommended.chcrt.hintPassMaxLeft, 0.25f);
+    EXPECT_FALSE(resolveMethodOptions(findMethod("chcrt"), parse({"--out-of-core", "--chcrt-hints", "off"}), 0).chcrt.hitHints);
+    EXPECT_TRUE(resolveMethodOptions(findMethod("chcrt-noadapt"), parse({"--out-of-core"}), 0).chcrt.hitHints);
     EXPECT_EQ(resolveMethodOptions(findMethod("chcrt-lod"), parse({"--out-of-core"}), 0).chcrt.bounds.cellSize, 16);
     EXPECT_EQ(resolveMethodOptions(findMethod("chcrt"), parse({"--out-of-core", "--chcrt-bounds-cell", "8"}), 0)
                   .chcrt.bounds.cellSize, 8);

@@ -69,7 +69,20 @@ TEST(SubtreePrefetch, ChoosesTheFrontAndTheLookAheadNearestFirst) {
     EXPECT_TRUE(outofcore::choosePrefetchSubtrees(h, request, nullptr).empty());
     request.frontNodes = front;
 
-    // A next camera turned around sees only subtree 2; it is ranked from its own eye (distance 9 < 20 of subtree 0).
+    // A next camera that sees what the current one sees adds only what the current frame asked for (a cache smaller
+    // than the frame's working set evicted it): a subtree in the current frustum that it did not ask for is hidden,
+    // and the front covers what turns visible.
+    const std::vector<Camera> same = {lookingAlongZ()};
+    request.frontNodes = {};
+    request.next = same;
+    EXPECT_TRUE(outofcore::choosePrefetchSubtrees(h, request, nullptr).empty());
+    request.usedNow = [](uint32_t s) { return s == 0; };
+    EXPECT_EQ(outofcore::choosePrefetchSubtrees(h, request, nullptr), (std::vector<uint32_t>{0}));
+    request.usedNow = nullptr;
+    request.frontNodes = front;
+
+    // A next camera turned around sees only subtree 2, which enters the view; it is ranked from its own eye
+    // (distance 9 < 20 of subtree 0).
     Camera back = lookingAlongZ();
     back.target = glm::vec3(0, 0, -1);
     const std::vector<Camera> next = {back};
