@@ -216,6 +216,57 @@ TEST_F(OutOfCoreTracerTest, HitsEqualInCorePureBvhWithHitHints) {
     runExactness(outofcore::CachePolicy::RoundRobin, ChcrtQueries::Batched, true, true, true, 15);
 }
 
+// The hint pass's stop rule out of core (ChcrtTracer::finishHintPass): a pass that dropped the hints of cache slots
+// replaced since they were recorded is no sample of what hints leave, so it never counts towards stopping the pass.
+// With every pass counted as leaving too many rays (hintPassMaxLeft 0), a cache that holds the whole scene stops
+// the pass after two counted passes (the control: the rule can stop it here), while a cache that replaces slots
+// between every two traces of the shadow ray set keeps it running on every trace.
+std::vector<uint64_t> shadowHintPasses(uint64_t budgetDivisor) {
+    test::ScratchDir dir;
+    const auto file = dir.file("city.chs");
+    test::prepareSmall("city:60k", file, 1000, 256ull << 20, true);
+    const outofcore::LoadedPreparedScene loaded = outofcore::loadPreparedScene(file);
+    RenderSettings settings;
+    settings.width = 80;
+    settings.height = 60;
+    Renderer renderer(loaded.scene, loaded.bvh, loaded.light, settings);
+    outofcore::OutOfCoreOptions options;
+    {
+        const outofcore::ChsFile chs(file);
+        options.gpuCacheBytes = sceneGpuBytes(chs) / budgetDivisor;
+    }
+    ChcrtOptions chcrt;
+    chcrt.pairs.minTileSize = 16;
+    chcrt.queries = ChcrtQueries::Batched;
+    chcrt.cellIntersect = true;
+    chcrt.hitHints = chcrt.hintPass = true;
+    chcrt.hintPassMaxLeft = 0.0f;
+    chcrt.hintPassRetryInterval = 100;
+    outofcore::OutOfCoreTracer tracer(file, options, chcrt);
+    ProceduralSpec spec;
+    EXPECT_TRUE(parseProceduralSpec(loaded.source, spec));
+    const Camera camera = proceduralNearPath(spec).cameraAtFrame(0);
+    renderer.useTracer(&tracer);
+    std::vector<uint64_t> passes;
+    FrameStats stats;
+    renderer.renderGBuffer(camera, stats);
+    for (int frame = 0; frame < 6; ++frame) {
+        for (RayType type : {RayType::Shadow, RayType::Ao, RayType::Primary}) {
+            renderer.generateRayPass(camera, type, 0, stats);
+            renderer.traceRayPass(camera, type, 0, stats);
+            if (type == RayType::Shadow) passes.push_back(tracer.chcrt().lastStats().hintPasses);
+        }
+    }
+    return passes;
+}
+
+TEST_F(OutOfCoreTracerTest, HintPassesThatDroppedStaleHintsDoNotStopThePass) {
+    // No hints in the first trace; the first pass does not count; two counted passes stop it.
+    EXPECT_EQ(shadowHintPasses(1), (std::vector<uint64_t>{0, 1, 1, 1, 0, 0}));
+    // Every pass dropped hints of replaced slots: none counts, the pass runs on every trace.
+    EXPECT_EQ(shadowHintPasses(15), (std::vector<uint64_t>{0, 1, 1, 1, 1, 1}));
+}
+
 // The viewer's streaming (--uploads-per-trace): a trace that may upload only 2 subtrees leaves the rest for later
 // traces (postponed, hits missing), and repeating the trace from the same camera converges: once a trace
 // postpones nothing, its hits are exactly the in-core pure BVH hits. `cacheDivisor`: the GPU cache holds
