@@ -14,6 +14,11 @@ double RecentTimes::estimate() const {
     return n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
 }
 
+double RecentTimes::lowest() const {
+    const size_t n = std::min<size_t>(count_, ms_.size());
+    return n == 0 ? 0.0 : *std::min_element(ms_.begin(), ms_.begin() + n);
+}
+
 AdaptiveChoice::AdaptiveChoice(uint32_t arms, uint32_t probeInterval, double probeBudget)
     : arms_(std::max<uint32_t>(arms, 2)), base_(std::max<uint32_t>(probeInterval, 1)),
       budget_(probeBudget > 0.0 ? probeBudget : kAllowedProbeCost) {}
@@ -28,7 +33,7 @@ double AdaptiveChoice::relativeCost(uint32_t arm) const {
 
 double AdaptiveChoice::baseline(uint32_t set) const {
     const auto it = pureBySet_.find(set);
-    return it != pureBySet_.end() && it->second.known() ? it->second.estimate() : 0.0;
+    return it != pureBySet_.end() && it->second.known() ? it->second.lowest() : 0.0;
 }
 
 uint32_t AdaptiveChoice::lowest() const {
@@ -94,7 +99,7 @@ uint32_t AdaptiveChoice::choose() const {
 void AdaptiveChoice::report(uint32_t arm, double ms, bool counted, uint32_t set) {
     Arm& ran = arms_[arm];
     if (arm == kPureArm) {
-        if (counted && ran.runs > 0) {
+        if (counted && ran.runs >= kPureWarmUpTraces) {
             pureBySet_[set].add(ms);
             pureAll_.add(ms);
         }

@@ -43,10 +43,13 @@ TEST(RecentTimes, MedianOfTheLastFive) {
     EXPECT_EQ(t.count(), 7u);
 }
 
-TEST(AdaptiveChoice, MeasuresThePurePassTwiceThenCulling) {
+TEST(AdaptiveChoice, MeasuresThePurePassThriceThenCulling) {
     AdaptiveChoice choice(2, 8);
     EXPECT_EQ(choice.next(), AdaptiveChoice::kPureArm);
     choice.report(0, 99.0, true); // first pure pass: not counted (compiles)
+    EXPECT_FALSE(choice.measured(0));
+    EXPECT_EQ(choice.next(), AdaptiveChoice::kPureArm);
+    choice.report(0, 15.0, true); // second: not counted either (still warming up)
     EXPECT_FALSE(choice.measured(0));
     EXPECT_EQ(choice.next(), AdaptiveChoice::kPureArm);
     choice.report(0, 10.0, true);
@@ -75,15 +78,15 @@ TEST(AdaptiveChoice, OneSlowedCullingTraceDoesNotKeepAWinningCullingOut) {
         choice.report(arm, arm == 0 ? 10.0 : culling[std::min(c, culling.size() - 1)], arm == 0 || c > 0);
         c += arm == 1;
     }
-    EXPECT_EQ(order, (std::vector<uint32_t>{0, 0, 1, 1, 1, 1, 1}));
+    EXPECT_EQ(order, (std::vector<uint32_t>{0, 0, 0, 1, 1, 1, 1}));
     AdaptiveChoice slow(2, 8);
-    runArms(slow, 3, {10.0, 16.0}); // pure (not counted), pure, culling at 1.6x
+    runArms(slow, 4, {10.0, 16.0}); // pure twice (not counted), pure, culling at 1.6x
     EXPECT_EQ(slow.next(), AdaptiveChoice::kPureArm);
 }
 
 TEST(AdaptiveChoice, AWinnerIsConfirmedAtOnceAndTakesOverOnTwoMeasurements) {
     AdaptiveChoice choice(2, 8);
-    runArms(choice, 3, {10.0, 5.0}); // pure twice, culling once
+    runArms(choice, 4, {10.0, 5.0}); // pure thrice, culling once
     EXPECT_EQ(choice.best(), AdaptiveChoice::kPureArm); // one measurement does not switch
     EXPECT_EQ(choice.next(), 1u);                       // but it is measured again at once
     runArms(choice, 1, {10.0, 5.0});
@@ -141,13 +144,13 @@ TEST(AdaptiveChoice, ProbingCostsAtMostTheBudgetOnAShortRunWhereCullingLoses) {
 TEST(AdaptiveChoice, FurtherArmsAreMeasuredOnlyWhenCullingComesClose) {
     AdaptiveChoice close(4, 2);
     std::vector<uint32_t> order;
-    for (int i = 0; i < 8; ++i) {
+    for (int i = 0; i < 9; ++i) {
         order.push_back(close.next());
         close.report(order.back(), order.back() == 0 ? 10.0 : 10.5, true);
     }
-    // The pure pass twice (its first trace is not counted), the configured culling twice (it lost by less than
-    // kRemeasureBelow), then, 2 * 2 traces having run, the other heights, each twice as well.
-    EXPECT_EQ(order, (std::vector<uint32_t>{0, 0, 1, 1, 2, 3, 2, 3}));
+    // The pure pass thrice (its first two traces are not counted), the configured culling; 2 * 2 traces having run,
+    // the other heights; then each culling arm once more (they lost by less than kRemeasureBelow).
+    EXPECT_EQ(order, (std::vector<uint32_t>{0, 0, 0, 1, 2, 3, 1, 2, 3}));
     AdaptiveChoice far(4, 2);
     std::vector<int> runs(4, 0);
     runArms(far, 200, {10.0, 12.0, 12.0, 12.0}, &runs);
@@ -175,6 +178,7 @@ TEST(AdaptiveChoice, CostsAreComparedOnTheSameRaySet) {
 TEST(AdaptiveChoice, CullingIsMeasuredOnlyOnSetsThePurePassWasMeasuredOn) {
     AdaptiveChoice choice(2, 8);
     choice.report(0, 99.0, true, 0); // not counted
+    choice.report(0, 15.0, true, 0); // not counted
     choice.report(0, 10.0, true, 1);
     EXPECT_EQ(choice.next(2), AdaptiveChoice::kPureArm); // set 2 has no pure time yet
     EXPECT_EQ(choice.next(1), 1u);
@@ -209,7 +213,7 @@ TEST(AdaptiveChoice, TheIntervalHasAFloorAndACeiling) {
 
 TEST(AdaptiveChoice, WinningCullingStillRemeasuresThePurePass) {
     AdaptiveChoice choice(2, 8);
-    runArms(choice, 4, {10.0, 8.0});
+    runArms(choice, 5, {10.0, 8.0});
     ASSERT_EQ(choice.best(), 1u);
     std::vector<int> counts(2, 0);
     runArms(choice, 90, {10.0, 8.0}, &counts);
