@@ -51,15 +51,15 @@ std::vector<uint32_t> choosePrefetchSubtrees(const CullingHierarchy& hierarchy, 
     // (b) The next cameras' frustums, less the current frustum's subtrees the current frame did not ask for.
     if (!request.next.empty()) {
         const CameraFrame currentFrame = makeCameraFrame(request.current, request.width, request.height);
-        for (const Camera& camera : request.next) {
-            const CameraFrame frame = makeCameraFrame(camera, request.width, request.height);
-            for (uint32_t s = 0; s < hierarchy.subtrees.size(); ++s) {
-                const CullingHierarchy::Node& root = hierarchy.nodes[hierarchy.subtrees[s].node];
-                if (boxMeetsFrustum(frame, root.boxMin, root.boxMax) &&
-                    ((request.usedNow && request.usedNow(s)) ||
-                     !boxMeetsFrustum(currentFrame, root.boxMin, root.boxMax))) {
-                    propose(s, camera.eye);
-                }
+        std::vector<CameraFrame> frames;
+        for (const Camera& camera : request.next) frames.push_back(makeCameraFrame(camera, request.width, request.height));
+        for (uint32_t s = 0; s < hierarchy.subtrees.size(); ++s) {
+            const CullingHierarchy::Node& root = hierarchy.nodes[hierarchy.subtrees[s].node];
+            if ((!request.usedNow || !request.usedNow(s)) && boxMeetsFrustum(currentFrame, root.boxMin, root.boxMax)) {
+                continue; // in view now and not asked for: hidden
+            }
+            for (size_t k = 0; k < frames.size(); ++k) {
+                if (boxMeetsFrustum(frames[k], root.boxMin, root.boxMax)) propose(s, request.next[k].eye);
             }
         }
     }
