@@ -188,6 +188,19 @@ TEST(AdaptiveChoice, CullingIsMeasuredOnlyOnSetsThePurePassWasMeasuredOn) {
     EXPECT_DOUBLE_EQ(choice.relativeCost(1), 1.2);
 }
 
+TEST(AdaptiveChoice, CullingIsCostedAgainstTheLowestRecentPureTime) {
+    // Slow pure traces (noise only adds) must not make a losing culling look like a win: against the median (14 ms)
+    // culling at 12 ms would count as 0.86x and take over; against the lowest (10 ms) it is 1.2x.
+    AdaptiveChoice choice(2, 8);
+    choice.report(0, 99.0, true); // warm-up
+    choice.report(0, 99.0, true); // warm-up
+    for (double ms : {10.0, 14.0, 14.0}) choice.report(0, ms, true);
+    choice.report(1, 12.0, true);
+    choice.report(1, 12.0, true);
+    EXPECT_DOUBLE_EQ(choice.relativeCost(1), 1.2);
+    EXPECT_EQ(choice.best(), AdaptiveChoice::kPureArm);
+}
+
 TEST(AdaptiveChoice, ASlowerLoserWaitsLonger) {
     AdaptiveChoice choice(3, 8, 0.03);
     runArms(choice, 24, {10.0, 10.9, 30.0});
