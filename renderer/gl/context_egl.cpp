@@ -161,8 +161,11 @@ namespace {
 const char* clientExtensionsOrThrow() {
     const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     if (clientExtensions == nullptr || !hasEglExtension(clientExtensions, "EGL_EXT_platform_base")) {
+        // glvnd's libEGL without a vendor (driver) says so too: it reads vendor files only from
+        // /usr/share/glvnd/egl_vendor.d and /etc/glvnd/egl_vendor.d unless __EGL_VENDOR_LIBRARY_DIRS names others.
         throw GlError("EGL: the EGL library lacks EGL_EXT_platform_base, so no headless display can be opened "
-                      "(is libegl1 from glvnd or Mesa installed?)");
+                      "(no EGL driver found: is libegl1 from glvnd or Mesa installed, and is the driver's vendor file "
+                      "in /usr/share/glvnd/egl_vendor.d or named by __EGL_VENDOR_LIBRARY_DIRS?)");
     }
     return clientExtensions;
 }

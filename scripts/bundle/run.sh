@@ -6,7 +6,10 @@
 # (lib/glibc/) instead. Environment:
 #   CHCRT_BUNDLE_GLIBC=1    use the bundle's glibc even when the machine's is new enough (0: never);
 #   CHCRT_SYSTEM_EGL=1      use the machine's libEGL.so.1 instead of the bundle's glvnd copy;
-#   CHCRT_BUNDLE_PRINT=1    print the command (loader, library path) on stderr before running it.
+#   CHCRT_BUNDLE_PRINT=1    print the command (loader, library path) on stderr before running it;
+#   CHCRT_DRIVER_PREFIXES   where to look for a GL driver installed outside the standard places when
+#                           /etc/glvnd/egl_vendor.d and /usr/share/glvnd/egl_vendor.d hold no EGL vendor file
+#                           (default /usr/local/nvidia, where GPU containers mount the NVIDIA driver).
 # Bash only: no other program is needed.
 set -euo pipefail
 GLIBC_REQUIRED=@GLIBC_REQUIRED@
@@ -20,6 +23,20 @@ here=$(cd "${source%/*}" && pwd -P)
 lib=$here/lib
 path=$lib
 [[ ${CHCRT_SYSTEM_EGL:-0} == 1 ]] || path=$path:$lib/glvnd
+
+# glvnd's libEGL reads vendor files only from /etc/glvnd/egl_vendor.d and /usr/share/glvnd/egl_vendor.d unless told
+# otherwise. A driver mounted elsewhere (GPU containers: /usr/local/nvidia/share/glvnd/egl_vendor.d, with its
+# libraries in /usr/local/nvidia/lib64) is then invisible, and EGL finds no device; point glvnd and the loader there.
+vendor_files() { compgen -G "$1/*.json" >/dev/null; }
+if [[ -z ${__EGL_VENDOR_LIBRARY_FILENAMES:-}${__EGL_VENDOR_LIBRARY_DIRS:-} ]] &&
+  ! vendor_files /etc/glvnd/egl_vendor.d && ! vendor_files /usr/share/glvnd/egl_vendor.d; then
+  for prefix in ${CHCRT_DRIVER_PREFIXES:-/usr/local/nvidia}; do
+    vendor_files "$prefix/share/glvnd/egl_vendor.d" || continue
+    export __EGL_VENDOR_LIBRARY_DIRS=$prefix/share/glvnd/egl_vendor.d
+    for dir in "$prefix/lib64" "$prefix/lib"; do [[ -d $dir ]] && path=$path:$dir; done
+    break
+  done
+fi
 
 # glibc version of this machine: from its loader's own report (bash and the loader only), else assumed new enough.
 machine_glibc() {
@@ -46,5 +63,5 @@ else
   export LD_LIBRARY_PATH=$path${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
   command=("$here/bin/chcrt" "$@")
 fi
-[[ ${CHCRT_BUNDLE_PRINT:-0} == 1 ]] && echo "run.sh: ${LD_LIBRARY_PATH:+LD_LIBRARY_PATH=$LD_LIBRARY_PATH }${command[*]}" >&2
+[[ ${CHCRT_BUNDLE_PRINT:-0} == 1 ]] && echo "run.sh: ${__EGL_VENDOR_LIBRARY_DIRS:+__EGL_VENDOR_LIBRARY_DIRS=$__EGL_VENDOR_LIBRARY_DIRS }${LD_LIBRARY_PATH:+LD_LIBRARY_PATH=$LD_LIBRARY_PATH }${command[*]}" >&2
 exec "${command[@]}"
