@@ -54,15 +54,35 @@ uint32_t AdaptiveChoice::probeInterval(uint32_t arm) const {
     return uint32_t(std::clamp(wait, double(base_), double(kMaxProbeInterval)));
 }
 
+bool AdaptiveChoice::affordable(uint32_t arm, uint32_t set) const {
+    if (arm == kPureArm) return true; // the ledger's reference: never beyond itself
+    const double base = baseline(set) > 0.0 ? baseline(set) : pureAll_.lowest();
+    // The expected excess over the pure pass (in pure traces) and the traces it takes: a measured arm, one trace at
+    // its estimate; a further height, its cold trace and a measured one like the best measured culling arm's.
+    double excess = 0.0, traces = 1.0;
+    if (measured(arm)) {
+        excess = relativeCost(arm) - 1.0;
+        if (excess <= 0.0) return true; // expected to save: it cannot add to the excess
+    } else {
+        double closest = kColdTraceCost;
+        for (uint32_t a = 1; a < arms_.size(); ++a) {
+            if (measured(a)) closest = std::min(closest, relativeCost(a));
+        }
+        excess = (kColdTraceCost - 1.0) + std::max(closest - 1.0, 0.0);
+        traces = 2.0;
+    }
+    return excessMs_ + excess * base <= budget_ * (pureEquivalentMs_ + traces * base);
+}
+
 uint32_t AdaptiveChoice::next(uint32_t set) const {
-    const uint32_t arm = choose();
+    const uint32_t arm = choose(set);
     // A culling trace counts only against the pure pass on the same set: without that baseline, trace the pure pass
     // (it is never worse than a culling arm that still has to prove itself).
     if (arm != kPureArm && baseline(set) <= 0.0 && (!measured(arm) || arm != best())) return kPureArm;
     return arm;
 }
 
-uint32_t AdaptiveChoice::choose() const {
+uint32_t AdaptiveChoice::choose(uint32_t set) const {
     // The pure pass first (the baseline of every relative cost), then the configured culling.
     if (!measured(kPureArm)) return kPureArm;
     if (!measured(1)) return 1;
@@ -73,7 +93,7 @@ uint32_t AdaptiveChoice::choose() const {
     }
     if (closeCulling && traces_ >= 2 * base_) {
         for (uint32_t a = 2; a < arms_.size(); ++a) {
-            if (!measured(a)) return a;
+            if (!measured(a) && affordable(a, set)) return a;
         }
     }
     // An arm measured once that would take over, or that lost by less than kRemeasureBelow, is measured again at
@@ -89,7 +109,7 @@ uint32_t AdaptiveChoice::choose() const {
     uint32_t probe = winner;
     double overdue = 0.0;
     for (uint32_t a = 0; a < arms_.size(); ++a) {
-        if (a == winner || !measured(a)) continue;
+        if (a == winner || !measured(a) || !affordable(a, set)) continue;
         const double due = double(arms_[a].since) / double(probeInterval(a)); // waited a whole interval
         if (due >= 1.0 && due > overdue) probe = a, overdue = due;
     }
@@ -105,6 +125,12 @@ void AdaptiveChoice::report(uint32_t arm, double ms, bool counted, uint32_t set)
         }
     } else if (counted && baseline(set) > 0.0) {
         ran.relative.add(ms / baseline(set));
+    }
+    // The ledger books every trace against the pure pass's time on its set (once there is one).
+    const double base = baseline(set) > 0.0 ? baseline(set) : pureAll_.lowest();
+    if (base > 0.0) {
+        pureEquivalentMs_ += base;
+        if (arm != kPureArm) excessMs_ += ms - base;
     }
     ++ran.runs;
     ran.since = 0;

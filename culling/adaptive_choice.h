@@ -25,6 +25,16 @@
 // machines one trace slowed down by another process otherwise flipped the choice. A culling trace's cost is relative
 // to the lowest of the pure pass's last five times on its set: noise only adds, and a baseline raised by one slow
 // pure trace made culling that lost look like a win.
+//
+// The probe ledger: the intervals above bound probes by estimates, but where culling nearly ties, a short run's
+// probes are mostly first traces — cold ones (1.2-1.6x of the pure pass, building another height's hierarchy) and
+// re-measurements — that no interval spaces out. Every trace of a culling arm, counted or not, books its time beyond
+// the pure pass's on its set (a winning culling books savings); exploring a further height and probing a losing
+// culling arm are allowed only while the booked excess, with the trace's expected excess, stays within the budget of
+// the pure pass's time for all traces so far. Exempt: the configured culling's first measurement (without it culling
+// would never start) and the second measurement of an arm measured once (one slowed trace must not keep a winning
+// culling out). (City and interior far primary rays, 32 traces per process: 0.94x and 0.92x of pure
+// BVH with further heights explored after 16 traces; docs/benchmarks.md, 2026-12-05.)
 #include <array>
 #include <cstdint>
 #include <map>
@@ -68,6 +78,9 @@ public:
     // values the lower counts): one trace slowed by another process must not keep a winning culling out for a whole
     // probe interval, while an arm that loses by more is not worth the extra trace.
     static constexpr double kRemeasureBelow = 1.5;
+    // What the ledger expects the first (cold) trace of a culling arm not yet measured to cost relative to the pure
+    // pass: cold traces measured 1.2-1.6x (docs/benchmarks.md, 2026-12-05 · 3652eba).
+    static constexpr double kColdTraceCost = 1.5;
 
     // `arms` >= 2: the pure pass and at least one culling configuration.
     explicit AdaptiveChoice(uint32_t arms = 2, uint32_t probeInterval = 8, double probeBudget = kAllowedProbeCost);
@@ -90,6 +103,10 @@ public:
     uint32_t best() const { return current_; }
     // Traces a losing arm waits between probes under the budget (its current value).
     uint32_t probeInterval(uint32_t arm) const;
+    // The ledger: time culling traces took beyond the pure pass on their sets (negative where culling saved), and
+    // the pure pass's time for all traces so far (ms).
+    double excessMs() const { return excessMs_; }
+    double pureEquivalentMs() const { return pureEquivalentMs_; }
 
 private:
     struct Arm {
@@ -98,7 +115,9 @@ private:
         uint32_t runs = 0;
     };
     uint32_t lowest() const; // the measured arm with the lowest estimate
-    uint32_t choose() const; // next() before the check for the set's baseline
+    uint32_t choose(uint32_t set) const; // next() before the check for the set's baseline
+    // Whether the ledger affords a trace of `arm` on `set` beyond what the running arm would take.
+    bool affordable(uint32_t arm, uint32_t set) const;
     double baseline(uint32_t set) const; // the pure pass's time on `set` (ms), 0 when it has none at all
     std::vector<Arm> arms_;
     std::map<uint32_t, RecentTimes> pureBySet_;
@@ -107,6 +126,8 @@ private:
     double budget_;
     uint32_t current_ = kPureArm;
     uint32_t traces_ = 0;
+    double excessMs_ = 0.0;
+    double pureEquivalentMs_ = 0.0;
 };
 
 } // namespace chcrt

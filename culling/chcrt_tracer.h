@@ -113,10 +113,11 @@ struct ChcrtOptions {
     // leaves are not intersected (our addition; culling/ray_bounds_grid.h). Exact. BoundsOnly always uses the grid.
     bool rayExtentCulling = true;
     // Adaptive choice (culling/README.md, adaptive_choice.h): per ray kind (primary, shadow, AO, diffuse, bounce
-    // shadow), the arm with the lowest measured time (median of its last three) — one pure full-screen pass, or
-    // culling at the configured height or one of adaptiveHeights; losing arms are re-measured after at least
-    // `adaptiveProbeInterval` traces, spaced so that their expected cost stays under `adaptiveProbeBudget` of the
-    // trace time. Needs a full-tree tracer (in core: the BVH); ignored without one.
+    // shadow), the arm with the lowest measured cost relative to the pure pass (median of its last five) — one pure
+    // full-screen pass, or culling at the configured height or one of adaptiveHeights; losing arms are re-measured
+    // after at least `adaptiveProbeInterval` traces, spaced so that their expected cost stays under
+    // `adaptiveProbeBudget` of the trace time, and the probe ledger keeps the measured excess of all probes within it.
+    // Needs a full-tree tracer (in core: the BVH); ignored without one.
     bool adaptive = true;
     uint32_t adaptiveProbeInterval = 8;
     // Half the 3 % that probing may cost: estimates come from different ray sets of the kind, and measured losses

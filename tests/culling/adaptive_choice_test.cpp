@@ -121,11 +121,13 @@ TEST(AdaptiveChoice, ProbesOfLosingArmsCostAtMostTheBudget) {
 }
 
 TEST(AdaptiveChoice, ProbingCostsAtMostTheBudgetOnAShortRunWhereCullingLoses) {
-    // 32 traces of one kind (8 frames at 4 spp), culling 1.15x or 1.3x slower at every height, the first trace of each
-    // culling configuration not counted (it starts cold), the first measured one confirmed (it lost by less than
-    // kRemeasureBelow): the pure pass runs, the other heights are not explored. (A culling twice as slow costs two of
-    // its traces at least — the cold one and one measured —, within the budget from 128 traces on.)
-    for (const auto& [slower, traces] : {std::pair{1.15, 32}, std::pair{1.3, 32}, std::pair{2.0, 128}}) {
+    // 32 traces of one kind (8 frames at 4 spp), culling 1.05x to 1.3x slower at every height, the first trace of
+    // each culling configuration not counted (it starts cold), the first measured one confirmed (it lost by less than
+    // kRemeasureBelow): the pure pass runs, the other heights are not explored — within kExploreMargin (1.05x, 1.1x)
+    // because the ledger cannot afford their cold traces. (A culling twice as slow costs two of its traces at least —
+    // the cold one and one measured —, within the budget from 128 traces on.)
+    for (const auto& [slower, traces] : {std::pair{1.05, 32}, std::pair{1.1, 32}, std::pair{1.15, 32},
+                                         std::pair{1.3, 32}, std::pair{2.0, 128}}) {
         AdaptiveChoice choice(4, 8, 0.015);
         std::vector<int> runs(4, 0);
         double total = 0.0;
@@ -144,18 +146,45 @@ TEST(AdaptiveChoice, ProbingCostsAtMostTheBudgetOnAShortRunWhereCullingLoses) {
 TEST(AdaptiveChoice, FurtherArmsAreMeasuredOnlyWhenCullingComesClose) {
     AdaptiveChoice close(4, 2);
     std::vector<uint32_t> order;
-    for (int i = 0; i < 9; ++i) {
+    for (int i = 0; i < 10; ++i) {
         order.push_back(close.next());
-        close.report(order.back(), order.back() == 0 ? 10.0 : 10.5, true);
+        close.report(order.back(), order.back() == 0 ? 10.0 : 8.0, true);
     }
-    // The pure pass thrice (its first two traces are not counted), the configured culling; 2 * 2 traces having run,
-    // the other heights; then each culling arm once more (they lost by less than kRemeasureBelow).
-    EXPECT_EQ(order, (std::vector<uint32_t>{0, 0, 0, 1, 2, 3, 1, 2, 3}));
+    // The pure pass thrice (its first two traces are not counted), the configured culling (it wins); at trace 4 the
+    // ledger cannot yet afford a cold trace of another height (kColdTraceCost: half a pure trace beyond it, against
+    // 0.2 saved so far), so the culling is confirmed instead; then the other heights, each measured again at once
+    // (they win too).
+    EXPECT_EQ(order, (std::vector<uint32_t>{0, 0, 0, 1, 1, 2, 3, 2, 3, 1}));
     AdaptiveChoice far(4, 2);
     std::vector<int> runs(4, 0);
     runArms(far, 200, {10.0, 12.0, 12.0, 12.0}, &runs);
     EXPECT_EQ(runs[2] + runs[3], 0); // 1.2x: beyond the exploration margin
     EXPECT_GT(runs[1], 1);           // but re-probed
+}
+
+TEST(AdaptiveChoice, TheLedgerKeepsProbesWhereCullingTiesWithinTheBudget) {
+    // Culling 1.05x of the pure pass at every height, each height's first trace cold at 1.5x: a short run explores
+    // nothing beyond the configured height; a long one explores the others once the pure pass's time affords their
+    // cold traces, and its probes stay within the budget throughout.
+    AdaptiveChoice choice(4, 8, 0.015);
+    std::vector<int> runs(4, 0);
+    double total = 0.0;
+    for (int i = 1; i <= 4000; ++i) {
+        const uint32_t arm = choice.next();
+        const double ms = arm == 0 ? 10.0 : (runs[arm] == 0 ? 15.0 : 10.5);
+        choice.report(arm, ms, arm == 0 || runs[arm] > 0);
+        ++runs[arm];
+        total += ms;
+        if (i == 32) {
+            EXPECT_EQ(runs[2] + runs[3], 0);
+        }
+        // Beyond the budget: the configured culling's first two traces (exempt) and one trace's excess.
+        EXPECT_LE(choice.excessMs(), 0.015 * choice.pureEquivalentMs() + 5.5 + 0.5) << i;
+    }
+    EXPECT_GT(runs[2], 1);
+    EXPECT_GT(runs[3], 1);
+    EXPECT_LE(total, 1.015 * 10.0 * 4000 + 10.0);
+    EXPECT_DOUBLE_EQ(choice.pureEquivalentMs(), 10.0 * (4000 - 2)); // every trace but the pure pass's warm-up
 }
 
 TEST(AdaptiveChoice, CostsAreComparedOnTheSameRaySet) {
@@ -202,16 +231,19 @@ TEST(AdaptiveChoice, CullingIsCostedAgainstTheLowestRecentPureTime) {
 }
 
 TEST(AdaptiveChoice, ASlowerLoserWaitsLonger) {
+    // Culling wins (10 ms against 12): the pure pass and a slower height are the losers, and the ledger, holding the
+    // savings, lets the intervals alone space their probes.
     AdaptiveChoice choice(3, 8, 0.03);
-    runArms(choice, 24, {10.0, 10.9, 30.0});
-    EXPECT_EQ(choice.best(), AdaptiveChoice::kPureArm);
-    // Two losers: arm 1 (1.09x) every 2 * 0.09 / 0.03 = 6 -> the floor of 8 traces, arm 2 (3x) every 2 * 2 / 0.03 = 134.
-    EXPECT_EQ(choice.probeInterval(1), 8u);
+    runArms(choice, 24, {12.0, 10.0, 30.0});
+    EXPECT_EQ(choice.best(), 1u);
+    // Relative to the winner, the pure pass is 1.2x: every 2 * 0.2 / 0.03 = 13.3 -> 14 traces; arm 2 (3x) every
+    // 2 * 2 / 0.03 = 134.
+    EXPECT_EQ(choice.probeInterval(0), 14u);
     EXPECT_EQ(choice.probeInterval(2), 134u);
     std::vector<int> counts(3, 0);
-    runArms(choice, 1350, {10.0, 10.9, 30.0}, &counts);
+    runArms(choice, 1350, {12.0, 10.0, 30.0}, &counts);
     // A loser runs after waiting a whole interval: once every interval + 1 traces.
-    EXPECT_NEAR(counts[1], 1350 / 9, 3);
+    EXPECT_NEAR(counts[0], 1350 / 15, 3);
     EXPECT_NEAR(counts[2], 1350 / 135, 1);
 }
 
