@@ -86,16 +86,6 @@ uint32_t AdaptiveChoice::choose(uint32_t set) const {
     // The pure pass first (the baseline of every relative cost), then the configured culling.
     if (!measured(kPureArm)) return kPureArm;
     if (!measured(1)) return 1;
-    // Further arms once 2 * probeInterval traces have run, and only while culling comes close to the pure pass.
-    bool closeCulling = false;
-    for (uint32_t a = 1; a < arms_.size(); ++a) {
-        closeCulling = closeCulling || (measured(a) && relativeCost(a) <= 1.0 + kExploreMargin);
-    }
-    if (closeCulling && traces_ >= 2 * base_) {
-        for (uint32_t a = 2; a < arms_.size(); ++a) {
-            if (!measured(a) && affordable(a, set)) return a;
-        }
-    }
     // An arm measured once that would take over, or that lost by less than kRemeasureBelow, is measured again at
     // once: a switch needs two measurements (confirming a winner costs nothing), and a single slowed trace must not
     // keep a culling arm out for a whole probe interval.
@@ -103,6 +93,17 @@ uint32_t AdaptiveChoice::choose(uint32_t set) const {
     for (uint32_t a = 1; a < arms_.size(); ++a) {
         if (a != winner && arms_[a].relative.count() == 1 && relativeCost(a) < kRemeasureBelow * relativeCost(winner)) {
             return a;
+        }
+    }
+    // Further arms only while culling comes close to the pure pass, and only once the ledger affords them: where
+    // culling wins, as soon as its savings cover a cold trace; where it nearly ties, once the run is long enough.
+    bool closeCulling = false;
+    for (uint32_t a = 1; a < arms_.size(); ++a) {
+        closeCulling = closeCulling || (measured(a) && relativeCost(a) <= 1.0 + kExploreMargin);
+    }
+    if (closeCulling) {
+        for (uint32_t a = 2; a < arms_.size(); ++a) {
+            if (!measured(a) && affordable(a, set)) return a;
         }
     }
     // The most overdue probe among the measured arms, else the best arm.
@@ -119,13 +120,14 @@ uint32_t AdaptiveChoice::choose(uint32_t set) const {
 void AdaptiveChoice::report(uint32_t arm, double ms, bool counted, uint32_t set) {
     Arm& ran = arms_[arm];
     if (arm == kPureArm) {
-        if (counted && ran.runs >= kPureWarmUpTraces) {
+        if (counted && ran.runs >= kWarmUpTraces) {
             pureBySet_[set].add(ms);
             pureAll_.add(ms);
         }
-    } else if (counted && baseline(set) > 0.0) {
+    } else if (counted && cullingTraces_ >= kWarmUpTraces && baseline(set) > 0.0) {
         ran.relative.add(ms / baseline(set));
     }
+    if (arm != kPureArm) ++cullingTraces_;
     // The ledger books every trace against the pure pass's time on its set (once there is one).
     const double base = baseline(set) > 0.0 ? baseline(set) : pureAll_.lowest();
     if (base > 0.0) {
@@ -137,7 +139,6 @@ void AdaptiveChoice::report(uint32_t arm, double ms, bool counted, uint32_t set)
     for (uint32_t a = 0; a < arms_.size(); ++a) {
         if (a != arm) ++arms_[a].since;
     }
-    ++traces_;
     // Until the pure pass and the configured culling are measured the lowest runs outright; afterwards a challenger
     // needs the margin and a second measurement (one noisy trace does not switch).
     const uint32_t challenger = lowest();

@@ -12,11 +12,11 @@
 // pass's last five times on s (below); a culling arm that is not running is traced only on sets the pure pass has a time for
 // (else the pure pass runs).
 //
-// Rule: the pure pass is measured first (its first kPureWarmUpTraces traces are not counted: they compile shaders and
-// fill caches), then
-// the configured culling (arm 1); the other culling arms only once 2 * probeInterval traces have run and some
-// culling arm is within kExploreMargin of the pure pass, so that neither a short run nor a view where culling
-// clearly loses spends itself exploring. Afterwards the arm with the lowest median of its last five relative costs
+// Rule: the pure pass is measured first (its first kWarmUpTraces traces are not counted: they compile shaders and
+// fill caches, and so do culling's first kWarmUpTraces), then
+// the configured culling (arm 1); the other culling arms only while some culling arm is within kExploreMargin of the
+// pure pass and the probe ledger (below) affords their first traces, so that neither a short run nor a view where
+// culling loses spends itself exploring. Afterwards the arm with the lowest median of its last five relative costs
 // runs (an arm measured once within kRemeasureBelow of it is measured again at once); another takes over once it is
 // kSwitchMargin below it on at least two measurements; and each other measured
 // arm is re-measured after an interval that keeps the expected cost of all probes under `probeBudget` of the trace
@@ -61,10 +61,13 @@ private:
 class AdaptiveChoice {
 public:
     static constexpr uint32_t kPureArm = 0;
-    // Traces of the pure pass not counted at the start. Its second trace can still be warming up: on the interior's
-    // far path it measured 18.8 ms where `bvh` traced the same rays in 13.3 ms, and culling at 14.1 ms then counted
-    // as 0.75x and ran for the whole 32-trace run at 0.93x of pure BVH (docs/benchmarks.md, 2026-12-05).
-    static constexpr uint32_t kPureWarmUpTraces = 2;
+    // Traces not counted at the start, of the pure pass and of culling (all culling arms together; a further arm's
+    // own first trace is cold too, which the tracer reports). The second trace can still be warming up: on the
+    // interior's far path the pure pass's measured 18.8 ms where `bvh` traced the same rays in 13.3 ms, and culling
+    // at 14.1 ms then counted as 0.75x and ran for the whole 32-trace run at 0.93x of pure BVH; on its near path
+    // culling's second trace took 12.1 ms against 7.6-8.4 ms from the third on, and counted as 1.27x it kept out, for
+    // the whole run, a culling that runs at 1.25x of pure BVH (docs/benchmarks.md, 2026-12-05).
+    static constexpr uint32_t kWarmUpTraces = 2;
     static constexpr uint32_t kMaxProbeInterval = 1024;
     static constexpr double kAllowedProbeCost = 0.03; // the share of trace time probing may cost at most
     // Another arm takes over only when its estimate is this much below the running arm's (and it was measured at
@@ -125,7 +128,7 @@ private:
     uint32_t base_;
     double budget_;
     uint32_t current_ = kPureArm;
-    uint32_t traces_ = 0;
+    uint32_t cullingTraces_ = 0; // traces of all culling arms
     double excessMs_ = 0.0;
     double pureEquivalentMs_ = 0.0;
 };

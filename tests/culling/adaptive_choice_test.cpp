@@ -43,7 +43,7 @@ TEST(RecentTimes, MedianOfTheLastFive) {
     EXPECT_EQ(t.count(), 7u);
 }
 
-TEST(AdaptiveChoice, MeasuresThePurePassThriceThenCulling) {
+TEST(AdaptiveChoice, MeasuresThePurePassThriceThenCullingThrice) {
     AdaptiveChoice choice(2, 8);
     EXPECT_EQ(choice.next(), AdaptiveChoice::kPureArm);
     choice.report(0, 99.0, true); // first pure pass: not counted (compiles)
@@ -57,6 +57,9 @@ TEST(AdaptiveChoice, MeasuresThePurePassThriceThenCulling) {
     EXPECT_EQ(choice.next(), 1u);
     choice.report(1, 50.0, false); // cold: not counted
     EXPECT_EQ(choice.next(), 1u);
+    choice.report(1, 15.0, true); // culling's second trace: not counted either (still warming up)
+    EXPECT_FALSE(choice.measured(1));
+    EXPECT_EQ(choice.next(), 1u);
     choice.report(1, 12.0, true);
     EXPECT_DOUBLE_EQ(choice.relativeCost(1), 1.2);
     EXPECT_EQ(choice.next(), 1u); // culling (1.2x) loses, by less than kRemeasureBelow: measured again at once
@@ -66,27 +69,28 @@ TEST(AdaptiveChoice, MeasuresThePurePassThriceThenCulling) {
 }
 
 TEST(AdaptiveChoice, OneSlowedCullingTraceDoesNotKeepAWinningCullingOut) {
-    // Culling at 0.7x of the pure pass, its first counted trace slowed by another process to 1.4x: measured again at
-    // once, it runs from the next trace on. Losing by more than kRemeasureBelow, it waits for its probe interval.
+    // Culling at 0.7x of the pure pass, its first counted trace (after a cold one and a warm-up) slowed by another
+    // process to 1.4x: measured again at once, it runs from the next trace on. Losing by more than kRemeasureBelow,
+    // it waits for its probe interval.
     AdaptiveChoice choice(2, 8);
-    const std::vector<double> culling = {50.0, 14.0, 7.0, 7.0, 7.0};
+    const std::vector<double> culling = {50.0, 14.0, 14.0, 7.0, 7.0, 7.0};
     std::vector<uint32_t> order;
     size_t c = 0;
-    for (int i = 0; i < 7; ++i) {
+    for (int i = 0; i < 8; ++i) {
         const uint32_t arm = choice.next();
         order.push_back(arm);
         choice.report(arm, arm == 0 ? 10.0 : culling[std::min(c, culling.size() - 1)], arm == 0 || c > 0);
         c += arm == 1;
     }
-    EXPECT_EQ(order, (std::vector<uint32_t>{0, 0, 0, 1, 1, 1, 1}));
+    EXPECT_EQ(order, (std::vector<uint32_t>{0, 0, 0, 1, 1, 1, 1, 1}));
     AdaptiveChoice slow(2, 8);
-    runArms(slow, 4, {10.0, 16.0}); // pure twice (not counted), pure, culling at 1.6x
+    runArms(slow, 6, {10.0, 16.0}); // pure twice (not counted), pure, culling twice (not counted), culling at 1.6x
     EXPECT_EQ(slow.next(), AdaptiveChoice::kPureArm);
 }
 
 TEST(AdaptiveChoice, AWinnerIsConfirmedAtOnceAndTakesOverOnTwoMeasurements) {
     AdaptiveChoice choice(2, 8);
-    runArms(choice, 4, {10.0, 5.0}); // pure thrice, culling once
+    runArms(choice, 6, {10.0, 5.0}); // pure thrice, culling thrice (measured once)
     EXPECT_EQ(choice.best(), AdaptiveChoice::kPureArm); // one measurement does not switch
     EXPECT_EQ(choice.next(), 1u);                       // but it is measured again at once
     runArms(choice, 1, {10.0, 5.0});
@@ -95,7 +99,7 @@ TEST(AdaptiveChoice, AWinnerIsConfirmedAtOnceAndTakesOverOnTwoMeasurements) {
 
 TEST(AdaptiveChoice, NearlyEqualArmsDoNotSwapOnNoise) {
     AdaptiveChoice choice(2, 8);
-    runArms(choice, 4, {10.0, 10.3}); // pure runs
+    runArms(choice, 6, {10.0, 10.3}); // pure runs
     ASSERT_EQ(choice.best(), AdaptiveChoice::kPureArm);
     // Culling now measures 2 % cheaper than pure: within the switch margin, pure keeps running.
     runArms(choice, 200, {10.0, 9.8});
@@ -124,10 +128,10 @@ TEST(AdaptiveChoice, ProbingCostsAtMostTheBudgetOnAShortRunWhereCullingLoses) {
     // 32 traces of one kind (8 frames at 4 spp), culling 1.05x to 1.3x slower at every height, the first trace of
     // each culling configuration not counted (it starts cold), the first measured one confirmed (it lost by less than
     // kRemeasureBelow): the pure pass runs, the other heights are not explored — within kExploreMargin (1.05x, 1.1x)
-    // because the ledger cannot afford their cold traces. (A culling twice as slow costs two of its traces at least —
-    // the cold one and one measured —, within the budget from 128 traces on.)
+    // because the ledger cannot afford their cold traces. (A culling 1.3x as slow costs four of its traces — the cold
+    // one, a warm-up and two measured —, within the budget from 40 traces on; one twice as slow three, from 100.)
     for (const auto& [slower, traces] : {std::pair{1.05, 32}, std::pair{1.1, 32}, std::pair{1.15, 32},
-                                         std::pair{1.3, 32}, std::pair{2.0, 128}}) {
+                                         std::pair{1.3, 40}, std::pair{2.0, 128}}) {
         AdaptiveChoice choice(4, 8, 0.015);
         std::vector<int> runs(4, 0);
         double total = 0.0;
@@ -150,11 +154,11 @@ TEST(AdaptiveChoice, FurtherArmsAreMeasuredOnlyWhenCullingComesClose) {
         order.push_back(close.next());
         close.report(order.back(), order.back() == 0 ? 10.0 : 8.0, true);
     }
-    // The pure pass thrice (its first two traces are not counted), the configured culling (it wins); at trace 4 the
-    // ledger cannot yet afford a cold trace of another height (kColdTraceCost: half a pure trace beyond it, against
-    // 0.2 saved so far), so the culling is confirmed instead; then the other heights, each measured again at once
-    // (they win too).
-    EXPECT_EQ(order, (std::vector<uint32_t>{0, 0, 0, 1, 1, 2, 3, 2, 3, 1}));
+    // The pure pass thrice and the configured culling thrice (the first two traces of each are not counted; culling
+    // wins), culling measured again (a winner is confirmed at once), then the other heights, each measured again
+    // before the next is explored — as soon as the culling's savings cover what exploring may cost (kColdTraceCost:
+    // half a pure trace beyond it), with no wait for a number of traces.
+    EXPECT_EQ(order, (std::vector<uint32_t>{0, 0, 0, 1, 1, 1, 1, 2, 2, 3}));
     AdaptiveChoice far(4, 2);
     std::vector<int> runs(4, 0);
     runArms(far, 200, {10.0, 12.0, 12.0, 12.0}, &runs);
@@ -209,6 +213,8 @@ TEST(AdaptiveChoice, CullingIsMeasuredOnlyOnSetsThePurePassWasMeasuredOn) {
     choice.report(0, 99.0, true, 0); // not counted
     choice.report(0, 15.0, true, 0); // not counted
     choice.report(0, 10.0, true, 1);
+    choice.report(1, 50.0, false, 1); // culling's two warm-up traces
+    choice.report(1, 15.0, true, 1);
     EXPECT_EQ(choice.next(2), AdaptiveChoice::kPureArm); // set 2 has no pure time yet
     EXPECT_EQ(choice.next(1), 1u);
     choice.report(1, 30.0, true, 2); // a culling trace of a set without a baseline is not counted
@@ -224,6 +230,8 @@ TEST(AdaptiveChoice, CullingIsCostedAgainstTheLowestRecentPureTime) {
     choice.report(0, 99.0, true); // warm-up
     choice.report(0, 99.0, true); // warm-up
     for (double ms : {10.0, 14.0, 14.0}) choice.report(0, ms, true);
+    choice.report(1, 99.0, true); // warm-up
+    choice.report(1, 99.0, true); // warm-up
     choice.report(1, 12.0, true);
     choice.report(1, 12.0, true);
     EXPECT_DOUBLE_EQ(choice.relativeCost(1), 1.2);
@@ -249,16 +257,16 @@ TEST(AdaptiveChoice, ASlowerLoserWaitsLonger) {
 
 TEST(AdaptiveChoice, TheIntervalHasAFloorAndACeiling) {
     AdaptiveChoice close(2, 8, 0.03);
-    runArms(close, 4, {10.0, 10.1});
+    runArms(close, 6, {10.0, 10.1});
     EXPECT_EQ(close.probeInterval(1), 8u); // 0.01 / 0.03 rounds up to 1: the floor
     AdaptiveChoice far(2, 8, 0.03);
-    runArms(far, 4, {1.0, 100.0});
+    runArms(far, 6, {1.0, 100.0});
     EXPECT_EQ(far.probeInterval(1), AdaptiveChoice::kMaxProbeInterval);
 }
 
 TEST(AdaptiveChoice, WinningCullingStillRemeasuresThePurePass) {
     AdaptiveChoice choice(2, 8);
-    runArms(choice, 5, {10.0, 8.0});
+    runArms(choice, 7, {10.0, 8.0});
     ASSERT_EQ(choice.best(), 1u);
     std::vector<int> counts(2, 0);
     runArms(choice, 90, {10.0, 8.0}, &counts);
