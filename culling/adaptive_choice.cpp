@@ -36,6 +36,10 @@ double AdaptiveChoice::baseline(uint32_t set) const {
     return it != pureBySet_.end() && it->second.known() ? it->second.lowest() : 0.0;
 }
 
+double AdaptiveChoice::ledgerBase(uint32_t set) const {
+    return baseline(set) > 0.0 ? baseline(set) : pureAll_.lowest();
+}
+
 uint32_t AdaptiveChoice::lowest() const {
     uint32_t best = kPureArm;
     for (uint32_t a = 1; a < arms_.size(); ++a) {
@@ -56,7 +60,7 @@ uint32_t AdaptiveChoice::probeInterval(uint32_t arm) const {
 
 bool AdaptiveChoice::affordable(uint32_t arm, uint32_t set) const {
     if (arm == kPureArm) return true; // the ledger's reference: never beyond itself
-    const double base = baseline(set) > 0.0 ? baseline(set) : pureAll_.lowest();
+    const double base = ledgerBase(set);
     // The expected excess over the pure pass (in pure traces) and the traces it takes: a measured arm, one trace at
     // its estimate; a further height, its cold trace and a measured one like the best measured culling arm's.
     double excess = 0.0, traces = 1.0;
@@ -129,7 +133,7 @@ void AdaptiveChoice::report(uint32_t arm, double ms, bool counted, uint32_t set)
     }
     if (arm != kPureArm) ++cullingTraces_;
     // The ledger books every trace against the pure pass's time on its set (once there is one).
-    const double base = baseline(set) > 0.0 ? baseline(set) : pureAll_.lowest();
+    const double base = ledgerBase(set);
     if (base > 0.0) {
         pureEquivalentMs_ += base;
         if (arm != kPureArm) excessMs_ += ms - base;

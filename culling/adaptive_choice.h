@@ -122,6 +122,7 @@ private:
     // Whether the ledger affords a trace of `arm` on `set` beyond what the running arm would take.
     bool affordable(uint32_t arm, uint32_t set) const;
     double baseline(uint32_t set) const; // the pure pass's time on `set` (ms), 0 when it has none at all
+    double ledgerBase(uint32_t set) const; // what the ledger books as the pure pass's time on `set` (ms), else 0
     std::vector<Arm> arms_;
     std::map<uint32_t, RecentTimes> pureBySet_;
     RecentTimes pureAll_;
