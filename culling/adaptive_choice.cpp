@@ -40,6 +40,14 @@ double AdaptiveChoice::ledgerBase(uint32_t set) const {
     return baseline(set) > 0.0 ? baseline(set) : pureAll_.lowest();
 }
 
+double AdaptiveChoice::bestCullingCost() const {
+    double best = 0.0;
+    for (uint32_t a = 1; a < arms_.size(); ++a) {
+        if (measured(a) && (best == 0.0 || relativeCost(a) < best)) best = relativeCost(a);
+    }
+    return best;
+}
+
 uint32_t AdaptiveChoice::lowest() const {
     uint32_t best = kPureArm;
     for (uint32_t a = 1; a < arms_.size(); ++a) {
@@ -68,11 +76,7 @@ bool AdaptiveChoice::affordable(uint32_t arm, uint32_t set) const {
         excess = relativeCost(arm) - 1.0;
         if (excess <= 0.0) return true; // expected to save: it cannot add to the excess
     } else {
-        double closest = kColdTraceCost;
-        for (uint32_t a = 1; a < arms_.size(); ++a) {
-            if (measured(a)) closest = std::min(closest, relativeCost(a));
-        }
-        excess = (kColdTraceCost - 1.0) + std::max(closest - 1.0, 0.0);
+        excess = (kColdTraceCost - 1.0) + std::max(bestCullingCost() - 1.0, 0.0);
         traces = 2.0;
     }
     return excessMs_ + excess * base <= budget_ * (pureEquivalentMs_ + traces * base);
@@ -101,11 +105,8 @@ uint32_t AdaptiveChoice::choose(uint32_t set) const {
     }
     // Further arms only while culling comes close to the pure pass, and only once the ledger affords them: where
     // culling wins, as soon as its savings cover a cold trace; where it nearly ties, once the run is long enough.
-    bool closeCulling = false;
-    for (uint32_t a = 1; a < arms_.size(); ++a) {
-        closeCulling = closeCulling || (measured(a) && relativeCost(a) <= 1.0 + kExploreMargin);
-    }
-    if (closeCulling) {
+    const double culling = bestCullingCost();
+    if (culling > 0.0 && culling <= 1.0 + kExploreMargin) {
         for (uint32_t a = 2; a < arms_.size(); ++a) {
             if (!measured(a) && affordable(a, set)) return a;
         }

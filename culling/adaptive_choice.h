@@ -13,7 +13,7 @@
 // (else the pure pass runs).
 //
 // Rule: the pure pass is measured first (its first kWarmUpTraces traces are not counted: they compile shaders and
-// fill caches, and so do culling's first kWarmUpTraces), then
+// fill caches; culling's first kWarmUpTraces are not counted either), then
 // the configured culling (arm 1); the other culling arms only while some culling arm is within kExploreMargin of the
 // pure pass and the probe ledger (below) affords their first traces, so that neither a short run nor a view where
 // culling loses spends itself exploring. Afterwards the arm with the lowest median of its last five relative costs
@@ -118,6 +118,7 @@ private:
         uint32_t runs = 0;
     };
     uint32_t lowest() const; // the measured arm with the lowest estimate
+    double bestCullingCost() const; // the lowest estimate of a measured culling arm, 0 when none is measured
     uint32_t choose(uint32_t set) const; // next() before the check for the set's baseline
     // Whether the ledger affords a trace of `arm` on `set` beyond what the running arm would take.
     bool affordable(uint32_t arm, uint32_t set) const;
