@@ -9,7 +9,8 @@
 #   CHCRT_BUNDLE_PRINT=1    print the command (loader, library path) on stderr before running it;
 #   CHCRT_DRIVER_PREFIXES   where to look for a GL driver installed outside the standard places when
 #                           /etc/glvnd/egl_vendor.d and /usr/share/glvnd/egl_vendor.d hold no EGL vendor file
-#                           (default /usr/local/nvidia, where GPU containers mount the NVIDIA driver).
+#                           (default /usr/local/nvidia, where GPU containers mount the NVIDIA driver);
+#   CHCRT_GLVND_VENDOR_DIRS the folders glvnd reads by default (tests/app/bundle_run_test.sh points them elsewhere).
 # Bash only: no other program is needed.
 set -euo pipefail
 GLIBC_REQUIRED=@GLIBC_REQUIRED@
@@ -28,8 +29,11 @@ path=$lib
 # otherwise. A driver mounted elsewhere (GPU containers: /usr/local/nvidia/share/glvnd/egl_vendor.d, with its
 # libraries in /usr/local/nvidia/lib64) is then invisible, and EGL finds no device; point glvnd and the loader there.
 vendor_files() { compgen -G "$1/*.json" >/dev/null; }
-if [[ -z ${__EGL_VENDOR_LIBRARY_FILENAMES:-}${__EGL_VENDOR_LIBRARY_DIRS:-} ]] &&
-  ! vendor_files /etc/glvnd/egl_vendor.d && ! vendor_files /usr/share/glvnd/egl_vendor.d; then
+standard_vendor=0
+for dir in ${CHCRT_GLVND_VENDOR_DIRS:-/etc/glvnd/egl_vendor.d /usr/share/glvnd/egl_vendor.d}; do
+  vendor_files "$dir" && standard_vendor=1
+done
+if [[ -z ${__EGL_VENDOR_LIBRARY_FILENAMES:-}${__EGL_VENDOR_LIBRARY_DIRS:-} && $standard_vendor == 0 ]]; then
   for prefix in ${CHCRT_DRIVER_PREFIXES:-/usr/local/nvidia}; do
     vendor_files "$prefix/share/glvnd/egl_vendor.d" || continue
     export __EGL_VENDOR_LIBRARY_DIRS=$prefix/share/glvnd/egl_vendor.d
