@@ -27,6 +27,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <optional>
 
 namespace chcrt::app {
 namespace {
@@ -170,18 +171,23 @@ struct Pass {
 };
 
 // Work, not time (--steps): pure BVH's cost target of the timed trace; CHC+RT counts only with its cost debug
-// image, so it traces the pass once more, untimed (its fronts advance once more; debug traces do not feed the
-// adaptive choice).
-void countSteps(Bench& b, const Pass& pass, const std::string& m, ChcrtTracer* chcrt, MethodResult& result) {
+// image, so it traces the pass once more, untimed, from the hit hints the timed trace started from (`hintsBefore`),
+// and leaves the hints the timed trace left (its fronts advance once more; debug traces do not feed the adaptive
+// choice).
+void countSteps(Bench& b, const Pass& pass, const std::string& m, ChcrtTracer* chcrt,
+                const ChcrtTracer::HintSnapshot* hintsBefore, MethodResult& result) {
     if (m == kPureBvhMethod) {
         addSteps(pass.rays, b.renderer().readTraceSteps(0), m, result);
     } else if (chcrt) {
+        const ChcrtTracer::HintSnapshot hintsAfter = chcrt->saveHints();
+        if (hintsBefore) chcrt->restoreHints(*hintsBefore);
         chcrt->setDebugImage(ChcrtDebugImage::Cost);
         chcrt->clearDebugImage();
         FrameStats untimed;
         b.renderer().traceRayPass(pass.camera, pass.type, pass.sample, untimed);
         addSteps(pass.rays, chcrt->readDebugImage(), m, result);
         chcrt->setDebugImage(ChcrtDebugImage::None);
+        chcrt->restoreHints(hintsAfter);
         chcrt->resetStats();
     }
 }
@@ -193,6 +199,10 @@ void tracePass(Bench& b, Pass& pass, const std::string& m, double& runMs, Method
     FrameStats methodStats;
     auto* outOfCore = dynamic_cast<outofcore::OutOfCoreTracer*>(b.tracer(m));
     const outofcore::OutOfCoreStats oocBefore = outOfCore ? outOfCore->snapshot() : outofcore::OutOfCoreStats{};
+    ChcrtTracer* chcrt = outOfCore ? &outOfCore->chcrt() : dynamic_cast<ChcrtTracer*>(b.tracer(m));
+    const bool counting = b.options.steps && pass.compare;
+    std::optional<ChcrtTracer::HintSnapshot> hintsBefore;
+    if (counting && chcrt) hintsBefore = chcrt->saveHints();
     renderer.traceRayPass(pass.camera, pass.type, pass.sample, methodStats);
     if (outOfCore && pass.timed) {
         const outofcore::OutOfCoreStats d = outofcore::OutOfCoreStats::difference(outOfCore->snapshot(), oocBefore);
@@ -206,7 +216,6 @@ void tracePass(Bench& b, Pass& pass, const std::string& m, double& runMs, Method
     }
     if (methodStats.cappedRays > 0) throw std::runtime_error("rays reached the shader loop cap during the benchmark (" + m + ")");
     runMs += methodStats.traceMs();
-    ChcrtTracer* chcrt = outOfCore ? &outOfCore->chcrt() : dynamic_cast<ChcrtTracer*>(b.tracer(m));
     if (chcrt) {
         if (pass.timed) {
             result.chcrt += chcrt->totalStats(); // CHC+RT counters (no warm-up)
@@ -219,7 +228,7 @@ void tracePass(Bench& b, Pass& pass, const std::string& m, double& runMs, Method
         if (m == kPureBvhMethod) pass.bvhHits = renderer.readHits(0);
         else result.comparison.differing += compareHitsExactly(pass.rays, renderer.readHits(0), pass.bvhHits, isAnyHit(pass.type)).differing;
     }
-    if (b.options.steps && pass.compare) countSteps(b, pass, m, chcrt, result);
+    if (counting) countSteps(b, pass, m, chcrt, hintsBefore ? &*hintsBefore : nullptr, result);
 }
 
 // Embree on the pass's read-back rays (timed), and its hits against pure BVH's in the comparing run.

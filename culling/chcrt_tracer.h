@@ -277,6 +277,28 @@ public:
     // it has none yet. Tests write arbitrary nodes into it: hints never change hits.
     GLuint hintTexture(const TraceRequest& request) const;
 
+    // A ray set's hints (hintKey: ray kind and sample index) and a ray kind's hint pass record (see hintPassRecords_).
+    struct HintImage {
+        GlTexture texture;
+        uint64_t epoch = 0;  // the source's contentEpoch when its hints were last validated (by a hint pass)
+        bool passed = false;       // a hint pass has run over them (the first does not count in HintPassRecord)
+        bool droppedStale = false; // the last pass dropped hints of cache slots replaced since (validateHints)
+    };
+    struct HintPassRecord {
+        uint32_t misses = 0, skipped = 0;
+    };
+    // Every ray set's hints and every kind's hint pass record, copied. `chcrt bench --steps` counts a pass's steps in
+    // an extra, untimed trace: restored to the hints the timed trace started from, it does the timed trace's work;
+    // without, its rays would find their hits in the hints the timed trace had just recorded from these very rays
+    // (city near, 256², 16 shadow spp: 11.4x fewer steps than pure BVH counted so, against … with the snapshot).
+    struct HintSnapshot {
+        std::map<uint64_t, HintImage> images;
+        std::map<uint64_t, HintPassRecord> records;
+    };
+    HintSnapshot saveHints() const;
+    // Makes the hints and records those of `snapshot`; ray sets that had no hints then have none again.
+    void restoreHints(const HintSnapshot& snapshot);
+
     // Debug images: selecting one compiles the instrumented shader variants on first use; traces then add to
     // an R32UI texture of the traced size (GL window orientation) until clearDebugImage() (the viewer and
     // `chcrt render --debug-image` clear it per frame). Traces the adaptive choice gives to another arm add nothing.
@@ -421,13 +443,7 @@ private:
     int debugWidth_ = 0, debugHeight_ = 0;
     std::map<GLuint, GlFramebuffer> framebuffers_; // by depth texture id
     std::map<uint64_t, std::unique_ptr<VisibilityState>> states_;
-    struct HintImage {
-        GlTexture texture;
-        uint64_t epoch = 0;  // the source's contentEpoch when its hints were last validated (by a hint pass)
-        bool passed = false;       // a hint pass has run over them (the first does not count in HintPassRecord)
-        bool droppedStale = false; // the last pass dropped hints of cache slots replaced since (validateHints)
-    };
-    std::map<uint64_t, HintImage> hints_; // hit hints per ray set (rayStateKey), hitHints only
+    std::map<uint64_t, HintImage> hints_; // hit hints per ray kind and sample index (hintKey), hitHints only
     // The hints this tracer reads and writes: its own, or for the tracers of adaptiveHeights those of the tracer that
     // owns them. Hints name leaves of the one in-core BVH, whatever the termination height, so every arm continues
     // from the hints of the last culled trace of the ray set; a probe of another height is then measured as it would
@@ -438,9 +454,6 @@ private:
     // left too many rays, and its traces since the last one. From kHintPassMisses such passes on (one may come from
     // hints of an unrepresentative trace) the kind visits its hints in the cell pass, retrying every
     // hintPassRetryInterval traces.
-    struct HintPassRecord {
-        uint32_t misses = 0, skipped = 0;
-    };
     static constexpr uint32_t kHintPassMisses = 2;
     std::map<uint64_t, HintPassRecord> ownHintPassRecords_;
     std::map<uint64_t, HintPassRecord>* hintPassRecords_ = &ownHintPassRecords_;

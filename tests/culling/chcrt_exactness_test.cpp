@@ -477,6 +477,96 @@ TEST_F(RenderTest, HintPassStopsWhereItLeavesTooManyRaysAndRetries) {
     }
 }
 
+// Hit hints are kept per sample index: the shadow rays of two samples aim at different points of the area light, so
+// tracing sample 1 must leave sample 0's hints as sample 0's trace wrote them (one image per ray kind would hold
+// sample 1's hits), and each sample's hints name leaves only where its own rays hit.
+TEST_F(RenderTest, EachShadowSampleKeepsItsOwnHints) {
+    RenderSettings settings;
+    settings.width = 96;
+    settings.height = 72;
+    Renderer& renderer = makeProceduralRenderer("city:60k", settings);
+    const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
+    ChcrtOptions options;
+    options.partition.maxSubtreeHeight = 8;
+    options.adaptive = false;
+    options.queries = ChcrtQueries::BoundsOnly;
+    options.hitHints = true;
+    ChcrtTracer chcrt(bvh_, options);
+    renderer.useTracer(&chcrt);
+    FrameStats stats;
+    renderer.renderGBuffer(camera, stats);
+    std::vector<uint32_t> hintsOf[2];
+    std::vector<Hit> hitsOf[2];
+    TraceRequest shadow[2];
+    for (int sample = 0; sample < 2; ++sample) {
+        shadow[sample].rayType = RayType::Shadow;
+        shadow[sample].anyHit = true;
+        shadow[sample].sampleIndex = sample;
+        renderer.generateRayPass(camera, RayType::Shadow, sample, stats);
+        renderer.traceRayPass(camera, RayType::Shadow, sample, stats);
+        hitsOf[sample] = renderer.readHits(0);
+        hintsOf[sample] = readHints(chcrt.hintTexture(shadow[sample]), settings.width, settings.height);
+    }
+    ASSERT_NE(chcrt.hintTexture(shadow[0]), chcrt.hintTexture(shadow[1]));
+    EXPECT_EQ(readHints(chcrt.hintTexture(shadow[0]), settings.width, settings.height), hintsOf[0]);
+    size_t samplesDiffer = 0;
+    for (int sample = 0; sample < 2; ++sample) {
+        size_t recorded = 0, withoutHit = 0;
+        for (size_t i = 0; i < hintsOf[sample].size(); ++i) {
+            if (hintsOf[sample][i] == CHCRT_NO_HIT_ID) continue;
+            ++recorded;
+            withoutHit += hitsOf[sample][i].triangleId == CHCRT_NO_HIT_ID;
+        }
+        EXPECT_GT(recorded, hintsOf[sample].size() / 20) << "sample " << sample;
+        EXPECT_EQ(withoutHit, 0u) << "sample " << sample;
+    }
+    for (size_t i = 0; i < hitsOf[0].size(); ++i) {
+        samplesDiffer += (hitsOf[0][i].triangleId == CHCRT_NO_HIT_ID) != (hitsOf[1][i].triangleId == CHCRT_NO_HIT_ID);
+    }
+    EXPECT_GT(samplesDiffer, 0u) << "the two samples' shadow rays should differ somewhere (penumbrae)";
+}
+
+// bench --steps traces a pass again from the hints the timed trace started from (ChcrtTracer::saveHints/restoreHints):
+// a restore gives back every saved ray set's hints as they were, and removes the hints of ray sets made since.
+TEST_F(RenderTest, RestoredHintsAreTheSavedOnes) {
+    RenderSettings settings;
+    settings.width = 96;
+    settings.height = 72;
+    Renderer& renderer = makeProceduralRenderer("city:60k", settings);
+    const CameraPath path = proceduralNearPath(spec_);
+    ChcrtOptions options;
+    options.partition.maxSubtreeHeight = 8;
+    options.adaptive = false;
+    options.queries = ChcrtQueries::BoundsOnly;
+    options.hitHints = true;
+    options.hintPass = true;
+    ChcrtTracer chcrt(bvh_, options);
+    renderer.useTracer(&chcrt);
+    TraceRequest shadow, ao;
+    shadow.rayType = RayType::Shadow;
+    shadow.anyHit = true;
+    ao.rayType = RayType::Ao;
+    ao.anyHit = true;
+    FrameStats stats;
+    const auto traceFrame = [&](int frame, RayType type) {
+        const Camera camera = path.cameraAtFrame(frame);
+        renderer.renderGBuffer(camera, stats);
+        renderer.generateRayPass(camera, type, 0, stats);
+        renderer.traceRayPass(camera, type, 0, stats);
+    };
+    traceFrame(0, RayType::Shadow);
+    const ChcrtTracer::HintSnapshot snapshot = chcrt.saveHints();
+    const std::vector<uint32_t> saved = readHints(chcrt.hintTexture(shadow), settings.width, settings.height);
+    ASSERT_EQ(chcrt.hintTexture(ao), 0u);
+    traceFrame(4, RayType::Shadow); // another view: other hits, other hints
+    traceFrame(4, RayType::Ao);
+    ASSERT_NE(chcrt.hintTexture(ao), 0u);
+    ASSERT_NE(readHints(chcrt.hintTexture(shadow), settings.width, settings.height), saved);
+    chcrt.restoreHints(snapshot);
+    EXPECT_EQ(readHints(chcrt.hintTexture(shadow), settings.width, settings.height), saved);
+    EXPECT_EQ(chcrt.hintTexture(ao), 0u);
+}
+
 TEST_F(RenderTest, GpuCellListsWithRayBoundsShrunkBelowTheRoundingPadLoseHits) {
     // Negative control of the bounds-gpu cases: the GPU's lists from boxes that are too small must change hits.
     RenderSettings settings;
