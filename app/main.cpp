@@ -71,7 +71,8 @@ void addBenchOwnOptions(CLI::App& command, BenchOptions& bench) {
     c->add_option("--warmup", bench.warmupRuns, "Untimed warm-up runs")->capture_default_str();
     c->add_flag("--steps", bench.steps,
                 "Also count BVH traversal steps (inner nodes + leaves + triangles) per active ray for bvh and the chcrt "
-                "methods, in the first timed run (CHC+RT: one extra untimed trace per pass; column steps/ray, JSON "
+                "methods, in the last timed run (CHC+RT: one extra untimed trace per pass from the timed trace's hit "
+                "hints, or pure BVH's steps where the adaptive choice traced a pure pass; column steps/ray, JSON "
                 "steps_per_ray)");
     c->add_option("--json", bench.jsonFile, "Write the table as JSON ({\"rows\": [...]})");
     c->add_option("--csv", bench.csvFile, "Write the table as CSV");

@@ -290,7 +290,7 @@ public:
     // Every ray set's hints and every kind's hint pass record, copied. `chcrt bench --steps` counts a pass's steps in
     // an extra, untimed trace: restored to the hints the timed trace started from, it does the timed trace's work;
     // without, its rays would find their hits in the hints the timed trace had just recorded from these very rays
-    // (city near, 256², 16 shadow spp: 11.4x fewer steps than pure BVH counted so, against … with the snapshot).
+    // (city near, 256², 16 shadow spp, chcrt-noadapt: 2.9 steps per ray counted so, 4.2 with the snapshot; pure BVH 33).
     struct HintSnapshot {
         std::map<uint64_t, HintImage> images;
         std::map<uint64_t, HintPassRecord> records;
