@@ -498,6 +498,10 @@ std::vector<Parameter> describeChcrt() {
                  "trace twice in a row stops the pass, retrying every 16 traces")
             .defaults("0.25; out of core 0.5")
             .number(FIELD(chcrt.hintPassMaxLeft), 0.0, 1.0),
+        Describe(Area::Chcrt, "--chcrt-hint-memory-mb", "",
+                 "CHC+RT with hit hints: GPU memory for the hint images (4 bytes per ray per sample index and ray kind); "
+                 "sample indices beyond it share images")
+            .sets<uint64_t>(FIELD(chcrt.hintMemoryBytes), megabyteCodec()),
     };
 }
 

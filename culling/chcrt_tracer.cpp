@@ -50,9 +50,10 @@ uint64_t rayStateKey(const TraceRequest& request) {
 // or diffuse direction per pixel and sample index) meet the same occluders from frame to frame; the shadow rays of
 // two samples aim at different points of the area light, so with one image per kind each sample started from the
 // previous sample's hits (castle street, 256², 16 shadow spp, one view: the hint pass left 73 % of the rays against
-// 2.3 % per sample; culling/README.md "Hit hints").
-uint64_t hintKey(const TraceRequest& request) {
-    return (rayKind(request) << 32) | uint64_t(uint32_t(request.sampleIndex));
+// 2.3 % per sample; culling/README.md "Hit hints"). At most `sets` images per kind (ChcrtOptions::hintMemoryBytes):
+// beyond, sample indices share them (hints never change hits).
+uint64_t hintKey(const TraceRequest& request, uint32_t sets) {
+    return (rayKind(request) << 32) | uint64_t(uint32_t(request.sampleIndex) % sets);
 }
 
 // The adaptive choice is kept per ray kind, not per ray set: the 20 AO (or diffuse) sample sets of a frame cost
@@ -430,7 +431,7 @@ bool ChcrtTracer::hintsAvailable() const {
 }
 
 GLuint ChcrtTracer::hintTexture(const TraceRequest& request) const {
-    const auto it = hintStore_->find(hintKey(request));
+    const auto it = hintStore_->find(hintKey(request, hintSets_));
     return it == hintStore_->end() ? 0 : it->second.texture.id();
 }
 
@@ -485,7 +486,9 @@ void ChcrtTracer::restoreHints(const HintSnapshot& snapshot) {
 GLuint ChcrtTracer::hintImageFor(const TraceRequest& request, int width, int height, bool& fresh) {
     fresh = false;
     if (!hintsAvailable() || (!request.anyHit && !options_.closestHitHints)) return 0;
-    HintImage& image = (*hintStore_)[hintKey(request)];
+    const uint64_t bytesPerSet = 4 * uint64_t(width) * uint64_t(height) * kHintKinds;
+    hintSets_ = uint32_t(std::clamp<uint64_t>(options_.hintMemoryBytes / bytesPerSet, 1, UINT32_MAX));
+    HintImage& image = (*hintStore_)[hintKey(request, hintSets_)];
     GlTexture& hint = image.texture;
     GLint w = 0, h = 0;
     if (hint.id() != 0) {
@@ -507,7 +510,7 @@ GLuint ChcrtTracer::hintImageFor(const TraceRequest& request, int width, int hei
 }
 
 HintSlots ChcrtTracer::validateHints(const TraceRequest& request) {
-    HintImage& image = (*hintStore_)[hintKey(request)];
+    HintImage& image = (*hintStore_)[hintKey(request, hintSets_)];
     const uint64_t epoch = source_->contentEpoch();
     const HintSlots slots{source_->hintSlotNodes(), uint32_t(image.epoch), uint32_t(epoch - image.epoch)};
     image.droppedStale = epoch != image.epoch;
@@ -528,7 +531,7 @@ void ChcrtTracer::finishHintPass(const TraceRequest& request, int width, int hei
     // The first pass over a ray set's hints is no sample of what they leave: they come from the set's first trace,
     // which may have been a renderer's warm-up under a one-pixel scissor (Renderer::warmUp) or a cold trace. Nor is
     // a pass that dropped the hints of replaced cache slots (out of core, while the working set changes).
-    HintImage& image = (*hintStore_)[hintKey(request)];
+    HintImage& image = (*hintStore_)[hintKey(request, hintSets_)];
     if (!image.passed || image.droppedStale) {
         image.passed = true;
         return;

@@ -89,6 +89,10 @@ struct ChcrtOptions {
     // passes visit no hints (a slot may change within a trace), so stopping the pass stops the hints; there the
     // recommended share is a half (app/methods.cpp).
     float hintPassMaxLeft = 0.25f;
+    // Hit hints: the GPU memory their images may take (4 bytes per ray, per sample index and ray kind; a quarter each for
+    // shadow, AO, bounce shadow and closest-hit rays). Sample indices beyond what it holds share images (ray kind,
+    // sample index modulo the sets that fit): 1 GiB keeps every set apart up to 32 samples at 1920×1080, 8 at 3840×2160.
+    uint64_t hintMemoryBytes = uint64_t(1) << 30;
     uint32_t hintPassRetryInterval = 16;
     // BoundsOnly and BoundsGpu: trace the cell lists in compute dispatches (a work group per cell) instead of fragment
     // passes; for GPUs whose fragment work runs on few units (docs/architecture.md). Same hits.
@@ -276,6 +280,8 @@ public:
     // The hit hints of the request's ray set (R32UI texture, GL orientation; culling/README.md "Hit hints"), 0 when
     // it has none yet. Tests write arbitrary nodes into it: hints never change hits.
     GLuint hintTexture(const TraceRequest& request) const;
+    // Hint images kept (all ray sets of all kinds; within ChcrtOptions::hintMemoryBytes).
+    size_t hintImageCount() const { return hintStore_->size(); }
 
     // A ray set's hints (hintKey: ray kind and sample index) and a ray kind's hint pass record (see hintPassRecords_).
     struct HintImage {
@@ -443,6 +449,8 @@ private:
     int debugWidth_ = 0, debugHeight_ = 0;
     std::map<GLuint, GlFramebuffer> framebuffers_; // by depth texture id
     std::map<uint64_t, std::unique_ptr<VisibilityState>> states_;
+    static constexpr uint64_t kHintKinds = 4; // shares of hintMemoryBytes: shadow, AO, bounce shadow, closest-hit
+    uint32_t hintSets_ = UINT32_MAX;          // hint images per ray kind at the traced size (hintImageFor)
     std::map<uint64_t, HintImage> hints_; // hit hints per ray kind and sample index (hintKey), hitHints only
     // The hints this tracer reads and writes: its own, or for the tracers of adaptiveHeights those of the tracer that
     // owns them. Hints name leaves of the one in-core BVH, whatever the termination height, so every arm continues

@@ -526,6 +526,47 @@ TEST_F(RenderTest, EachShadowSampleKeepsItsOwnHints) {
     EXPECT_GT(samplesDiffer, 0u) << "the two samples' shadow rays should differ somewhere (penumbrae)";
 }
 
+// Hint images stay within ChcrtOptions::hintMemoryBytes: with room for two sets per ray kind, four shadow and four AO
+// samples keep four images (samples 0 and 2, 1 and 3 share), with room for more eight; the hits stay pure BVH's.
+TEST_F(RenderTest, HintImagesStayWithinTheirMemory) {
+    RenderSettings settings;
+    settings.width = 96;
+    settings.height = 72;
+    Renderer& renderer = makeProceduralRenderer("city:60k", settings);
+    const CameraPath path = proceduralNearPath(spec_);
+    const uint64_t bytesPerSet = 4ull * 96 * 72 * 4; // 4 bytes per ray, a quarter of the budget per ray kind
+    for (const auto& [budget, images] : {std::pair<uint64_t, size_t>{2 * bytesPerSet, 4}, {uint64_t(1) << 30, 8}}) {
+        ChcrtOptions options;
+        options.partition.maxSubtreeHeight = 8;
+        options.adaptive = false;
+        options.queries = ChcrtQueries::BoundsOnly;
+        options.hitHints = true;
+        options.hintPass = true;
+        options.hintMemoryBytes = budget;
+        ChcrtTracer chcrt(bvh_, options);
+        size_t differing = 0;
+        FrameStats stats;
+        for (int frame = 0; frame < 2; ++frame) {
+            const Camera camera = path.cameraAtFrame(frame * 2);
+            renderer.renderGBuffer(camera, stats);
+            for (RayType type : {RayType::Shadow, RayType::Ao}) {
+                for (int sample = 0; sample < 4; ++sample) {
+                    renderer.generateRayPass(camera, type, sample, stats);
+                    renderer.useTracer(nullptr);
+                    renderer.traceRayPass(camera, type, sample, stats);
+                    const std::vector<Hit> reference = renderer.readHits(0);
+                    renderer.useTracer(&chcrt);
+                    renderer.traceRayPass(camera, type, sample, stats);
+                    const std::vector<Hit> culled = renderer.readHits(0);
+                    for (size_t i = 0; i < reference.size(); ++i) differing += !sameHit(reference[i], culled[i], true);
+                }
+            }
+        }
+        EXPECT_EQ(chcrt.hintImageCount(), images) << "budget " << budget;
+        EXPECT_EQ(differing, 0u) << "budget " << budget;
+    }
+}
+
 // bench --steps traces a pass again from the hints the timed trace started from (ChcrtTracer::saveHints/restoreHints):
 // a restore gives back every saved ray set's hints as they were, and removes the hints of ray sets made since.
 TEST_F(RenderTest, RestoredHintsAreTheSavedOnes) {
