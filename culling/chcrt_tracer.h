@@ -89,11 +89,11 @@ struct ChcrtOptions {
     // passes visit no hints (a slot may change within a trace), so stopping the pass stops the hints; there the
     // recommended share is a half (app/methods.cpp).
     float hintPassMaxLeft = 0.25f;
+    uint32_t hintPassRetryInterval = 16;
     // Hit hints: the GPU memory their images may take (4 bytes per ray, per sample index and ray kind; a quarter each for
     // shadow, AO, bounce shadow and closest-hit rays). Sample indices beyond what it holds share images (ray kind,
     // sample index modulo the sets that fit): 1 GiB keeps every set apart up to 32 samples at 1920×1080, 8 at 3840×2160.
     uint64_t hintMemoryBytes = uint64_t(1) << 30;
-    uint32_t hintPassRetryInterval = 16;
     // BoundsOnly and BoundsGpu: trace the cell lists in compute dispatches (a work group per cell) instead of fragment
     // passes; for GPUs whose fragment work runs on few units (docs/architecture.md). Same hits.
     bool computeCellPass = false;
