@@ -438,15 +438,10 @@ GLuint ChcrtTracer::hintTexture(const TraceRequest& request) const {
 namespace {
 // A copy of an R32UI hint image (made if `to` does not exist yet or has another size).
 void copyHintImage(const GlTexture& from, GlTexture& to) {
-    GLint w = 0, h = 0, toW = 0, toH = 0;
-    glGetTextureLevelParameteriv(from.id(), 0, GL_TEXTURE_WIDTH, &w);
-    glGetTextureLevelParameteriv(from.id(), 0, GL_TEXTURE_HEIGHT, &h);
-    if (to.id() != 0) {
-        glGetTextureLevelParameteriv(to.id(), 0, GL_TEXTURE_WIDTH, &toW);
-        glGetTextureLevelParameteriv(to.id(), 0, GL_TEXTURE_HEIGHT, &toH);
-    }
-    if (to.id() == 0 || toW != w || toH != h) to = createTexture2D(w, h, GL_R32UI);
-    glCopyImageSubData(from.id(), GL_TEXTURE_2D, 0, 0, 0, 0, to.id(), GL_TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
+    const TextureExtent extent = textureExtent(from.id());
+    if (textureExtent(to.id()) != extent) to = createTexture2D(extent.width, extent.height, GL_R32UI);
+    glCopyImageSubData(from.id(), GL_TEXTURE_2D, 0, 0, 0, 0, to.id(), GL_TEXTURE_2D, 0, 0, 0, 0, extent.width,
+                       extent.height, 1);
 }
 } // namespace
 
@@ -490,15 +485,10 @@ GLuint ChcrtTracer::hintImageFor(const TraceRequest& request, int width, int hei
     hintSets_ = uint32_t(std::clamp<uint64_t>(options_.hintMemoryBytes / bytesPerSet, 1, UINT32_MAX));
     HintImage& image = (*hintStore_)[hintKey(request, hintSets_)];
     GlTexture& hint = image.texture;
-    GLint w = 0, h = 0;
-    if (hint.id() != 0) {
-        glGetTextureLevelParameteriv(hint.id(), 0, GL_TEXTURE_WIDTH, &w);
-        glGetTextureLevelParameteriv(hint.id(), 0, GL_TEXTURE_HEIGHT, &h);
-    }
     // Hints of slots replaced since are dropped by the hint pass (shaders/culling/hint_leaf.glsl), which compares
     // 32-bit epochs: an image that old is emptied.
     const uint64_t epoch = source_->contentEpoch();
-    if (hint.id() == 0 || w != width || h != height) hint = createTexture2D(width, height, GL_R32UI);
+    if (textureExtent(hint.id()) != TextureExtent{width, height}) hint = createTexture2D(width, height, GL_R32UI);
     else if (epoch - image.epoch < (uint64_t(1) << 31)) return hint.id();
     const GLuint none = CHCRT_NO_HIT_ID;
     glClearTexImage(hint.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);

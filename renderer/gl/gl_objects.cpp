@@ -62,6 +62,14 @@ GlBuffer createBuffer(size_t bytes, const void* data, GLbitfield storageFlags) {
     return buffer;
 }
 
+TextureExtent textureExtent(GLuint texture) {
+    TextureExtent extent;
+    if (texture == 0) return extent;
+    glGetTextureLevelParameteriv(texture, 0, GL_TEXTURE_WIDTH, &extent.width);
+    glGetTextureLevelParameteriv(texture, 0, GL_TEXTURE_HEIGHT, &extent.height);
+    return extent;
+}
+
 GlTexture createTexture2D(int width, int height, GLenum internalFormat, int levels) {
     if (width <= 0 || height <= 0 || levels <= 0) {
         throw GlError("createTexture2D: invalid size " + std::to_string(width) + "x" + std::to_string(height) +

@@ -50,6 +50,12 @@ using GlQuery = GlHandle<QueryTraits>;
 
 GlBuffer createBuffer(size_t bytes, const void* data, GLbitfield storageFlags = GL_DYNAMIC_STORAGE_BIT);
 GlTexture createTexture2D(int width, int height, GLenum internalFormat, int levels = 1);
+// The size of a 2D texture's level 0; 0 x 0 for no texture (id 0).
+struct TextureExtent {
+    int width = 0, height = 0;
+    bool operator==(const TextureExtent&) const = default;
+};
+TextureExtent textureExtent(GLuint texture);
 GlQuery createQuery(GLenum target);
 GlVertexArray createVertexArray();
 
