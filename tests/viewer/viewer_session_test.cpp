@@ -828,6 +828,9 @@ TEST_F(ViewerTest, ASceneThatFailsToLoadReportsItsErrorAndTheSessionGoesOn) {
 // the sample at the same point of the second cycle in open files, threads and GL objects. Resident memory is not
 // checked here: it still rises over the first cycles of a session (a few % a cycle in cycles 2-3, under 1 % from the
 // fourth 500-frame cycle of scripts/soak.sh on), more than 500 frames can show flat; scripts/soak.sh measures it.
+// The termination height is forced: `chcrt`'s adaptive choice otherwise makes the tracer of another height when its
+// measured times say so, which on a loaded machine happened in one cycle and not in another (131 against 142 GL
+// objects at the same point), a difference of timing, not a leak.
 TEST_F(ViewerTest, FiveHundredFramesOfSwitchesAndReloadsKeepTheProcessFlat) {
     std::string script = "[";
     const char* methods[] = {"bvh", "chcrt", "raster", "chcrt+ls", "chcrt-noadapt"};
@@ -837,8 +840,9 @@ TEST_F(ViewerTest, FiveHundredFramesOfSwitchesAndReloadsKeepTheProcessFlat) {
                   R"("}, "pathFrame": 0, "play": true, "frames": 20})";
     }
     script += "]";
-    const Result r = view(script, "--no-accumulate --ls-cache cache --resource-log r.jsonl --resource-every 10", "1",
-                          "LP_NUM_THREADS=0");
+    const Result r = view(script,
+                          "--no-accumulate --chcrt-height 12 --ls-cache cache --resource-log r.jsonl --resource-every 10",
+                          "1", "LP_NUM_THREADS=0");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("view: 500 frames rendered"), std::string::npos) << r.output;
     std::vector<nlohmann::json> samples;
