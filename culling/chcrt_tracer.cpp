@@ -1086,6 +1086,13 @@ bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& ra
 }
 
 void ChcrtTracer::beginTrace(const RayTextures& rays, HitTargets& hits, int width, int height, bool hitDepth) {
+    // The framebuffers over the frame targets' depth textures are kept by texture name; the renderer makes its
+    // targets again when its size changes, and a deleted texture's name may be given to a new one.
+    if (width != framebufferWidth_ || height != framebufferHeight_) {
+        framebuffers_.clear();
+        framebufferWidth_ = width;
+        framebufferHeight_ = height;
+    }
     if (debugKind_ != ChcrtDebugImage::None) {
         ensureDebugTexture(width, height);
         glBindImageTexture(CHCRT_CULLING_IMAGE_DEBUG, debugTexture_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);

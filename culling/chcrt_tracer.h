@@ -448,6 +448,7 @@ private:
     GlTexture hitTriangleTexture_; // R32UI, sized with debugTexture_ (readHitTriangleImage)
     int debugWidth_ = 0, debugHeight_ = 0;
     std::map<GLuint, GlFramebuffer> framebuffers_; // by depth texture id
+    int framebufferWidth_ = 0, framebufferHeight_ = 0; // the size of the targets framebuffers_ were made over
     std::map<uint64_t, std::unique_ptr<VisibilityState>> states_;
     static constexpr uint64_t kHintKinds = 4; // shares of hintMemoryBytes: shadow, AO, bounce shadow, closest-hit
     uint32_t hintSets_ = UINT32_MAX;          // hint images per ray kind at the traced size (hintImageFor)

@@ -680,6 +680,50 @@ TEST_F(RenderTest, RecommendedConfigurationsOfSoftwareAndHardwareRenderersEqualP
     }
 }
 
+// The renderer's frame targets are made again when its size changes (the viewer's resize, bench's supersampled
+// reference), and a deleted texture's GL name can come back for the new one: whatever the tracer keeps per target
+// (framebuffers over the active-ray masks and hit depths, hint images, visibility states) must follow, so that the
+// hits after a change to another size and back are pure BVH's.
+TEST_F(RenderTest, TracesAfterTheRendererChangedSizeEqualPureBvh) {
+    RenderSettings settings;
+    settings.width = 96;
+    settings.height = 72;
+    Renderer& renderer = makeProceduralRenderer("city:60k", settings);
+    const CameraPath path = proceduralNearPath(spec_);
+    ChcrtOptions options = recommendedChcrtOptions(RendererTraits{.software = true});
+    options.adaptive = false;
+    ChcrtTracer chcrt(bvh_, options);
+    FrameStats stats;
+    size_t differing = 0, compared = 0;
+    for (int size : {96, 160, 96, 64, 96}) {
+        RenderSettings s = settings;
+        s.width = size;
+        s.height = size * 3 / 4;
+        renderer.setSettings(s);
+        for (int frame = 0; frame < 2; ++frame) {
+            const Camera camera = path.cameraAtFrame(frame);
+            renderer.renderGBuffer(camera, stats);
+            for (RayType type : {RayType::Primary, RayType::Shadow, RayType::Ao}) {
+                renderer.generateRayPass(camera, type, 0, stats);
+                renderer.useTracer(nullptr);
+                renderer.traceRayPass(camera, type, 0, stats);
+                const std::vector<Hit> reference = renderer.readHits(0);
+                renderer.useTracer(&chcrt);
+                renderer.traceRayPass(camera, type, 0, stats);
+                const std::vector<Hit> culled = renderer.readHits(0);
+                ASSERT_EQ(reference.size(), culled.size());
+                for (size_t i = 0; i < reference.size(); ++i) differing += !sameHit(reference[i], culled[i], isAnyHit(type));
+                compared += reference.size();
+            }
+        }
+        EXPECT_EQ(differing, 0u) << "after the change to " << s.width << "x" << s.height;
+    }
+    renderer.useTracer(nullptr);
+    EXPECT_EQ(compared, 2u * 3u * (3u * 96u * 72u + 160u * 120u + 64u * 48u));
+    EXPECT_EQ(chcrt.totalStats().fallbackTraces, 0u);
+    EXPECT_GT(chcrt.totalStats().hintPasses, 0u);
+}
+
 // A triangle hit computed before its own leaf's box (culling/README.md, "Exactness"): on the 1M plant's far path,
 // frame 4, the primary ray of pixel (83, 114) meets triangle 575151 at a computed t of 224.27803 (224.283014 in double
 // precision), nearer than the right answer, triangle 567924 at 224.281464, but in a leaf whose box the computed t
