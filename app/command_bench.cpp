@@ -152,9 +152,11 @@ void makeTracers(Bench& b, bool wantEmbree) {
                 installOutOfCorePrimary(b.renderer(), reference); // the same resolve as chcrt-lod's, also in core
                 b.renderer().useTracer(t);
             };
-            b.imageErrors[m] = ls::measureImageError(b.renderer(), *ooc, &reference, use, b.session.path, b.frames);
+            b.imageErrors[m] = ls::measureImageError(b.renderer(), *ooc, &reference, use, b.session.path, b.frames,
+                                                     b.options.referenceSupersample);
         } else {
-            b.imageErrors[m] = ls::measureImageError(b.renderer(), *b.tracers[m], b.session.path, b.frames);
+            b.imageErrors[m] = ls::measureImageError(b.renderer(), *b.tracers[m], b.session.path, b.frames,
+                                                     b.options.referenceSupersample);
         }
     }
 }
@@ -347,7 +349,10 @@ void addImageError(nlohmann::json& row, const ls::ImageError& e, const RenderSet
                           {"spp", settings.samplesPerPixel}, {"final_mae", e.finalMae},
                           {"final_psnr_db", finiteOrNull(e.finalPsnrDb)},
                           {"final_pixels_over_2_255", e.finalOver2Of255}, {"indirect_mae", e.indirectMae},
-                          {"indirect_psnr_db", finiteOrNull(e.indirectPsnrDb)}};
+                          {"indirect_psnr_db", finiteOrNull(e.indirectPsnrDb)},
+                          {"reference_supersample", e.referenceSupersample},
+                          {"filtered_psnr_db", finiteOrNull(e.filteredPsnrDb)},
+                          {"sampling_floor_psnr_db", finiteOrNull(e.samplingFloorPsnrDb)}};
     if (type == RayType::Shadow && raysPerFrame > 0) {
         // The hit comparison runs in the first timed run: differing any-hit answers / active rays.
         row["shadow_samples_differing_fraction"] = double(diff) / (raysPerFrame * double(frames));
@@ -432,6 +437,11 @@ void addRows(Bench& b, RayType type, const std::string& m, const MethodResult& r
         table.rows.back().push_back(stepsCounted ? formatFixed(stepsPerRay, 1) : "-");
         table.rows.back().push_back(stepCost > 0 ? formatFixed(stepCost, 2) : "-");
     }
+    if (b.options.referenceSupersample > 1) {
+        const bool measured = imageError != b.imageErrors.end();
+        table.rows.back().push_back(measured ? formatFixed(imageError->second.filteredPsnrDb, 1) : "-");
+        table.rows.back().push_back(measured ? formatFixed(imageError->second.samplingFloorPsnrDb, 1) : "-");
+    }
     table.rows.back().push_back(r.chcrt.traces ? formatFixed(100.0 * r.chcrt.culledShare(), 0) + "%" : "-");
     table.rows.back().push_back(r.chcrt.culledTraces() ? formatFixed(r.chcrt.meanHeight(), 1) : "-");
     nlohmann::json row = {{"scene", session.scene.name},
@@ -501,6 +511,11 @@ void writeOutputs(const Bench& b, const Table& table, const nlohmann::json& rows
     // The two error columns measure different things, and a row's PSNR repeats on each of its ray types' rows.
     if (!b.imageErrors.empty()) std::printf("diff_px: pixels whose hits of that ray type differ from pure BVH's; frame PSNR: the whole shaded "
                 "frame (all --effects) against pure BVH's, the same on every ray type's row of a method\n");
+    if (!b.imageErrors.empty() && b.options.referenceSupersample > 1) {
+        const int k = b.options.referenceSupersample;
+        std::printf("filtered PSNR: the frame against exact frames rendered at %dx%d the resolution and box-filtered; exact "
+                    "filtered: the exact 1-sample frame against the same (its sampling error)\n", k, k);
+    }
     if (!b.options.jsonFile.empty()) {
         nlohmann::json json = {{"scene", toJson(session.scene)},
                                {"bvh", toJson(session.bvh.stats)},
@@ -544,6 +559,10 @@ int runBench(const BenchOptions& options) {
     if (options.steps) {
         table.header.push_back("steps/ray");
         table.header.push_back("step cost"); // a subtree pass's ms per step over pure BVH's
+    }
+    if (options.referenceSupersample > 1) {
+        table.header.push_back("filtered PSNR dB");
+        table.header.push_back("exact filtered dB");
     }
     // What a CHC+RT row ran: the share of its traces that culled (the rest were the adaptive choice's pure passes)
     // and the mean termination height of the culling traces.

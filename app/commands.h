@@ -38,6 +38,7 @@ struct BenchOptions {
     int runs = 5;
     int warmupRuns = 1;
     bool steps = false; // --steps: BVH traversal steps per active ray of bvh and CHC+RT (untimed extra traces)
+    int referenceSupersample = 1; // --reference-supersample: approximate methods' image error also against K×K-filtered exact frames
     std::string jsonFile, csvFile, markdownFile;
 };
 int runBench(const BenchOptions& options);

@@ -74,6 +74,13 @@ void addBenchOwnOptions(CLI::App& command, BenchOptions& bench) {
                 "methods, in the last timed run (CHC+RT: one extra untimed trace per pass from the timed trace's hit "
                 "hints, or pure BVH's steps where the adaptive choice traced a pure pass; column steps/ray, JSON "
                 "steps_per_ray)");
+    c->add_option("--reference-supersample", bench.referenceSupersample,
+                  "Approximate methods (Line Space, chcrt-aggressive, chcrt-lod): also compare their frames with the exact "
+                  "reference rendered at KxK the resolution and box-filtered down, and the exact 1-sample frame with it "
+                  "(the sampling error any method that drops sub-pixel detail is measured against); columns filtered "
+                  "PSNR dB and exact filtered dB, JSON image_error.filtered_psnr_db and sampling_floor_psnr_db. 1 = off")
+        ->check(CLI::Range(1, 4))
+        ->capture_default_str();
     c->add_option("--json", bench.jsonFile, "Write the table as JSON ({\"rows\": [...]})");
     c->add_option("--csv", bench.csvFile, "Write the table as CSV");
     c->add_option("--markdown", bench.markdownFile, "Write the table as markdown");

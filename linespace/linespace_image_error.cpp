@@ -16,18 +16,47 @@ double psnrFromMse(double mse) {
 
 } // namespace
 
-ImageError measureImageError(Renderer& renderer, Tracer& method, const CameraPath& path, const std::vector<int>& frames) {
-    return measureImageError(renderer, method, nullptr, [&renderer](Tracer* t) { renderer.useTracer(t); }, path, frames);
+ImageError measureImageError(Renderer& renderer, Tracer& method, const CameraPath& path, const std::vector<int>& frames,
+                             int referenceSupersample) {
+    return measureImageError(renderer, method, nullptr, [&renderer](Tracer* t) { renderer.useTracer(t); }, path, frames,
+                             referenceSupersample);
 }
 
+namespace {
+
+// The reference's frame at `factor`² the pixels, box-filtered to the renderer's size; the renderer's settings are
+// restored (also when rendering throws: the benchmark goes on at its own size).
+ImageRgba32f renderSupersampled(Renderer& renderer, const Camera& camera, int factor) {
+    const RenderSettings settings = renderer.settings();
+    RenderSettings large = settings;
+    large.width *= factor;
+    large.height *= factor;
+    ImageRgba32f image;
+    try {
+        renderer.setSettings(large);
+        renderer.renderFrame(camera);
+        image = renderer.readDisplayImage();
+    } catch (...) {
+        renderer.setSettings(settings);
+        throw;
+    }
+    renderer.setSettings(settings);
+    return boxFilterDown(image, factor);
+}
+
+} // namespace
+
 ImageError measureImageError(Renderer& renderer, Tracer& method, Tracer* reference, const UseTracer& use,
-                             const CameraPath& path, const std::vector<int>& frames) {
+                             const CameraPath& path, const std::vector<int>& frames, int referenceSupersample) {
     ImageError e;
-    double finalMse = 0.0, indirectMse = 0.0;
+    e.referenceSupersample = referenceSupersample;
+    double finalMse = 0.0, indirectMse = 0.0, filteredMse = 0.0, floorMse = 0.0;
     uint64_t over = 0;
     for (int frame : frames) {
         const Camera camera = path.cameraAtFrame(frame);
         use(reference);
+        ImageRgba32f filtered;
+        if (referenceSupersample > 1) filtered = renderSupersampled(renderer, camera, referenceSupersample);
         renderer.renderFrame(camera);
         const ImageRgba32f exactFinal = renderer.readDisplayImage();
         const ImageRgba32f exactIndirect = renderer.readIndirectImage();
@@ -36,6 +65,10 @@ ImageError measureImageError(Renderer& renderer, Tracer& method, Tracer* referen
         const ImageRgba32f approxFinal = renderer.readDisplayImage();
         const ImageRgba32f approxIndirect = renderer.readIndirectImage();
         use(nullptr);
+        if (referenceSupersample > 1) {
+            filteredMse += mseFromPsnr(compareImages(filtered, approxFinal).psnrDb);
+            floorMse += mseFromPsnr(compareImages(filtered, exactFinal).psnrDb);
+        }
         const ImageDifference f = compareImages(exactFinal, approxFinal, 2.0f / 255.0f);
         const ImageDifference i = compareImages(exactIndirect, approxIndirect);
         e.finalMae += f.meanAbsoluteError;
@@ -52,6 +85,10 @@ ImageError measureImageError(Renderer& renderer, Tracer& method, Tracer* referen
         e.finalPsnrDb = psnrFromMse(finalMse / e.frames);
         e.indirectPsnrDb = psnrFromMse(indirectMse / e.frames);
         e.finalOver2Of255 = e.pixels > 0 ? double(over) / double(e.pixels) : 0.0;
+        if (referenceSupersample > 1) {
+            e.filteredPsnrDb = psnrFromMse(filteredMse / e.frames);
+            e.samplingFloorPsnrDb = psnrFromMse(floorMse / e.frames);
+        }
     }
     return e;
 }

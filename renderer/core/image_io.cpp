@@ -251,4 +251,23 @@ ImageDifference compareImages(const ImageRgba32f& a, const ImageRgba32f& b, floa
     return difference;
 }
 
+ImageRgba32f boxFilterDown(const ImageRgba32f& image, int factor) {
+    if (factor < 1 || image.width % factor != 0 || image.height % factor != 0) {
+        throw std::invalid_argument("boxFilterDown: the image size is not a multiple of the factor");
+    }
+    ImageRgba32f out;
+    out.width = image.width / factor;
+    out.height = image.height / factor;
+    out.pixels.assign(size_t(out.width) * size_t(out.height) * 4, 0.0f);
+    const float weight = 1.0f / float(factor * factor);
+    for (int y = 0; y < image.height; ++y) {
+        for (int x = 0; x < image.width; ++x) {
+            const float* in = image.at(x, y);
+            float* o = out.at(x / factor, y / factor);
+            for (int c = 0; c < 4; ++c) o[c] += in[c] * weight;
+        }
+    }
+    return out;
+}
+
 } // namespace chcrt

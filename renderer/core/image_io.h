@@ -45,4 +45,8 @@ struct ImageDifference {
 };
 ImageDifference compareImages(const ImageRgba32f& a, const ImageRgba32f& b, float pixelThreshold = 0.0f);
 
+// `image` of (factor·w) × (factor·h) pixels averaged over factor × factor blocks into w × h (every channel): a
+// supersampled frame box-filtered to its pixels. Throws std::invalid_argument when the size is not a multiple.
+ImageRgba32f boxFilterDown(const ImageRgba32f& image, int factor);
+
 } // namespace chcrt

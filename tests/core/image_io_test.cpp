@@ -10,6 +10,7 @@
 #include <fstream>
 #include <limits>
 #include <random>
+#include <stdexcept>
 
 namespace chcrt {
 namespace {
@@ -258,6 +259,26 @@ TEST(CompareImages, ClampsAndIgnoresAlpha) {
 
 TEST(CompareImages, SizeMismatchThrows) {
     EXPECT_THROW(compareImages(flatImage(2, 2, 0.0f), flatImage(2, 3, 0.0f)), InputError);
+}
+
+// bench --reference-supersample: each output pixel is the mean of its factor x factor block, in every channel.
+TEST(BoxFilterDown, AveragesEachBlock) {
+    ImageRgba32f large = flatImage(4, 2, 0.0f);
+    for (int y = 0; y < 2; ++y) {
+        for (int x = 0; x < 4; ++x) {
+            for (int c = 0; c < 4; ++c) large.at(x, y)[c] = float(10 * (y * 4 + x) + c);
+        }
+    }
+    const ImageRgba32f small = boxFilterDown(large, 2);
+    ASSERT_EQ(small.width, 2);
+    ASSERT_EQ(small.height, 1);
+    for (int c = 0; c < 4; ++c) {
+        EXPECT_FLOAT_EQ(small.at(0, 0)[c], float((0 + 10 + 40 + 50) / 4 + c)) << c; // pixels (0,0) (1,0) (0,1) (1,1)
+        EXPECT_FLOAT_EQ(small.at(1, 0)[c], float((20 + 30 + 60 + 70) / 4 + c)) << c;
+    }
+    EXPECT_EQ(boxFilterDown(large, 1).pixels, large.pixels);
+    EXPECT_THROW(boxFilterDown(large, 3), std::invalid_argument);
+    EXPECT_THROW(boxFilterDown(large, 0), std::invalid_argument);
 }
 
 } // namespace
