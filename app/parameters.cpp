@@ -476,6 +476,11 @@ std::vector<Parameter> describeChcrt() {
                  "CHC+RT: also test each cell's ray interval (origins, directions, segment range) against a box")
             .checkbox("bounds frustum")
             .onOff(FIELD(chcrt.bounds.frustum)),
+        Describe(Area::Chcrt, "--chcrt-camera-bounds", "chcrtCameraBounds",
+                 "CHC+RT bounds-only: bound the renderer's primary rays from the camera instead of reducing them on the "
+                 "GPU (no read-back)")
+            .checkbox("camera ray bounds")
+            .onOff(FIELD(chcrt.bounds.cameraRays)),
         Describe(Area::Chcrt, "--chcrt-cell-list-limit", "chcrtCellListLimit",
                  "CHC+RT bounds-only: cells with more subtrees traverse the whole BVH (0 = never)")
             .minusOneUnsets()

@@ -219,6 +219,7 @@ nlohmann::json chcrtStatsJson(const ChcrtStats& s, double frames) {
                            {"pairs_tested_batched", s.pairsTestedBatched},
                            {"batched_rounds", s.batchedRounds},
                            {"bounds_updates", s.boundsUpdates},
+                           {"bounds_from_camera", s.boundsFromCamera},
                            {"cells_drawn", s.cellsDrawn},
                            {"cell_entries", s.cellEntries},
                            {"cells_whole_tree", s.cellsWholeTree},

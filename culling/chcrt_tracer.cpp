@@ -226,6 +226,7 @@ ChcrtStats& ChcrtStats::operator+=(const ChcrtStats& o) {
     pairsTestedBatched += o.pairsTestedBatched;
     batchedRounds += o.batchedRounds;
     boundsUpdates += o.boundsUpdates;
+    boundsFromCamera += o.boundsFromCamera;
     cellsDrawn += o.cellsDrawn;
     cellEntries += o.cellEntries;
     cellsWholeTree += o.cellsWholeTree;
@@ -1000,11 +1001,15 @@ bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& ra
         cells_->setHintsVisited(true);
     }
     // Where the rays can reach (culling/ray_bounds_grid.h), for skipping pairs out of reach in every phase. Primary
-    // rays reach the whole view until they hit, so before Phase 1 they need no reduction.
+    // rays reach the whole view until they hit: before Phase 1 the renderer's are bounded from its camera (no
+    // reduction), others are not bounded.
     if (rayExtent_) {
-        if (request.rayType == RayType::Primary && !request.bounceShadow && !hintPass) rayExtent_->forget();
-        else updateBounds(rays, hintPass ? hits.hit.id() : 0, anyHit, width, height,
-                          hintPass && anyHit ? hintPass_->cellMarks() : 0);
+        if (request.rayType == RayType::Primary && !request.bounceShadow && !hintPass) {
+            if (!boundFromCamera(request, width, height)) rayExtent_->forget();
+        } else {
+            updateBounds(rays, hintPass ? hits.hit.id() : 0, anyHit, width, height,
+                         hintPass && anyHit ? hintPass_->cellMarks() : 0);
+        }
     }
     // After the hint pass every round of any-hit rays traces only the rays it left, in one compacted dispatch (as in
     // core: a pass over all rays makes each SIMD group wait for its slowest ray in every loop).

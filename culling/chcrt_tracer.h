@@ -184,6 +184,7 @@ struct ChcrtStats {
     uint64_t pairsTestedBatched = 0;   // Batched: pairs tested by the batched dispatches (no GL query)
     uint64_t batchedRounds = 0;        // Batched: dispatches with their read-back (rounds of Phase 3)
     uint64_t boundsUpdates = 0;        // ray bounds reductions (a compute pass and a read-back each)
+    uint64_t boundsFromCamera = 0;     // ray bounds of primary rays made from the camera instead (no reduction)
     uint64_t cellsDrawn = 0;           // BoundsOnly: cells drawn by the intersection rounds
     uint64_t cellEntries = 0;          // BoundsOnly: (cell, subtree) list entries traversed
     uint64_t cellsWholeTree = 0;       // BoundsOnly: cells over cellListLimit that traversed the whole BVH
@@ -386,6 +387,9 @@ private:
                       GLuint cellMarks = 0);
     // Decides the pair with the grid and, when visible, descends the pair hierarchy to terminal pairs, which are
     // scheduled into `out`. Returns whether the pair is visible.
+    // Sets the ray bounds grid of the renderer's primary rays from its camera (TraceRequest::cameraRays,
+    // camera_ray_bounds.h) when the request has it and the option allows; false: nothing done.
+    bool boundFromCamera(const TraceRequest& request, int width, int height);
     bool decideByBounds(int32_t pair, VisibilityState& state, std::vector<Scheduled>& out);
     // Intersects scheduled subtrees from cell lists (cell_traversal.h), one draw per residency round; `compacted`:
     // a dispatch over the rays the hint pass left (hint_pass.h) instead of a pass over every cell with work.

@@ -36,6 +36,19 @@ void ChcrtTracer::updateBounds(const RayTextures& rays, GLuint hitImage, bool an
     last_.boundsMs += millisecondsSince(start);
 }
 
+bool ChcrtTracer::boundFromCamera(const TraceRequest& request, int width, int height) {
+    if (!request.cameraRays || !rayExtent_->options().cameraRays || request.cameraRays->width != width ||
+        request.cameraRays->height != height) {
+        return false;
+    }
+    const auto start = Clock::now();
+    const CullingHierarchy::Node& root = hierarchy_.nodes[0];
+    rayExtent_->setCameraCells(*request.cameraRays, root.boxMin, root.boxMax);
+    ++last_.boundsFromCamera;
+    last_.boundsMs += millisecondsSince(start);
+    return true;
+}
+
 bool ChcrtTracer::decideByBounds(int32_t first, VisibilityState& state, std::vector<Scheduled>& out) {
     // Pairs that turn visible are traversed down at once (Phase 3 without waiting for query results): the grid
     // answers immediately.
@@ -231,7 +244,10 @@ bool ChcrtTracer::traceBounded(const TraceRequest& request, const RayTextures& r
     // it finished are left out.
     // Closest-hit rays it bounded end their segments at those hits (every cell keeps its rays: no marks).
     const bool compacted = hintPass && anyHit;
-    updateBounds(rays, hintPass ? hits.hit.id() : 0, anyHit, width, height, compacted ? hintPass_->cellMarks() : 0);
+    // The renderer's primary rays before any hit are bounded from its camera, with no reduction and no read-back.
+    if (hintPass || !boundFromCamera(request, width, height)) {
+        updateBounds(rays, hintPass ? hits.hit.id() : 0, anyHit, width, height, compacted ? hintPass_->cellMarks() : 0);
+    }
     cells_->setHintsVisited(hintPass);
 
     // Phase 1 (Algorithm 1, lines 1-4): intersect the previously visible leaves that the rays can reach.

@@ -1,5 +1,6 @@
 #include "culling/ray_bounds_grid.h"
 
+#include "culling/camera_ray_bounds.h"
 #include "renderer/core/error.h"
 #include "shaders/shared/culling_layout.h"
 #include "shaders/shared/render_layout.h"
@@ -70,6 +71,10 @@ void RayBoundsGrid::reduce(GLuint origins, GLuint directions, GLuint hitImage, b
     if (cellMarks != 0) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, CHCRT_CULLING_COMPACT_CELLS, cellMarks);
     glDispatchCompute(GLuint((cellsX + 7) / 8), GLuint((cellsY + 7) / 8), 1); // an invocation per cell
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
+void RayBoundsGrid::setCameraCells(const PrimaryRayBasis& basis, glm::vec3 sceneMin, glm::vec3 sceneMax) {
+    setCells(basis.width, basis.height, cameraRayBounds(basis, options_.cellSize, options_.pieces, sceneMin, sceneMax));
 }
 
 void RayBoundsGrid::setCells(int width, int height, const std::vector<glm::vec4>& buffer) {

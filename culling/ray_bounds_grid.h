@@ -16,6 +16,7 @@
 // rounding and that of the hits a traversal accepts, so hits stay exactly those of pure BVH tracing (tests:
 // ChcrtExactness*, RayBoundsGrid*). Cells with a NaN or infinite ray value cull nothing.
 #include "culling/query_pair_hierarchy.h"
+#include "renderer/render/camera_math.h"
 #include "renderer/gl/gl_objects.h"
 #include "renderer/gl/shader.h"
 
@@ -37,6 +38,9 @@ struct RayBoundsOptions {
     // Also test the cell's ray interval ("frustum": origin box, direction box, segment range; rayIntervalMayHit in
     // shaders/shared/culling_layout.h): a box must meet a piece and the interval.
     bool frustum = true;
+    // Primary rays the renderer generated from a camera (TraceRequest::cameraRays) get their cells before any hit
+    // from the camera alone (setCameraCells), without the reduction and its read-back.
+    bool cameraRays = true;
 };
 
 class RayBoundsGrid {
@@ -57,6 +61,9 @@ public:
     void reduce(GLuint origins, GLuint directions, GLuint hitImage, bool anyHit, int width, int height,
                 glm::vec3 sceneMin, glm::vec3 sceneMax, GLuint cellMarks = 0);
     GLuint buffer() const { return buffer_.id(); }
+    // The cells of a camera's primary rays before any hit, bounded from the camera (camera_ray_bounds.h): boxes that
+    // hold those update() would reduce from the rays, with nothing read from the GPU.
+    void setCameraCells(const PrimaryRayBasis& basis, glm::vec3 sceneMin, glm::vec3 sceneMax);
 
     // True when some ray of `tile`'s pixels may meet one of the `count` boxes (lower[i], upper[i]) before its hit;
     // false means no ray of the tile can hit anything inside them. Tiles are in pixels of the ray set, GL

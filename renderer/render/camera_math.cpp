@@ -16,6 +16,11 @@ CameraFrame makeCameraFrame(const Camera& camera, int width, int height) {
     return frame;
 }
 
+PrimaryRayBasis primaryRayBasis(const CameraFrame& frame, int width, int height) {
+    return {frame.eye, frame.forward, frame.right * frame.tanHalfFovY * frame.aspect, frame.up * frame.tanHalfFovY, width,
+            height};
+}
+
 glm::mat4 viewFromWorld(const CameraFrame& f) {
     glm::mat4 m(1.0f);
     // Rows: right, up, -forward (OpenGL view space looks down -Z).

@@ -18,6 +18,17 @@ struct CameraFrame {
 };
 
 CameraFrame makeCameraFrame(const Camera& camera, int width, int height);
+
+// What the renderer's primary ray generation reads (shaders/render/raygen.frag.glsl, CHCRT_RAY_PRIMARY): the ray of
+// pixel p of a width × height ray set starts at `eye` with direction normalize(forward + ndc.x·right + ndc.y·up),
+// ndc = (p + 0.5) / (width, height) · 2 − 1, over [0, CHCRT_NO_HIT_T]. A tracer given it may bound the rays from it
+// without reading them (culling/ray_bounds_grid.h, setCameraCells).
+struct PrimaryRayBasis {
+    glm::vec3 eye{0.0f}, forward{0.0f, 0.0f, -1.0f};
+    glm::vec3 right{0.0f}, up{0.0f}; // scaled by the tangents of the half fields of view
+    int width = 0, height = 0;
+};
+PrimaryRayBasis primaryRayBasis(const CameraFrame& frame, int width, int height);
 glm::mat4 viewFromWorld(const CameraFrame& frame);
 // Infinite reversed-Z perspective: depth = nearPlane / viewDistance.
 glm::mat4 clipFromView(const CameraFrame& frame, float nearPlane);

@@ -105,6 +105,7 @@ void Renderer::setSettings(const RenderSettings& settings) {
     validateSettings(settings);
     if (!targets_ || settings.width != settings_.width || settings.height != settings_.height) {
         targets_ = std::make_unique<FrameTargets>(settings.width, settings.height);
+        cameraRays_.fill(std::nullopt); // new ray textures hold no rays yet
     }
     settings_ = settings;
 }
@@ -282,11 +283,13 @@ void Renderer::generateRays(const Camera& camera, int rayProgram, int sampleInde
         rayProgram == CHCRT_RAY_AO ? settings_.aoLengthFraction : settings_.diffuseLengthFraction;
     program.set("rayLength", lengthFraction * sceneDiagonal_);
     program.set("offsetScale", settings_.originOffset);
-    program.set("cameraPosition", frame.eye);
-    program.set("cameraForward", frame.forward);
-    program.set("cameraRight", frame.right * frame.tanHalfFovY * frame.aspect);
-    program.set("cameraUp", frame.up * frame.tanHalfFovY);
+    const PrimaryRayBasis basis = primaryRayBasis(frame, t.width, t.height);
+    program.set("cameraPosition", basis.eye);
+    program.set("cameraForward", basis.forward);
+    program.set("cameraRight", basis.right);
+    program.set("cameraUp", basis.up);
     program.set("viewportSize", glm::vec2(t.width, t.height));
+    cameraRays_[size_t(raySet)] = rayProgram == CHCRT_RAY_PRIMARY ? std::optional(basis) : std::nullopt;
     setLightUniforms(program, light_);
 
     glBindFramebuffer(GL_FRAMEBUFFER, t.rays[raySet].framebuffer.id());
@@ -321,6 +324,7 @@ void Renderer::trace(const Camera& camera, RayType type, bool bounceShadow, int 
     request.bounceShadow = bounceShadow;
     request.sampleIndex = sampleIndex;
     request.camera = camera;
+    if (type == RayType::Primary && !bounceShadow) request.cameraRays = cameraRays_[size_t(raySet)];
     sceneGpu_->bindForTracing();
     glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, CHCRT_ATOMIC_BINDING_CAPPED_RAYS, cappedRayCounter_.id());
     glFinish();

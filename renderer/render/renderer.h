@@ -17,6 +17,8 @@
 #include <array>
 #include <functional>
 #include <memory>
+#include <optional>
+#include <type_traits>
 #include <vector>
 
 namespace chcrt {
@@ -126,6 +128,8 @@ private:
     std::array<ShaderProgram, 5> pixelNormalRaygenPrograms_; // out of core: geometric normals per pixel
     OutOfCorePrimaryResolve outOfCorePrimary_;
     GLuint pixelGeometricNormals_ = 0; // from the last out-of-core resolve
+    // Per ray set: the basis of the primary rays it holds (generateRays), for TraceRequest::cameraRays.
+    std::array<std::optional<PrimaryRayBasis>, std::extent_v<decltype(FrameTargets::rays)>> cameraRays_;
     ShaderProgram accumulateShadow_, accumulateAo_, accumulateDiffuse_;
     ShaderProgram composeProgram_;
     GlBuffer cappedRayCounter_;

@@ -2,11 +2,13 @@
 // What a tracing method does, whatever it is: trace the rays of a ray texture set into a hit target set
 // (hit buffer layout in shaders/shared/render_layout.h). Pure BVH tracing implements it here; CHC+RT and the
 // Line Space variants implement it in culling/ and linespace/ and plug into the same Renderer.
+#include "renderer/render/camera_math.h"
 #include "renderer/render/frame_targets.h"
 #include "renderer/render/render_settings.h"
 #include "renderer/scene/scene.h"
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 namespace chcrt {
@@ -18,6 +20,9 @@ struct TraceRequest {
     bool bounceShadow = false; // shadow rays from diffuse hits (a ray set of its own)
     int sampleIndex = 0;       // pass index within the frame
     Camera camera;             // the frame's camera (methods may order work front to back)
+    // Set by the renderer when the ray set holds exactly the primary rays this basis generates (no other ray set):
+    // a tracer may bound them from it instead of reading them.
+    std::optional<PrimaryRayBasis> cameraRays;
 };
 
 struct TraceStats {

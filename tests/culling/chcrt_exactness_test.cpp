@@ -360,7 +360,7 @@ TEST_F(RenderTest, RayBoundsShrunkBelowTheRoundingPadLoseHitsThatTheComparisonDe
     options.bounds.relativePad = -1.0f / 64.0f;
     ChcrtTracer shrunk(bvh_, options);
     const CameraPath path = proceduralNearPath(spec_);
-    size_t differing = 0;
+    std::map<RayType, size_t> differing;
     FrameStats stats;
     for (int frame = 0; frame < 3; ++frame) {
         const Camera camera = path.cameraAtFrame(frame * 2);
@@ -373,10 +373,15 @@ TEST_F(RenderTest, RayBoundsShrunkBelowTheRoundingPadLoseHitsThatTheComparisonDe
             renderer.useTracer(&shrunk);
             renderer.traceRayPass(camera, type, 0, stats);
             const std::vector<Hit> culled = renderer.readHits(0);
-            for (size_t i = 0; i < reference.size(); ++i) differing += !sameHit(reference[i], culled[i], isAnyHit(type));
+            for (size_t i = 0; i < reference.size(); ++i) {
+                differing[type] += !sameHit(reference[i], culled[i], isAnyHit(type));
+            }
         }
     }
-    EXPECT_GT(differing, 0u);
+    EXPECT_GT(differing[RayType::Shadow] + differing[RayType::Ao], 0u);
+    // Primary rays' cells come from the camera (camera_ray_bounds.h), padded the same way: shrunk, they lose hits too.
+    EXPECT_EQ(shrunk.totalStats().boundsFromCamera, 3u);
+    EXPECT_GT(differing[RayType::Primary], 0u);
 }
 
 TEST_F(RenderTest, ArbitraryHitHintsKeepHitsExact) {
@@ -621,7 +626,7 @@ TEST_F(RenderTest, GpuCellListsWithRayBoundsShrunkBelowTheRoundingPadLoseHits) {
     options.bounds.relativePad = -1.0f / 64.0f;
     ChcrtTracer shrunk(bvh_, options);
     const CameraPath path = proceduralNearPath(spec_);
-    size_t differing = 0;
+    std::map<RayType, size_t> differing;
     FrameStats stats;
     for (int frame = 0; frame < 3; ++frame) {
         const Camera camera = path.cameraAtFrame(frame * 2);
@@ -634,10 +639,13 @@ TEST_F(RenderTest, GpuCellListsWithRayBoundsShrunkBelowTheRoundingPadLoseHits) {
             renderer.useTracer(&shrunk);
             renderer.traceRayPass(camera, type, 0, stats);
             const std::vector<Hit> culled = renderer.readHits(0);
-            for (size_t i = 0; i < reference.size(); ++i) differing += !sameHit(reference[i], culled[i], isAnyHit(type));
+            for (size_t i = 0; i < reference.size(); ++i) {
+                differing[type] += !sameHit(reference[i], culled[i], isAnyHit(type));
+            }
         }
     }
-    EXPECT_GT(differing, 0u);
+    EXPECT_GT(differing[RayType::Primary] + differing[RayType::Shadow] + differing[RayType::Ao], 0u);
+    EXPECT_EQ(shrunk.totalStats().boundsFromCamera, 0u) << "the GPU's lists read the GPU's reduction";
 }
 
 // The recommended configurations of both kinds of renderer (recommendedChcrtOptions: bounds-only with fragment cell

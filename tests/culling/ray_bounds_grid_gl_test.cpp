@@ -1,7 +1,9 @@
 // RayBoundsGrid's GPU reduction (shaders/culling/ray_bounds.comp.glsl) against the rays it reduced: random bounded,
 // inactive, infinite and NaN rays over a ray set whose size is not a multiple of the cell; segments clipped to the
 // scene's box; closest-hit segments ending at their hits and any-hit rays with a hit left out.
+#include "culling/camera_ray_bounds.h"
 #include "culling/ray_bounds_grid.h"
+#include "tests/render/render_fixture.h"
 #include "renderer/gl/context.h"
 #include "renderer/render/trace_pass.h"
 #include "shaders/shared/bvh_layout.h"
@@ -126,6 +128,68 @@ TEST(RayBoundsGridGl, HitsShortenTheSegmentsAndFinishAnyHitRays) {
     EXPECT_FALSE(closest.cellMayReach(0, 0, &lo, &hi, 1)) << "beyond every hit of the cell";
     EXPECT_EQ(any.cell(0, 0).state, 0) << "any-hit rays with a hit are finished";
     expectSegmentsReachable(closest, rays, true, false);
+}
+
+// The bounds made from the camera (camera_ray_bounds.h) hold what the GPU reduction makes of the renderer's own
+// primary rays (the ray generation shader's arithmetic, whatever the driver does with it): per cell, every end point
+// box, the direction box and the segment range, before the grid's padding, within a sixteenth of that padding. Near and
+// far views of a city, partial cells at the edges, several cell sizes and piece counts.
+using CameraRayBoundsGl = test::RenderTest;
+
+TEST_F(CameraRayBoundsGl, HoldTheReductionOfTheRenderersPrimaryRays) {
+    RenderSettings settings;
+    settings.width = 75;
+    settings.height = 53;
+    Renderer& renderer = makeProceduralRenderer("city:20k", settings);
+    const glm::vec3 boxMin(bvh_.nodes[0].boundsMin), boxMax(bvh_.nodes[0].boundsMax);
+    size_t bounded = 0;
+    for (const CameraPath& path : {proceduralNearPath(spec_), proceduralFarPath(spec_)}) {
+        for (int frame : {0, 5}) {
+            const Camera camera = path.cameraAtFrame(frame);
+            FrameStats stats;
+            renderer.generateRayPass(camera, RayType::Primary, 0, stats);
+            const RayTextures& rays = renderer.targets().rays[0];
+            const PrimaryRayBasis basis =
+                primaryRayBasis(makeCameraFrame(camera, settings.width, settings.height), settings.width, settings.height);
+            for (auto [cellSize, pieces] : {std::pair{16, 4}, std::pair{8, 3}, std::pair{4, 8}}) {
+                SCOPED_TRACE(path.name + " frame " + std::to_string(frame) + " cell " + std::to_string(cellSize));
+                RayBoundsGrid grid(RayBoundsOptions{cellSize, pieces, 2});
+                grid.reduce(rays.origin.id(), rays.direction.id(), 0, false, settings.width, settings.height, boxMin,
+                            boxMax);
+                const size_t stride = size_t(CHCRT_CULLING_BOUNDS_STRIDE(pieces));
+                const std::vector<glm::vec4> fromCamera = cameraRayBounds(basis, cellSize, pieces, boxMin, boxMax);
+                std::vector<glm::vec4> reduced(fromCamera.size());
+                glGetNamedBufferSubData(grid.buffer(), 0, GLsizeiptr(reduced.size() * sizeof(glm::vec4)), reduced.data());
+                for (size_t c = 0; c < reduced.size() / stride; ++c) {
+                    const glm::vec4* gpu = &reduced[c * stride];
+                    const glm::vec4* cpu = &fromCamera[c * stride];
+                    if (gpu[0].x == float(CHCRT_CULLING_CELL_EMPTY)) continue;
+                    ASSERT_EQ(gpu[0].x, float(CHCRT_CULLING_CELL_BOUNDED)) << "cell " << c;
+                    ASSERT_EQ(cpu[0].x, float(CHCRT_CULLING_CELL_BOUNDED)) << "cell " << c;
+                    ++bounded;
+                    EXPECT_GE(cpu[0].y, gpu[0].y * (1.0f - 1e-6f)) << "cell " << c; // the extent that sizes the pad
+                    EXPECT_GE(cpu[0].z, gpu[0].z) << "cell " << c;
+                    const float tolerance = std::max(1.0f, gpu[0].y) * RayBoundsOptions{}.relativePad / 16.0f;
+                    for (int j = 0; j < pieces + 2; ++j) {
+                        const glm::vec3 gpuLo(gpu[1 + 2 * j]), gpuHi(gpu[2 + 2 * j]);
+                        const glm::vec3 cpuLo(cpu[1 + 2 * j]), cpuHi(cpu[2 + 2 * j]);
+                        for (int i = 0; i < 3; ++i) {
+                            EXPECT_LE(cpuLo[i], gpuLo[i] + tolerance) << "cell " << c << " point " << j << " axis " << i;
+                            EXPECT_GE(cpuHi[i], gpuHi[i] - tolerance) << "cell " << c << " point " << j << " axis " << i;
+                        }
+                    }
+                    const int interval = 1 + 2 * (pieces + 2);
+                    for (int i = 0; i < 3; ++i) {
+                        EXPECT_LE(cpu[interval][i], gpu[interval][i]) << "cell " << c << " direction axis " << i;
+                        EXPECT_GE(cpu[interval + 1][i], gpu[interval + 1][i]) << "cell " << c << " direction axis " << i;
+                    }
+                    EXPECT_LE(cpu[interval].w, gpu[interval].w) << "cell " << c << " segment start";
+                    EXPECT_GE(cpu[interval + 1].w, gpu[interval + 1].w) << "cell " << c << " segment end";
+                }
+            }
+        }
+    }
+    EXPECT_GT(bounded, 500u);
 }
 
 } // namespace
