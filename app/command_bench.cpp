@@ -411,7 +411,8 @@ void addRows(Bench& b, RayType type, const std::string& m, const MethodResult& r
     const double ms = median(r.runMs);
     const double raysPerFrame = double(r.activeRays) / double(b.options.runs) / frames;
     const double mrays = ms > 0 ? raysPerFrame / (ms * 1000.0) : 0.0;
-    const double speedup = ms > 0 ? bvhMs / ms : 0.0;
+    // Without pure BVH (a prepared scene not loaded in core) there is nothing to compare with.
+    const double speedup = ms > 0 && bvhMs > 0 ? bvhMs / ms : 0.0;
     const uint64_t diff = m == kPureBvhMethod ? 0 : r.comparison.differing; // bvh is the reference itself
     const auto imageError = b.imageErrors.find(m);
     // Rows traced through the GPU subtree cache are marked: beside in-core rows of the same method name they are
@@ -422,7 +423,7 @@ void addRows(Bench& b, RayType type, const std::string& m, const MethodResult& r
     table.rows.push_back({session.scene.name, session.path.name, toString(type), outOfCore ? m + " (out of core)" : m,
                           std::to_string(settings.width) + "x" + std::to_string(settings.height),
                           std::to_string(settings.samplesPerPixel), formatFixed(ms, 1), formatFixed(mrays, 2),
-                          formatFixed(speedup, 2), session.sceneInCore ? std::to_string(diff) : "-",
+                          speedup > 0 ? formatFixed(speedup, 2) : "-", session.sceneInCore ? std::to_string(diff) : "-",
                           imageError != b.imageErrors.end() ? formatFixed(imageError->second.finalPsnrDb, 1) : "-"});
     const bool stepsCounted = b.options.steps && r.stepRays > 0;
     const double stepsPerRay = stepsCounted ? double(r.steps) / double(r.stepRays) : 0.0;
@@ -458,7 +459,7 @@ void addRows(Bench& b, RayType type, const std::string& m, const MethodResult& r
                           {"ms_runs", r.runMs},
                           {"mrays_per_s", mrays},
                           {"active_rays_per_frame", raysPerFrame},
-                          {"speedup_vs_bvh", speedup},
+                          {"speedup_vs_bvh", speedup > 0 ? nlohmann::json(speedup) : nlohmann::json(nullptr)},
                           {"diff_pixels", session.sceneInCore ? nlohmann::json(diff) : nlohmann::json(nullptr)},
                           {"edge_cases", m == kPureBvhMethod ? 0 : r.comparison.edgeCases},
                           {"psnr_db", nullptr},

@@ -47,9 +47,12 @@ struct GpuCacheOptions {
 };
 
 // Share of the budget each proxy level's pool may take (at most what all of that level's proxies need), the coarsest
-// level's more: a far view needs it for nearly every subtree. The subtree pool gets the rest (near views need it).
-inline constexpr double kLodPoolShare = 0.125;
-inline constexpr double kLodCoarsestPoolShare = 0.25;
+// level's more: a far view needs it for nearly every subtree. The subtree pool gets the rest (near views need it;
+// exact methods have no proxy pools). At 1/8 and 1/4 the 140M city's far path (640×360, 1 GiB) uploaded 145-228
+// proxies per trace, both pools too small for the ~2,800 coarsest and ~250 level-1 proxies a view asks for; at 1/6
+// and 1/3, 41-49 (docs/benchmarks.md, 2026-12-06).
+inline constexpr double kLodPoolShare = 1.0 / 6.0;
+inline constexpr double kLodCoarsestPoolShare = 1.0 / 3.0;
 inline constexpr uint32_t kLodStatLevels = 5; // statistics per level 0 (subtree) ... 4 (kMaxLodLevels)
 
 struct GpuCacheStats {
