@@ -63,8 +63,7 @@ double smallestLength(const glm::dvec3& f, const glm::dvec3& r, const glm::dvec3
 void slabInterval(double lo, double hi, double c0, double c1, Interval& entry, Interval& exit) {
     if (lo > 0.0 || hi < 0.0) { // one sign: 1/d in [1/hi, 1/lo], monotone
         const Interval inverse{1.0 / hi, 1.0 / lo};
-        const Interval a = times({c0, c0}, {std::min(inverse.lo, inverse.hi), std::max(inverse.lo, inverse.hi)});
-        const Interval b = times({c1, c1}, {std::min(inverse.lo, inverse.hi), std::max(inverse.lo, inverse.hi)});
+        const Interval a = times({c0, c0}, inverse), b = times({c1, c1}, inverse);
         // d > 0: entry c0/d, exit c1/d; d < 0: the other way round.
         entry = lo > 0.0 ? a : b;
         exit = lo > 0.0 ? b : a;
@@ -104,7 +103,23 @@ Segment segmentOf(Interval entry, Interval exit, double nearest, double farthest
     entry = widened(entry);
     exit = widened(exit);
     const Interval m0{std::max({0.0, entry.lo, nearest}), std::min(std::max(0.0, entry.hi), farthest)};
-    return {m0, {std::max(exit.lo, m0.lo), std::min(exit.hi, farthest)}};
+    Segment s{m0, {std::max(exit.lo, m0.lo), std::min(exit.hi, farthest)}};
+    if (s.m1.lo > s.m1.hi) s.m1.lo = s.m1.hi;
+    return s;
+}
+
+// The segment of rays o + dir·m with each component of dir in [lo, hi] through the scene's box [boxLo, boxHi], m no
+// nearer than `nearest` and no farther than `farthest`: the slab intervals of the three axes combined.
+Segment boxSegment(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& eye, const glm::dvec3& boxLo,
+                   const glm::dvec3& boxHi, double nearest, double farthest) {
+    Interval entry{-kInfinity, -kInfinity}, exit{kInfinity, kInfinity};
+    for (int i = 0; i < 3; ++i) {
+        Interval axisEntry{}, axisExit{};
+        slabInterval(lo[i], hi[i], boxLo[i] - eye[i], boxHi[i] - eye[i], axisEntry, axisExit);
+        entry = {std::max(entry.lo, axisEntry.lo), std::max(entry.hi, axisEntry.hi)};
+        exit = {std::min(exit.lo, axisExit.lo), std::min(exit.hi, axisExit.hi)};
+    }
+    return segmentOf(entry, exit, nearest, farthest);
 }
 
 // m_j = m0 + (m1 - m0) j / P: nonnegative weights of m0 and m1.
@@ -112,6 +127,22 @@ Interval piecePoint(const Segment& s, int j, int pieces) {
     const double w = double(j) / double(pieces);
     const double lo = (1.0 - w) * s.m0.lo + w * s.m1.lo;
     return {lo, std::max(lo, (1.0 - w) * s.m0.hi + w * s.m1.hi)};
+}
+
+using PointBoxes = std::array<glm::dvec3, kMaxPoints>;
+
+// Narrows the boxes of the pieces' end points p_j = o + dir·m_j (j = 0 .. pieces) to those the intervals of dir and of
+// the segment allow.
+void narrowPoints(const glm::dvec3& lo, const glm::dvec3& hi, const Segment& segment, const glm::dvec3& eye,
+                  int pieces, PointBoxes& pLo, PointBoxes& pHi) {
+    for (int j = 0; j <= pieces; ++j) {
+        const Interval m = piecePoint(segment, j, pieces);
+        for (int i = 0; i < 3; ++i) {
+            const Interval p = times({lo[i], hi[i]}, m);
+            pLo[size_t(j)][i] = std::max(pLo[size_t(j)][i], eye[i] + p.lo);
+            pHi[size_t(j)][i] = std::min(pHi[size_t(j)][i], eye[i] + p.hi);
+        }
+    }
 }
 
 } // namespace
@@ -155,31 +186,20 @@ std::vector<glm::vec4> cameraRayBounds(const PrimaryRayBasis& basis, int cellSiz
 
             // (1) Along the distance t: intervals of the unit direction d = v / |v| and of t.
             glm::dvec3 dLo, dHi;
-            Interval entry{-kInfinity, -kInfinity}, exit{kInfinity, kInfinity};
             for (int i = 0; i < 3; ++i) {
                 dLo[i] = vLo[i] / (vLo[i] >= 0.0 ? longest : shortest) - kDirectionRounding;
                 dHi[i] = vHi[i] / (vHi[i] >= 0.0 ? shortest : longest) + kDirectionRounding;
-                Interval axisEntry{}, axisExit{};
-                slabInterval(dLo[i], dHi[i], boxLo[i] - eye[i], boxHi[i] - eye[i], axisEntry, axisExit);
-                entry = {std::max(entry.lo, axisEntry.lo), std::max(entry.hi, axisEntry.hi)};
-                exit = {std::min(exit.lo, axisExit.lo), std::min(exit.hi, axisExit.hi)};
             }
             // A segment that can hit runs inside the scene's box, so its points lie between the box's nearest point
             // and its farthest corner (directions of length ~1).
-            Segment t = segmentOf(entry, exit, nearest, farthest);
-            if (t.m1.lo > t.m1.hi) t.m1.lo = t.m1.hi;
+            Segment t = boxSegment(dLo, dHi, eye, boxLo, boxHi, nearest, farthest);
 
-            // The pieces' end points p_j from (1): o + d s_j, clipped to the scene's box, which holds every point of
-            // a segment that can hit (the grid's pad covers the rounding of the shader's points).
-            std::array<glm::dvec3, kMaxPoints> pLo, pHi;
-            for (int j = 0; j <= pieces; ++j) {
-                const Interval s = piecePoint(t, j, pieces);
-                for (int i = 0; i < 3; ++i) {
-                    const Interval p = times({dLo[i], dHi[i]}, s);
-                    pLo[size_t(j)][i] = std::max(eye[i] + p.lo, boxLo[i]);
-                    pHi[size_t(j)][i] = std::min(eye[i] + p.hi, boxHi[i]);
-                }
-            }
+            // The pieces' end points p_j from (1): o + d s_j, within the scene's box, which holds every point of a
+            // segment that can hit (the grid's pad covers the rounding of the shader's points).
+            PointBoxes pLo, pHi;
+            pLo.fill(boxLo);
+            pHi.fill(boxHi);
+            narrowPoints(dLo, dHi, t, eye, pieces, pLo, pHi);
             // (2) Along the displacement m = sigma (p_k - o_k) on each axis k whose component has one sign over the
             // cell: the point is o + w m with w = sigma v / v_k, a ratio of affine functions of the pixel, extreme
             // at the corners — exact, where (1) pairs the extremes of d with those of t. Where axis k bounds the
@@ -193,7 +213,6 @@ std::vector<glm::vec4> cameraRayBounds(const PrimaryRayBasis& basis, int cellSiz
                     wLo = glm::min(wLo, sigma * v / v[k]);
                     wHi = glm::max(wHi, sigma * v / v[k]);
                 }
-                Interval mEntry{-kInfinity, -kInfinity}, mExit{kInfinity, kInfinity};
                 for (int i = 0; i < 3; ++i) {
                     if (i == k) {
                         wLo[i] = wHi[i] = sigma;
@@ -201,25 +220,13 @@ std::vector<glm::vec4> cameraRayBounds(const PrimaryRayBasis& basis, int cellSiz
                         wLo[i] -= kDirectionRounding * (1.0 + std::fabs(wLo[i]));
                         wHi[i] += kDirectionRounding * (1.0 + std::fabs(wHi[i]));
                     }
-                    Interval axisEntry{}, axisExit{};
-                    slabInterval(wLo[i], wHi[i], boxLo[i] - eye[i], boxHi[i] - eye[i], axisEntry, axisExit);
-                    mEntry = {std::max(mEntry.lo, axisEntry.lo), std::max(mEntry.hi, axisEntry.hi)};
-                    mExit = {std::min(mExit.lo, axisExit.lo), std::min(mExit.hi, axisExit.hi)};
                 }
-                Segment m = segmentOf(mEntry, mExit, 0.0, farthest); // |p_k - o_k| <= |p - o|
+                const Segment m = boxSegment(wLo, wHi, eye, boxLo, boxHi, 0.0, farthest); // |p_k - o_k| <= |p - o|
                 if (!(m.m0.lo <= m.m1.hi)) { // no ray meets the scene's box
                     t.m0.lo = kInfinity;
                     break;
                 }
-                if (m.m1.lo > m.m1.hi) m.m1.lo = m.m1.hi;
-                for (int j = 0; j <= pieces; ++j) {
-                    const Interval along = piecePoint(m, j, pieces);
-                    for (int i = 0; i < 3; ++i) {
-                        const Interval p = times({wLo[i], wHi[i]}, along);
-                        pLo[size_t(j)][i] = std::max(pLo[size_t(j)][i], eye[i] + p.lo);
-                        pHi[size_t(j)][i] = std::min(pHi[size_t(j)][i], eye[i] + p.hi);
-                    }
-                }
+                narrowPoints(wLo, wHi, m, eye, pieces, pLo, pHi);
                 // The same segment in t = m / |d_k| bounds the cell's segment range (the frustum test's).
                 const double dkLo = std::min(std::fabs(dLo[k]), std::fabs(dHi[k]));
                 const double dkHi = std::max(std::fabs(dLo[k]), std::fabs(dHi[k]));
