@@ -15,15 +15,17 @@ void CellTraversal::begin(int cellsX, int cellsY, int cellSize) {
     entries_.clear();
 }
 
-const ShaderProgram& CellTraversal::program(bool anyHit, const std::string& debugDefine, bool compacted) {
+const ShaderProgram& CellTraversal::program(bool anyHit, const std::string& debugDefine, bool compacted,
+                                            bool writesAll) {
     const bool visited = compacted || hintsVisited_;
-    const ProgramKey key{debugDefine, anyHit, compacted, visited};
+    const ProgramKey key{debugDefine, anyHit, compacted, visited, writesAll};
     auto it = programs_.find(key);
     if (it != programs_.end()) return it->second;
     std::vector<ShaderDefine> defines = defines_(anyHit);
     defines.push_back({"TRACE_ANY_HIT", anyHit ? "1" : "0"});
     if (visited) defines.push_back({"CHCRT_CULLING_HINTS_VISITED", "1"});
     if (!debugDefine.empty()) defines.push_back({debugDefine, "1"});
+    if (writesAll) defines.push_back({"CHCRT_CELL_PASS_WRITES_ALL", "1"});
     // The subtree-id image comes with the hit triangle's buffer index, as from the subtree passes (the out-of-core
     // primary resolve reads both: culling/outofcore/primary_resolve.h).
     if (debugDefine == "CHCRT_CULLING_DEBUG_SUBTREES") defines.push_back({"CHCRT_HIT_TRIANGLE_INDEX", "1"});
@@ -67,19 +69,19 @@ void CellTraversal::drawPoints(const ShaderProgram& program, int width, int heig
 }
 
 uint32_t CellTraversal::draw(bool anyHit, const std::string& debugDefine, int width, int height,
-                             GLuint maskFramebuffer, bool writeMask) {
-    if (entries_.empty()) return 0;
-    uploadLists(debugDefine);
+                             GLuint maskFramebuffer, bool writeMask, bool writesAll) {
+    if (entries_.empty() && !writesAll) return 0;
+    const uint32_t withWork = uploadLists(debugDefine, writesAll);
     drawMaskAndCells(anyHit, debugDefine, width, height, maskFramebuffer, writeMask,
-                     [&](const ShaderProgram& p) { drawPoints(p, width, height); });
-    return uint32_t(drawCells_.size());
+                     [&](const ShaderProgram& p) { drawPoints(p, width, height); }, writesAll);
+    return withWork;
 }
 
 uint32_t CellTraversal::drawCompacted(bool anyHit, const std::string& debugDefine) {
     if (entries_.empty()) return 0; // no cell has work: every listed ray keeps its miss
-    uploadLists(debugDefine);
+    const uint32_t withWork = uploadLists(debugDefine);
     dispatchCompacted(anyHit, debugDefine, cellsX_, cellSize_);
-    return uint32_t(drawCells_.size());
+    return withWork;
 }
 
 void CellTraversal::dispatchCompacted(bool anyHit, const std::string& debugDefine, int cellsX, int cellSize) {
@@ -90,7 +92,7 @@ void CellTraversal::dispatchCompacted(bool anyHit, const std::string& debugDefin
     glDispatchComputeIndirect(0);
 }
 
-void CellTraversal::uploadLists(const std::string& debugDefine) {
+uint32_t CellTraversal::uploadLists(const std::string& debugDefine, bool everyCell) {
     // Counting sort by cell (stable: a cell's entries keep the order of add() among equal bounds).
     const size_t cells = size_t(cellsX_) * size_t(cellsY_);
     counts_.assign(cells + 1, 0u);
@@ -101,20 +103,22 @@ void CellTraversal::uploadLists(const std::string& debugDefine) {
     headers_.assign(cells * 2, 0u);
     drawCells_.clear();
     wholeTreeCells_ = 0;
+    uint32_t withWork = 0;
     for (size_t c = 0; c < cells; ++c) {
         const uint32_t count = counts_[c + 1] - counts_[c];
         const bool whole = listLimit_ > 0 && count > listLimit_;
         headers_[2 * c] = whole ? 0u : 1u + counts_[c];
         headers_[2 * c + 1] = whole ? 1u : count;
         wholeTreeCells_ += whole;
-        if (count != 0) drawCells_.push_back(uint32_t(c));
+        withWork += count != 0;
+        if (count != 0 || everyCell) drawCells_.push_back(uint32_t(c));
     }
     sorted_.resize(entries_.size());
     for (const Entry& e : entries_) sorted_[counts_[e.cell]++] = e;
     // Each cell's list by its entry bound (the traversal ends a list once the bound passes the ray's hit); the
     // lists are short, so sorting them one by one is cheaper than sorting all entries.
     for (uint32_t c : drawCells_) {
-        if (headers_[2 * size_t(c)] == 0) continue; // the whole tree
+        if (headers_[2 * size_t(c)] == 0 || headers_[2 * size_t(c) + 1] == 0) continue; // the whole tree, or empty
         const auto begin = sorted_.begin() + (headers_[2 * size_t(c)] - 1);
         std::stable_sort(begin, begin + headers_[2 * size_t(c) + 1],
                          [](const Entry& a, const Entry& b) { return a.entryBound < b.entryBound; });
@@ -142,6 +146,7 @@ void CellTraversal::uploadLists(const std::string& debugDefine) {
     glBindTextureUnit(CHCRT_UNIT_CULLING_DRAW_CELLS, b.drawCells.texture.id());
     if (withIds) glBindTextureUnit(CHCRT_UNIT_CULLING_CELL_IDS, b.ids.texture.id());
     entries_.clear();
+    return withWork;
 }
 
 void CellTraversal::drawIndirect(bool anyHit, const std::string& debugDefine, int width, int height, int cellsX,
@@ -158,9 +163,9 @@ void CellTraversal::drawIndirect(bool anyHit, const std::string& debugDefine, in
 
 void CellTraversal::drawMaskAndCells(bool anyHit, const std::string& debugDefine, int width, int height,
                                      GLuint maskFramebuffer, bool writeMask,
-                                     const std::function<void(const ShaderProgram&)>& issue) {
+                                     const std::function<void(const ShaderProgram&)>& issue, bool writesAll) {
     if (compute()) {
-        issue(program(anyHit, debugDefine, false));
+        issue(program(anyHit, debugDefine, false, writesAll));
         return;
     }
     glBindFramebuffer(GL_FRAMEBUFFER, maskFramebuffer);
@@ -177,7 +182,7 @@ void CellTraversal::drawMaskAndCells(bool anyHit, const std::string& debugDefine
     }
     glDepthFunc(GL_LESS); // passes where the mask holds 1
     glDepthMask(GL_FALSE);
-    issue(program(anyHit, debugDefine, false));
+    issue(program(anyHit, debugDefine, false, writesAll));
     glDisable(GL_PROGRAM_POINT_SIZE);
 }
 

@@ -59,9 +59,12 @@ public:
     // Uploads the lists and traverses them into `maskFramebuffer` (a depth-only target of the ray set's size whose
     // depth is 1 where a ray is to be traced), with the ray textures, hit image and BVH buffers bound. `writeMask`:
     // first write that depth over the cells with work (active rays without a hit; for rounds of any-hit rays after
-    // the first). `debugDefine` names a debug image variant ("" = none). Returns the number of cells with work.
+    // the first). `debugDefine` names a debug image variant ("" = none). `writesAll`: the trace's first pass over a hit
+    // image that was not cleared, with every ray of the set active (ChcrtTracer::beginTrace): every cell is drawn,
+    // also one with an empty list, and each ray stores its result, a miss too (no debug image). Returns the number of
+    // cells with work.
     uint32_t draw(bool anyHit, const std::string& debugDefine, int width, int height, GLuint maskFramebuffer,
-                  bool writeMask);
+                  bool writeMask, bool writesAll = false);
     // The same as a compute dispatch over the rays the hint pass left (hint_pass.h; its compaction buffer bound as
     // the shader storage and dispatch-indirect buffer): each traverses the list of its cell. Returns the cells with
     // work.
@@ -83,25 +86,28 @@ private:
         TextureBuffer headers, roots, ids, drawCells;
     };
     // The cell pass variant: `compacted` = chcrt_cells_compact.comp.glsl, else the fragment or compute pass per cell.
-    const ShaderProgram& program(bool anyHit, const std::string& debugDefine, bool compacted);
-    // Sorts the entries into per-cell lists, uploads and binds them (texture units CHCRT_UNIT_CULLING_CELL_*).
-    void uploadLists(const std::string& debugDefine);
+    const ShaderProgram& program(bool anyHit, const std::string& debugDefine, bool compacted, bool writesAll = false);
+    // Sorts the entries into per-cell lists, uploads and binds them (texture units CHCRT_UNIT_CULLING_CELL_*);
+    // `everyCell`: every cell is drawn, not only those with work. Returns the cells with work.
+    uint32_t uploadLists(const std::string& debugDefine, bool everyCell = false);
     void drawPoints(const ShaderProgram& program, int width, int height) const;
     // The mask (when asked for) and the traversal of the cells `issue` draws, into `maskFramebuffer`; compute passes
     // need no mask (finished and inactive rays return at once) and no framebuffer.
     void drawMaskAndCells(bool anyHit, const std::string& debugDefine, int width, int height, GLuint maskFramebuffer,
-                          bool writeMask, const std::function<void(const ShaderProgram&)>& issue);
+                          bool writeMask, const std::function<void(const ShaderProgram&)>& issue,
+                          bool writesAll = false);
     static void upload(TextureBuffer& target, const void* data, size_t bytes, GLenum format);
     static ShaderProgram makeMaskProgram();
 
     Defines defines_;
     int computeCellSize_ = 0;
-    using ProgramKey = std::tuple<std::string, bool, bool, bool>; // debug define, any-hit, compacted, hints visited
+    // debug define, any-hit, compacted, hints visited, writes all
+    using ProgramKey = std::tuple<std::string, bool, bool, bool, bool>;
     std::map<ProgramKey, ShaderProgram> programs_;
     ShaderProgram maskProgram_;
     int cellsX_ = 0, cellsY_ = 0, cellSize_ = 0;
     std::vector<Entry> entries_, sorted_;
-    std::vector<uint32_t> counts_, headers_, roots_, ids_, drawCells_; // drawCells_: the cells with work
+    std::vector<uint32_t> counts_, headers_, roots_, ids_, drawCells_; // drawCells_: the cells drawn
     Buffers buffers_[2]; // alternate per draw, so an upload never waits for the previous draw
     int next_ = 0;
     uint32_t wholeTreeRoot_ = 0, listLimit_ = 0, wholeTreeCells_ = 0;

@@ -1090,7 +1090,8 @@ bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& ra
     return warm;
 }
 
-void ChcrtTracer::beginTrace(const RayTextures& rays, HitTargets& hits, int width, int height, bool hitDepth) {
+void ChcrtTracer::beginTrace(const RayTextures& rays, HitTargets& hits, int width, int height, bool hitDepth,
+                             bool clearHits) {
     // The framebuffers over the frame targets' depth textures are kept by texture name; the renderer makes its
     // targets again when its size changes, and a deleted texture's name may be given to a new one.
     if (width != framebufferWidth_ || height != framebufferHeight_) {
@@ -1114,7 +1115,8 @@ void ChcrtTracer::beginTrace(const RayTextures& rays, HitTargets& hits, int widt
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_ALWAYS);
     glDepthMask(GL_TRUE);
-    glClearTexImage(hits.hit.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, missHitTexel().data());
+    if (clearHits) glClearTexImage(hits.hit.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, missHitTexel().data());
+    cellPassWritesAll_ = !clearHits;
     const GLfloat farDepth = 1.0f;
     if (hitDepth) glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &farDepth);
     glBindTextureUnit(CHCRT_UNIT_RAY_ORIGIN, rays.origin.id());

@@ -374,10 +374,12 @@ private:
     bool traceBoundedGpu(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width, int height);
     // BoundsOnly (chcrt_tracer_bounds.cpp): Algorithm 1 with the ray bounds grid deciding every pair.
     bool traceBounded(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width, int height);
-    // Clears the hits to misses and binds them; `hitDepth`: also the hit set's depth to "no hit yet", for traces
-    // whose passes test against it or write it (GL queries, subtree passes). Cell passes only use it as the later
-    // rounds' mask, which they clear themselves (CellTraversal::draw).
-    void beginTrace(const RayTextures& rays, HitTargets& hits, int width, int height, bool hitDepth);
+    // Clears the hits to misses (unless `clearHits` is false: the trace's first cell pass writes them all, see
+    // cellPassWritesAll_) and binds them; `hitDepth`: also the hit set's depth to "no hit yet", for traces whose
+    // passes test against it or write it (GL queries, subtree passes). Cell passes only use it as the later rounds'
+    // mask, which they clear themselves (CellTraversal::draw).
+    void beginTrace(const RayTextures& rays, HitTargets& hits, int width, int height, bool hitDepth,
+                    bool clearHits = true);
     void endTrace(VisibilityState& state, int width, int height); // pull-up, fronts' statistics, then finishTrace
     void finishTrace(int width, int height);                      // GL state, glFinish, the passes' GPU times
     // Subdivides a pair that turned visible (§4.3, `split` its domain) into new invisible leaves; returns how many.
@@ -390,6 +392,8 @@ private:
     // Sets the ray bounds grid of the renderer's primary rays from its camera (TraceRequest::cameraRays,
     // camera_ray_bounds.h) when the request has it and the option allows; false: nothing done.
     bool boundFromCamera(const TraceRequest& request, int width, int height);
+    // Whether boundFromCamera applies to the request: the renderer's primary rays of the traced size.
+    bool cameraBoundable(const TraceRequest& request, int width, int height) const;
     bool decideByBounds(int32_t pair, VisibilityState& state, std::vector<Scheduled>& out);
     // Intersects scheduled subtrees from cell lists (cell_traversal.h), one draw per residency round; `compacted`:
     // a dispatch over the rays the hint pass left (hint_pass.h) instead of a pass over every cell with work.
@@ -471,6 +475,10 @@ private:
     std::map<uint64_t, HintPassRecord> ownHintPassRecords_;
     std::map<uint64_t, HintPassRecord>* hintPassRecords_ = &ownHintPassRecords_;
     bool hintPassRan_ = false; // this tracer ran the hint pass before
+    // bounds-only primary rays (every ray of the set active, nothing stored before the cell pass): the trace's next
+    // cell pass draws every cell and stores every ray's hit, a miss too, so the hit image was not cleared; a trace
+    // that ends with it still set (nothing to intersect) clears it then.
+    bool cellPassWritesAll_ = false;
     std::map<uint64_t, AdaptiveChoice> adaptive_; // per ray kind
     std::unique_ptr<RayBoundsGrid> rayExtent_;    // with options_.rayExtentCulling or BoundsOnly, updated per trace
     std::unique_ptr<CellTraversal> cells_;        // BoundsOnly's and BoundsGpu's intersection rounds

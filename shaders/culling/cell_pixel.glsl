@@ -12,7 +12,9 @@
 // the leaf of every hit this pass finds in the ray set's hint image: for closest-hit rays the leaf of the nearest),
 // CHCRT_CULLING_HINTS_VISITED (1: the hint pass visited every ray's hint before this pass, so the visit is not
 // compiled: a variant, not a uniform, because llvmpipe runs both sides of every branch for each SIMD group —
-// docs/architecture.md — and a visit skipped by a uniform cost each group a leaf test).
+// docs/architecture.md — and a visit skipped by a uniform cost each group a leaf test),
+// CHCRT_CELL_PASS_WRITES_ALL (1: the first pass of a trace over every cell, after no clear of the hit image: each ray
+// starts from a miss without loading its stored hit and stores its result, a miss too; ChcrtTracer::beginTrace).
 #include "shared/render_layout.h"
 #include "shared/bvh_layout.h"
 #include "shared/culling_layout.h"
@@ -25,6 +27,9 @@
 #endif
 #ifndef CHCRT_CULLING_HINTS_VISITED
 #define CHCRT_CULLING_HINTS_VISITED 0
+#endif
+#ifndef CHCRT_CELL_PASS_WRITES_ALL
+#define CHCRT_CELL_PASS_WRITES_ALL 0
 #endif
 #include "render/bvh_nodes.glsl"
 
@@ -78,7 +83,11 @@ bool visitLeafTracked(uint entry, uint node, uint first, uint count, vec3 origin
 void traceCellPixel(ivec2 pixel, int cellIndex) {
     vec4 originTmin = texelFetch(rayOrigins, pixel, 0);
     vec4 directionTmax = texelFetch(rayDirections, pixel, 0);
+#if CHCRT_CELL_PASS_WRITES_ALL
+    const uvec4 stored = uvec4(floatBitsToUint(CHCRT_NO_HIT_T), CHCRT_NO_HIT_ID, 0u, 0u); // = missHitTexel()
+#else
     uvec4 stored = imageLoad(hitImage, pixel);
+#endif
 #if TRACE_ANY_HIT
     if (stored.y != CHCRT_NO_HIT_ID) {
         return; // finished (the mask keeps most such rays out already)
@@ -127,6 +136,9 @@ void traceCellPixel(ivec2 pixel, int cellIndex) {
         if (visitHint) {
             imageStore(hintImage, pixel, uvec4(CHCRT_NO_HIT_ID)); // a hint that no longer hits is dropped
         }
+#endif
+#if CHCRT_CELL_PASS_WRITES_ALL
+        imageStore(hitImage, pixel, stored); // the miss, which no clear wrote
 #endif
         return; // nothing nearer in these subtrees
     }

@@ -6,6 +6,8 @@
 #include "culling/chcrt_tracer.h"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cstring>
 #include <functional>
 #include <map>
@@ -730,6 +732,50 @@ TEST_F(RenderTest, TracesAfterTheRendererChangedSizeEqualPureBvh) {
     EXPECT_EQ(compared, 2u * 3u * (3u * 96u * 72u + 160u * 120u + 64u * 48u));
     EXPECT_EQ(chcrt.totalStats().fallbackTraces, 0u);
     EXPECT_GT(chcrt.totalStats().hintPasses, 0u);
+}
+
+// bounds-only primary rays skip the hit image's clear: their one cell pass draws every cell and stores every ray's
+// hit, a miss too, and a trace with nothing to intersect clears the image at its end (ChcrtTracer, cellPassWritesAll_).
+// Before each culled trace the hit image is filled with a hit that no ray has, so a pixel the trace did not write
+// differs from pure BVH's: views into the scene, and one from outside it looking away (every list empty).
+TEST_F(RenderTest, PrimaryCellPassesWriteEveryRaysHitIntoAnUnclearedImage) {
+    RenderSettings settings;
+    settings.width = 96;
+    settings.height = 72;
+    Renderer& renderer = makeProceduralRenderer("city:60k", settings);
+    const CameraPath path = proceduralNearPath(spec_);
+    const Aabb bounds = scene_.bounds();
+    const glm::vec3 centre = 0.5f * (bounds.lower + bounds.upper);
+    Camera away;
+    away.eye = bounds.upper + (bounds.upper - bounds.lower);
+    away.target = away.eye + (away.eye - centre);
+    ChcrtOptions options = recommendedChcrtOptions(RendererTraits{.software = true});
+    options.adaptive = false;
+    ChcrtTracer chcrt(bvh_, options);
+    const GLuint hitTexture = renderer.targets().hits[0].hit.id();
+    const std::array<GLuint, 4> stale = {std::bit_cast<GLuint>(1.0f), 7u, 0u, 0u}; // t = 1 on triangle 7
+    FrameStats stats;
+    size_t differing = 0, staleDetected = 0;
+    const std::vector<Camera> cameras = {path.cameraAtFrame(0), path.cameraAtFrame(1), away, path.cameraAtFrame(2)};
+    for (const Camera& camera : cameras) {
+        renderer.generateRayPass(camera, RayType::Primary, 0, stats);
+        renderer.useTracer(nullptr);
+        renderer.traceRayPass(camera, RayType::Primary, 0, stats);
+        const std::vector<Hit> reference = renderer.readHits(0);
+        glClearTexImage(hitTexture, 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, stale.data());
+        const std::vector<Hit> filled = renderer.readHits(0);
+        for (size_t i = 0; i < reference.size(); ++i) staleDetected += !sameHit(reference[i], filled[i], false);
+        renderer.useTracer(&chcrt);
+        renderer.traceRayPass(camera, RayType::Primary, 0, stats);
+        const std::vector<Hit> culled = renderer.readHits(0);
+        ASSERT_EQ(reference.size(), culled.size());
+        for (size_t i = 0; i < reference.size(); ++i) differing += !sameHit(reference[i], culled[i], false);
+    }
+    renderer.useTracer(nullptr);
+    EXPECT_EQ(staleDetected, cameras.size() * 96u * 72u) << "the stale hit must differ from every pixel's hit";
+    EXPECT_EQ(differing, 0u);
+    EXPECT_EQ(chcrt.totalStats().boundsFromCamera, cameras.size());
+    EXPECT_EQ(chcrt.totalStats().fallbackTraces, 0u);
 }
 
 // A triangle hit computed before its own leaf's box (culling/README.md, "Exactness"): on the 1M plant's far path,
