@@ -749,33 +749,36 @@ TEST_F(RenderTest, PrimaryCellPassesWriteEveryRaysHitIntoAnUnclearedImage) {
     Camera away;
     away.eye = bounds.upper + (bounds.upper - bounds.lower);
     away.target = away.eye + (away.eye - centre);
-    ChcrtOptions options = recommendedChcrtOptions(RendererTraits{.software = true});
-    options.adaptive = false;
-    ChcrtTracer chcrt(bvh_, options);
     const GLuint hitTexture = renderer.targets().hits[0].hit.id();
     const std::array<GLuint, 4> stale = {std::bit_cast<GLuint>(1.0f), 7u, 0u, 0u}; // t = 1 on triangle 7
-    FrameStats stats;
-    size_t differing = 0, staleDetected = 0;
     const std::vector<Camera> cameras = {path.cameraAtFrame(0), path.cameraAtFrame(1), away, path.cameraAtFrame(2)};
-    for (const Camera& camera : cameras) {
-        renderer.generateRayPass(camera, RayType::Primary, 0, stats);
+    for (bool compute : {false, true}) { // the cell pass as points over the cells, and as a dispatch per cell
+        ChcrtOptions options = recommendedChcrtOptions(RendererTraits{.software = true});
+        options.adaptive = false;
+        options.computeCellPass = compute;
+        ChcrtTracer chcrt(bvh_, options);
+        FrameStats stats;
+        size_t differing = 0, staleDetected = 0;
+        for (const Camera& camera : cameras) {
+            renderer.generateRayPass(camera, RayType::Primary, 0, stats);
+            renderer.useTracer(nullptr);
+            renderer.traceRayPass(camera, RayType::Primary, 0, stats);
+            const std::vector<Hit> reference = renderer.readHits(0);
+            glClearTexImage(hitTexture, 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, stale.data());
+            const std::vector<Hit> filled = renderer.readHits(0);
+            for (size_t i = 0; i < reference.size(); ++i) staleDetected += !sameHit(reference[i], filled[i], false);
+            renderer.useTracer(&chcrt);
+            renderer.traceRayPass(camera, RayType::Primary, 0, stats);
+            const std::vector<Hit> culled = renderer.readHits(0);
+            ASSERT_EQ(reference.size(), culled.size());
+            for (size_t i = 0; i < reference.size(); ++i) differing += !sameHit(reference[i], culled[i], false);
+        }
         renderer.useTracer(nullptr);
-        renderer.traceRayPass(camera, RayType::Primary, 0, stats);
-        const std::vector<Hit> reference = renderer.readHits(0);
-        glClearTexImage(hitTexture, 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, stale.data());
-        const std::vector<Hit> filled = renderer.readHits(0);
-        for (size_t i = 0; i < reference.size(); ++i) staleDetected += !sameHit(reference[i], filled[i], false);
-        renderer.useTracer(&chcrt);
-        renderer.traceRayPass(camera, RayType::Primary, 0, stats);
-        const std::vector<Hit> culled = renderer.readHits(0);
-        ASSERT_EQ(reference.size(), culled.size());
-        for (size_t i = 0; i < reference.size(); ++i) differing += !sameHit(reference[i], culled[i], false);
+        EXPECT_EQ(staleDetected, cameras.size() * 96u * 72u) << "the stale hit must differ from every pixel's hit";
+        EXPECT_EQ(differing, 0u) << (compute ? "compute" : "fragment") << " cell passes";
+        EXPECT_EQ(chcrt.totalStats().boundsFromCamera, cameras.size());
+        EXPECT_EQ(chcrt.totalStats().fallbackTraces, 0u);
     }
-    renderer.useTracer(nullptr);
-    EXPECT_EQ(staleDetected, cameras.size() * 96u * 72u) << "the stale hit must differ from every pixel's hit";
-    EXPECT_EQ(differing, 0u);
-    EXPECT_EQ(chcrt.totalStats().boundsFromCamera, cameras.size());
-    EXPECT_EQ(chcrt.totalStats().fallbackTraces, 0u);
 }
 
 // A triangle hit computed before its own leaf's box (culling/README.md, "Exactness"): on the 1M plant's far path,
