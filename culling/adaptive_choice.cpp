@@ -91,8 +91,9 @@ uint32_t AdaptiveChoice::next(uint32_t set) const {
 }
 
 uint32_t AdaptiveChoice::choose(uint32_t set) const {
-    // The pure pass first (the baseline of every relative cost), then the configured culling.
-    if (!measured(kPureArm)) return kPureArm;
+    // The pure pass first (the baseline of every relative cost: kBaselineTraces counted traces, of which the lowest
+    // counts), then the configured culling.
+    if (pureAll_.count() < kBaselineTraces) return kPureArm;
     if (!measured(1)) return 1;
     // An arm measured once that would take over, or that lost by less than kRemeasureBelow, is measured again at
     // once: a switch needs two measurements (confirming a winner costs nothing), and a single slowed trace must not
@@ -144,13 +145,17 @@ void AdaptiveChoice::report(uint32_t arm, double ms, bool counted, uint32_t set)
     for (uint32_t a = 0; a < arms_.size(); ++a) {
         if (a != arm) ++arms_[a].since;
     }
-    // Until the pure pass and the configured culling are measured the lowest runs outright; afterwards a challenger
-    // needs the margin and a second measurement (one noisy trace does not switch).
+    // Until the pure pass and the configured culling are measured the lowest runs outright; afterwards a culling
+    // challenger needs the margin and a second measurement (one noisy trace does not switch), while the pure pass
+    // takes over as soon as it is the lowest: a culling arm runs only while it is estimated to cost no more than the
+    // pure pass (with the margin both ways, a culling that nearly tied stayed on at up to 1.05x: the city's far
+    // primary rays at 0.81x of pure BVH in one process of sixteen, docs/benchmarks.md, 2026-12-06 · 51aa016).
     const uint32_t challenger = lowest();
     const bool started = measured(kPureArm) && measured(1);
     const bool confirmed = challenger == kPureArm || arms_[challenger].relative.count() >= 2;
+    const double margin = challenger == kPureArm ? 0.0 : kSwitchMargin;
     if (!started || !measured(current_) ||
-        (confirmed && relativeCost(challenger) < (1.0 - kSwitchMargin) * relativeCost(current_))) {
+        (confirmed && relativeCost(challenger) < (1.0 - margin) * relativeCost(current_))) {
         current_ = challenger;
     }
 }

@@ -13,12 +13,12 @@
 // (else the pure pass runs).
 //
 // Rule: the pure pass is measured first (its first kWarmUpTraces traces are not counted: they compile shaders and
-// fill caches; culling's first kWarmUpTraces are not counted either), then
+// fill caches; then kBaselineTraces counted ones; culling's first kWarmUpTraces are not counted either), then
 // the configured culling (arm 1); the other culling arms only while some culling arm is within kExploreMargin of the
 // pure pass and the probe ledger (below) affords their first traces, so that neither a short run nor a view where
 // culling loses spends itself exploring. Afterwards the arm with the lowest median of its last five relative costs
-// runs (an arm measured once within kRemeasureBelow of it is measured again at once); another takes over once it is
-// kSwitchMargin below it on at least two measurements; and each other measured
+// runs (an arm measured once within kRemeasureBelow of it is measured again at once); a culling arm takes over once it
+// is kSwitchMargin below it on at least two measurements, the pure pass once it is below it at all; and each other measured
 // arm is re-measured after an interval that keeps the expected cost of all probes under `probeBudget` of the trace
 // time: an arm r times as slow as the best costs (r - 1) of a trace per probe, so with k losing arms it waits
 // k (r - 1) / probeBudget traces (at least `probeInterval`, at most kMaxProbeInterval). Medians, not means: on shared
@@ -68,11 +68,16 @@ public:
     // culling's second trace took 12.1 ms against 7.6-8.4 ms from the third on, and counted as 1.27x it kept out, for
     // the whole run, a culling that runs at 1.25x of pure BVH (docs/benchmarks.md, 2026-12-05).
     static constexpr uint32_t kWarmUpTraces = 2;
+    // Counted traces of the pure pass before culling is measured against it. With one, a baseline slowed by another
+    // process made culling look cheaper and run (the city's far primary rays: a pure pass at 16.6 ms against 15.1 ms
+    // later, culling at 0.91x of it, then 22 traces until the pure pass was probed again; 0.88x of pure BVH in one
+    // process of 24, docs/benchmarks.md, 2026-12-06).
+    static constexpr uint32_t kBaselineTraces = 2;
     static constexpr uint32_t kMaxProbeInterval = 1024;
     static constexpr double kAllowedProbeCost = 0.03; // the share of trace time probing may cost at most
-    // Another arm takes over only when its estimate is this much below the running arm's (and it was measured at
+    // A culling arm takes over only when its estimate is this much below the running arm's (and it was measured at
     // least twice): near-equal arms would otherwise swap on noise, and every swap runs the loser until its median
-    // moves.
+    // moves. The pure pass needs no margin: it takes over once a running culling arm's estimate exceeds it.
     static constexpr double kSwitchMargin = 0.05;
     // Further culling arms are explored only while some measured culling arm costs at most this much more than the
     // pure pass: other heights of a culling that loses by more rarely win, and each first trace of one is a probe.
@@ -102,7 +107,7 @@ public:
     // The pure pass's recent times over all sets (ms).
     const RecentTimes& pureTimes() const { return pureAll_; }
     // The running arm: once the pure pass and the configured culling are measured, the one with the lowest estimate,
-    // kept until another is kSwitchMargin below it (kPureArm before).
+    // kept until a culling arm is kSwitchMargin below it, or the pure pass below it at all (kPureArm before).
     uint32_t best() const { return current_; }
     // Traces a losing arm waits between probes under the budget (its current value).
     uint32_t probeInterval(uint32_t arm) const;

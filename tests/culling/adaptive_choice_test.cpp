@@ -43,7 +43,7 @@ TEST(RecentTimes, MedianOfTheLastFive) {
     EXPECT_EQ(t.count(), 7u);
 }
 
-TEST(AdaptiveChoice, MeasuresThePurePassThriceThenCullingThrice) {
+TEST(AdaptiveChoice, MeasuresThePurePassFourTimesThenCullingThrice) {
     AdaptiveChoice choice(2, 8);
     EXPECT_EQ(choice.next(), AdaptiveChoice::kPureArm);
     choice.report(0, 99.0, true); // first pure pass: not counted (compiles)
@@ -54,6 +54,9 @@ TEST(AdaptiveChoice, MeasuresThePurePassThriceThenCullingThrice) {
     EXPECT_EQ(choice.next(), AdaptiveChoice::kPureArm);
     choice.report(0, 10.0, true);
     EXPECT_DOUBLE_EQ(choice.pureTimes().estimate(), 10.0);
+    EXPECT_EQ(choice.next(), AdaptiveChoice::kPureArm); // a baseline of kBaselineTraces counted traces
+    choice.report(0, 11.0, true);
+    EXPECT_DOUBLE_EQ(choice.pureTimes().estimate(), 10.0); // the lower of two
     EXPECT_EQ(choice.next(), 1u);
     choice.report(1, 50.0, false); // cold: not counted
     EXPECT_EQ(choice.next(), 1u);
@@ -82,15 +85,15 @@ TEST(AdaptiveChoice, OneSlowedCullingTraceDoesNotKeepAWinningCullingOut) {
         choice.report(arm, arm == 0 ? 10.0 : culling[std::min(c, culling.size() - 1)], arm == 0 || c > 0);
         c += arm == 1;
     }
-    EXPECT_EQ(order, (std::vector<uint32_t>{0, 0, 0, 1, 1, 1, 1, 1}));
+    EXPECT_EQ(order, (std::vector<uint32_t>{0, 0, 0, 0, 1, 1, 1, 1}));
     AdaptiveChoice slow(2, 8);
-    runArms(slow, 6, {10.0, 16.0}); // pure twice (not counted), pure, culling twice (not counted), culling at 1.6x
+    runArms(slow, 7, {10.0, 16.0}); // pure twice (not counted), twice, culling twice (not counted), culling at 1.6x
     EXPECT_EQ(slow.next(), AdaptiveChoice::kPureArm);
 }
 
 TEST(AdaptiveChoice, AWinnerIsConfirmedAtOnceAndTakesOverOnTwoMeasurements) {
     AdaptiveChoice choice(2, 8);
-    runArms(choice, 6, {10.0, 5.0}); // pure thrice, culling thrice (measured once)
+    runArms(choice, 7, {10.0, 5.0}); // pure four times, culling thrice (measured once)
     EXPECT_EQ(choice.best(), AdaptiveChoice::kPureArm); // one measurement does not switch
     EXPECT_EQ(choice.next(), 1u);                       // but it is measured again at once
     runArms(choice, 1, {10.0, 5.0});
@@ -107,6 +110,22 @@ TEST(AdaptiveChoice, NearlyEqualArmsDoNotSwapOnNoise) {
     // 10 % cheaper: it takes over.
     runArms(choice, 200, {10.0, 9.0});
     EXPECT_EQ(choice.best(), 1u);
+}
+
+// The margin protects the pure pass, not a culling that stopped paying: once a running culling arm's estimate exceeds
+// the pure pass's, the pure pass takes over (a culling that nearly ties must not stay on at up to 1.05x).
+TEST(AdaptiveChoice, ACullingThatStopsPayingHandsBackToThePurePassAtOnce) {
+    AdaptiveChoice choice(2, 8);
+    runArms(choice, 12, {10.0, 9.0});
+    ASSERT_EQ(choice.best(), 1u);
+    runArms(choice, 2, {10.0, 10.3}); // 3 % slower: within the margin, but slower
+    EXPECT_EQ(choice.best(), 1u);     // the median of the last five still says 0.9
+    runArms(choice, 3, {10.0, 10.3});
+    EXPECT_EQ(choice.best(), AdaptiveChoice::kPureArm);
+    std::vector<int> counts(2, 0);
+    runArms(choice, 100, {10.0, 10.3}, &counts);
+    EXPECT_EQ(choice.best(), AdaptiveChoice::kPureArm);
+    EXPECT_LE(counts[1], 100 / 8 + 1) << "the losing culling is only probed, once per interval of 8 traces";
 }
 
 TEST(AdaptiveChoice, ProbesOfLosingArmsCostAtMostTheBudget) {
@@ -154,11 +173,11 @@ TEST(AdaptiveChoice, FurtherArmsAreMeasuredOnlyWhenCullingComesClose) {
         order.push_back(close.next());
         close.report(order.back(), order.back() == 0 ? 10.0 : 8.0, true);
     }
-    // The pure pass thrice and the configured culling thrice (the first two traces of each are not counted; culling
-    // wins), culling measured again (a winner is confirmed at once), then the other heights, each measured again
-    // before the next is explored — as soon as the culling's savings cover what exploring may cost (kColdTraceCost:
-    // half a pure trace beyond it), with no wait for a number of traces.
-    EXPECT_EQ(order, (std::vector<uint32_t>{0, 0, 0, 1, 1, 1, 1, 2, 2, 3}));
+    // The pure pass four times and the configured culling thrice (the first two traces of each are not counted;
+    // culling wins), culling measured again (a winner is confirmed at once), then the other heights, each measured
+    // again before the next is explored — as soon as the culling's savings cover what exploring may cost
+    // (kColdTraceCost: half a pure trace beyond it), with no wait for a number of traces.
+    EXPECT_EQ(order, (std::vector<uint32_t>{0, 0, 0, 0, 1, 1, 1, 1, 2, 2}));
     AdaptiveChoice far(4, 2);
     std::vector<int> runs(4, 0);
     runArms(far, 200, {10.0, 12.0, 12.0, 12.0}, &runs);
@@ -213,6 +232,8 @@ TEST(AdaptiveChoice, CullingIsMeasuredOnlyOnSetsThePurePassWasMeasuredOn) {
     choice.report(0, 99.0, true, 0); // not counted
     choice.report(0, 15.0, true, 0); // not counted
     choice.report(0, 10.0, true, 1);
+    EXPECT_EQ(choice.next(1), AdaptiveChoice::kPureArm); // one counted pure trace is not yet a baseline
+    choice.report(0, 11.0, true, 3);
     choice.report(1, 50.0, false, 1); // culling's two warm-up traces
     choice.report(1, 15.0, true, 1);
     EXPECT_EQ(choice.next(2), AdaptiveChoice::kPureArm); // set 2 has no pure time yet
@@ -257,16 +278,16 @@ TEST(AdaptiveChoice, ASlowerLoserWaitsLonger) {
 
 TEST(AdaptiveChoice, TheIntervalHasAFloorAndACeiling) {
     AdaptiveChoice close(2, 8, 0.03);
-    runArms(close, 6, {10.0, 10.1});
+    runArms(close, 7, {10.0, 10.1});
     EXPECT_EQ(close.probeInterval(1), 8u); // 0.01 / 0.03 rounds up to 1: the floor
     AdaptiveChoice far(2, 8, 0.03);
-    runArms(far, 6, {1.0, 100.0});
+    runArms(far, 7, {1.0, 100.0});
     EXPECT_EQ(far.probeInterval(1), AdaptiveChoice::kMaxProbeInterval);
 }
 
 TEST(AdaptiveChoice, WinningCullingStillRemeasuresThePurePass) {
     AdaptiveChoice choice(2, 8);
-    runArms(choice, 7, {10.0, 8.0});
+    runArms(choice, 8, {10.0, 8.0});
     ASSERT_EQ(choice.best(), 1u);
     std::vector<int> counts(2, 0);
     runArms(choice, 90, {10.0, 8.0}, &counts);

@@ -122,10 +122,10 @@ TEST_F(ChcrtCostImageTest, DebugTracesDoNotFeedTheAdaptiveChoice) {
         EXPECT_EQ(chcrt.lastStats().fallbackTraces, 0u);
     }
     chcrt.setDebugImage(ChcrtDebugImage::None);
-    // The choice starts as if nothing had run: the pure pass thrice (the first two are not counted), then culling,
-    // whose time is still unknown. Had the (slow, instrumented) debug traces been counted as culling's time, the
-    // fourth trace would be a pure pass again.
-    for (uint64_t expected : {1u, 1u, 1u, 0u}) {
+    // The choice starts as if nothing had run: the pure pass four times (the first two are not counted), then
+    // culling, whose time is still unknown. Had the (slow, instrumented) debug traces been counted as culling's time,
+    // the fifth trace would be a pure pass again.
+    for (uint64_t expected : {1u, 1u, 1u, 1u, 0u}) {
         renderer.traceRayPass(camera, RayType::Primary, 0, stats);
         EXPECT_EQ(chcrt.lastStats().fallbackTraces, expected) << "debug traces were counted as culling's time";
     }
