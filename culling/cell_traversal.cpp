@@ -118,7 +118,7 @@ uint32_t CellTraversal::uploadLists(const std::string& debugDefine, bool everyCe
     // Each cell's list by its entry bound (the traversal ends a list once the bound passes the ray's hit); the
     // lists are short, so sorting them one by one is cheaper than sorting all entries.
     for (uint32_t c : drawCells_) {
-        if (headers_[2 * size_t(c)] == 0 || headers_[2 * size_t(c) + 1] == 0) continue; // the whole tree, or empty
+        if (headers_[2 * size_t(c)] == 0) continue; // the whole tree
         const auto begin = sorted_.begin() + (headers_[2 * size_t(c)] - 1);
         std::stable_sort(begin, begin + headers_[2 * size_t(c) + 1],
                          [](const Entry& a, const Entry& b) { return a.entryBound < b.entryBound; });

@@ -1115,7 +1115,7 @@ void ChcrtTracer::beginTrace(const RayTextures& rays, HitTargets& hits, int widt
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_ALWAYS);
     glDepthMask(GL_TRUE);
-    if (clearHits) glClearTexImage(hits.hit.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, missHitTexel().data());
+    if (clearHits) clearHitsToMisses(hits);
     cellPassWritesAll_ = !clearHits;
     const GLfloat farDepth = 1.0f;
     if (hitDepth) glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &farDepth);

@@ -294,7 +294,7 @@ bool ChcrtTracer::traceBounded(const TraceRequest& request, const RayTextures& r
     start = Clock::now();
     intersectCells(newlyVisible, anyHit, rays, hits, !phase1, compacted, width, height);
     if (cellPassWritesAll_) { // nothing was intersected: every ray missed
-        glClearTexImage(hits.hit.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, missHitTexel().data());
+        clearHitsToMisses(hits);
         cellPassWritesAll_ = false;
     }
     endTrace(state, width, height);

@@ -60,6 +60,10 @@ std::array<GLuint, 4> missHitTexel() {
     return {std::bit_cast<GLuint>(float(CHCRT_NO_HIT_T)), CHCRT_NO_HIT_ID, 0u, 0u};
 }
 
+void clearHitsToMisses(const HitTargets& hits) {
+    glClearTexImage(hits.hit.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, missHitTexel().data());
+}
+
 void endTracePass() {
     glDepthMask(GL_TRUE);
     glDisable(GL_DEPTH_TEST);

@@ -33,5 +33,8 @@ void dispatchTracePass(const ShaderProgram& program, const RayTextures& rays, Hi
 // The hit-target texel (CHCRT_TRACE_OUT_HIT layout) of a ray that is not traced or hits nothing: t =
 // CHCRT_NO_HIT_T, no triangle, zero barycentrics. Tracers clear to it before they trace only some pixels.
 std::array<GLuint, 4> missHitTexel();
+// Clears the hit target's texture to missHitTexel() (a texture update: image loads after it need
+// GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT).
+void clearHitsToMisses(const HitTargets& hits);
 
 } // namespace chcrt
