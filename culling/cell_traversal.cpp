@@ -19,8 +19,8 @@ const ShaderProgram& CellTraversal::program(bool anyHit, const std::string& debu
                                             bool writesAll) {
     const bool visited = compacted || hintsVisited_;
     const ProgramKey key{debugDefine, anyHit, compacted, visited, writesAll};
-    auto it = programs_.find(key);
-    if (it != programs_.end()) return it->second;
+    auto it = variants_.find(key);
+    if (it != variants_.end()) return *it->second;
     std::vector<ShaderDefine> defines = defines_(anyHit);
     defines.push_back({"TRACE_ANY_HIT", anyHit ? "1" : "0"});
     if (visited) defines.push_back({"CHCRT_CULLING_HINTS_VISITED", "1"});
@@ -30,25 +30,29 @@ const ShaderProgram& CellTraversal::program(bool anyHit, const std::string& debu
     // primary resolve reads both: culling/outofcore/primary_resolve.h).
     if (debugDefine == "CHCRT_CULLING_DEBUG_SUBTREES") defines.push_back({"CHCRT_HIT_TRIANGLE_INDEX", "1"});
     if (compute() && !compacted) defines.push_back({"CHCRT_CELL_SIZE", std::to_string(computeCellSize_)});
-    ShaderProgram program =
-        compacted   ? ShaderProgram({{GL_COMPUTE_SHADER, "culling/chcrt_cells_compact.comp.glsl"}}, defines)
-        : compute() ? ShaderProgram({{GL_COMPUTE_SHADER, "culling/chcrt_cells.comp.glsl"}}, defines)
-                    : ShaderProgram({{GL_VERTEX_SHADER, "culling/chcrt_cells.vert.glsl"},
-                                     {GL_FRAGMENT_SHADER, "culling/chcrt_cells.frag.glsl"}},
-                                    defines);
-    return programs_.emplace(key, std::move(program)).first->second;
+    const ShaderProgram& program =
+        compacted   ? programs_->get({{GL_COMPUTE_SHADER, "culling/chcrt_cells_compact.comp.glsl"}}, defines)
+        : compute() ? programs_->get({{GL_COMPUTE_SHADER, "culling/chcrt_cells.comp.glsl"}}, defines)
+                    : programs_->get({{GL_VERTEX_SHADER, "culling/chcrt_cells.vert.glsl"},
+                                      {GL_FRAGMENT_SHADER, "culling/chcrt_cells.frag.glsl"}},
+                                     defines);
+    variants_.emplace(key, &program);
+    return program;
 }
 
 void CellTraversal::compile(bool compacted) {
     program(false, "", false);
     program(true, "", false);
     if (compacted) program(true, "", true);
-    if (!compute() && !maskProgram_.valid()) maskProgram_ = makeMaskProgram();
+    if (!compute()) maskProgram();
 }
 
-ShaderProgram CellTraversal::makeMaskProgram() {
-    return ShaderProgram({{GL_VERTEX_SHADER, "culling/chcrt_cells.vert.glsl"},
-                          {GL_FRAGMENT_SHADER, "culling/chcrt_cells_mask.frag.glsl"}});
+const ShaderProgram& CellTraversal::maskProgram() {
+    if (!maskProgram_) {
+        maskProgram_ = &programs_->get({{GL_VERTEX_SHADER, "culling/chcrt_cells.vert.glsl"},
+                                        {GL_FRAGMENT_SHADER, "culling/chcrt_cells_mask.frag.glsl"}});
+    }
+    return *maskProgram_;
 }
 
 void CellTraversal::upload(TextureBuffer& target, const void* data, size_t bytes, GLenum format) {
@@ -173,12 +177,12 @@ void CellTraversal::drawMaskAndCells(bool anyHit, const std::string& debugDefine
     glEnable(GL_PROGRAM_POINT_SIZE);
     glEnable(GL_DEPTH_TEST);
     if (writeMask) {
-        if (!maskProgram_.valid()) maskProgram_ = makeMaskProgram();
+        const ShaderProgram& mask = maskProgram();
         const GLfloat skip = 0.0f;
         glClearNamedFramebufferfv(maskFramebuffer, GL_DEPTH, 0, &skip);
         glDepthFunc(GL_ALWAYS);
         glDepthMask(GL_TRUE);
-        issue(maskProgram_);
+        issue(mask);
     }
     glDepthFunc(GL_LESS); // passes where the mask holds 1
     glDepthMask(GL_FALSE);

@@ -9,11 +9,13 @@
 // 256², AO: two triangles per cell cost 1.5x more per traversal step, their diagonals split llvmpipe's 4×4 blocks;
 // a full-screen draw behind a mask of the cells with work spent ~1.1 ms per round on the mask pass alone.)
 #include "renderer/gl/gl_objects.h"
+#include "renderer/gl/program_cache.h"
 #include "renderer/gl/shader.h"
 
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -28,9 +30,11 @@ public:
     // `defines(anyHit)`: the defines of the subtree shader variant (stack size, a debug image's define).
     using Defines = std::function<std::vector<ShaderDefine>(bool anyHit)>;
     // `computeCellSize` > 0: the passes are compute dispatches with work groups of that edge (the grid's cell size),
-    // one per cell with work (chcrt_cells.comp.glsl); 0: fragment passes drawing a point per cell.
-    explicit CellTraversal(Defines defines, int computeCellSize = 0)
-        : defines_(std::move(defines)), computeCellSize_(computeCellSize) {}
+    // one per cell with work (chcrt_cells.comp.glsl); 0: fragment passes drawing a point per cell. `programs`: where
+    // its programs are compiled (shared with other traversals that compile the same ones).
+    explicit CellTraversal(Defines defines, int computeCellSize = 0,
+                           std::shared_ptr<ProgramCache> programs = std::make_shared<ProgramCache>())
+        : defines_(std::move(defines)), computeCellSize_(computeCellSize), programs_(std::move(programs)) {}
     bool compute() const { return computeCellSize_ > 0; }
 
     // Starts new lists for a grid of cellsX × cellsY cells of cellSize² pixels.
@@ -97,14 +101,15 @@ private:
                           bool writeMask, const std::function<void(const ShaderProgram&)>& issue,
                           bool writesAll = false);
     static void upload(TextureBuffer& target, const void* data, size_t bytes, GLenum format);
-    static ShaderProgram makeMaskProgram();
+    const ShaderProgram& maskProgram();
 
     Defines defines_;
     int computeCellSize_ = 0;
     // debug define, any-hit, compacted, hints visited, writes all
     using ProgramKey = std::tuple<std::string, bool, bool, bool, bool>;
-    std::map<ProgramKey, ShaderProgram> programs_;
-    ShaderProgram maskProgram_;
+    std::shared_ptr<ProgramCache> programs_;
+    std::map<ProgramKey, const ShaderProgram*> variants_; // of programs_, found once
+    const ShaderProgram* maskProgram_ = nullptr;
     int cellsX_ = 0, cellsY_ = 0, cellSize_ = 0;
     std::vector<Entry> entries_, sorted_;
     std::vector<uint32_t> counts_, headers_, roots_, ids_, drawCells_; // drawCells_: the cells drawn

@@ -256,8 +256,12 @@ ChcrtStats& ChcrtStats::operator+=(const ChcrtStats& o) {
 }
 
 ChcrtTracer::ChcrtTracer(const Bvh& bvh, const ChcrtOptions& options, std::string name)
+    : ChcrtTracer(bvh, options, std::move(name), std::make_shared<ProgramCache>()) {}
+
+ChcrtTracer::ChcrtTracer(const Bvh& bvh, const ChcrtOptions& options, std::string name,
+                         std::shared_ptr<ProgramCache> programs)
     : name_(std::move(name)), options_((validate(options), options)), bvh_(&bvh),
-      hierarchy_(buildCullingHierarchy(bvh, options.partition)) {
+      hierarchy_(buildCullingHierarchy(bvh, options.partition)), programCache_(std::move(programs)) {
     heightArms_.resize(options_.adaptiveHeights.size());
     ownedSource_ = std::make_unique<BvhSubtreeSource>(hierarchy_);
     source_ = ownedSource_.get();
@@ -303,7 +307,7 @@ std::vector<ShaderDefine> ChcrtTracer::subtreeDefines(bool anyHit) const {
 void ChcrtTracer::compilePrograms() {
     const bool bounded = decidesByBounds(options_.queries);
     if ((options_.rayExtentCulling || bounded || intersectsByCells()) && !rayExtent_) {
-        rayExtent_ = std::make_unique<RayBoundsGrid>(options_.bounds);
+        rayExtent_ = std::make_unique<RayBoundsGrid>(options_.bounds, programCache_);
     }
     if ((bounded || intersectsByCells()) && !cells_) {
         // Cells over the list limit traverse the whole BVH: a stack as deep as the pure tracer's.
@@ -319,7 +323,7 @@ void ChcrtTracer::compilePrograms() {
             defines.push_back({"CHCRT_CULLING_HINTS", hints && (anyHit || options_.closestHitHints) ? "1" : "0"});
             defines.push_back(hintSlotsDefine());
             return defines;
-        }, options_.computeCellPass ? options_.bounds.cellSize : 0);
+        }, options_.computeCellPass ? options_.bounds.cellSize : 0, programCache_);
         if (wholeTree) cells_->setWholeTree(0u, options_.cellListLimit);
         const bool hintPass = hints && options_.hintPass;
         cells_->compile(hintPass);
@@ -327,7 +331,8 @@ void ChcrtTracer::compilePrograms() {
             hintPass_ = std::make_unique<HintPass>(options_.computeCellPass, options_.bounds.cellSize,
                                                    std::vector<ShaderDefine>{hintSlotsDefine(),
                                                                              {"CHCRT_COMPACT_SUBTREES",
-                                                                              source_->compactLayout() ? "1" : "0"}});
+                                                                              source_->compactLayout() ? "1" : "0"}},
+                                                   programCache_);
         }
     }
     if (options_.queries == ChcrtQueries::Batched && !batched_) batched_ = std::make_unique<BatchedQueries>();
@@ -947,7 +952,7 @@ ChcrtTracer& ChcrtTracer::armTracer(uint32_t arm) {
         options.partition.maxSubtreeHeight = options_.adaptiveHeights[arm - 2];
         options.adaptive = false;
         options.adaptiveHeights.clear();
-        tracer = std::make_unique<ChcrtTracer>(*bvh_, options, name_);
+        tracer.reset(new ChcrtTracer(*bvh_, options, name_, programCache_)); // a private constructor
         tracer->hintStore_ = hintStore_;
         tracer->hintPassRecords_ = hintPassRecords_;
     }

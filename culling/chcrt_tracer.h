@@ -322,6 +322,10 @@ public:
     std::vector<uint32_t> readHitTriangleImage() const;
 
 private:
+    // A tracer of one of the adaptive choice's further heights (armTracer): its passes' programs come from `programs`,
+    // the cache of the tracer that made it, so that its first trace does not compile the same passes again.
+    ChcrtTracer(const Bvh& bvh, const ChcrtOptions& options, std::string name, std::shared_ptr<ProgramCache> programs);
+
     struct PendingQuery {
         int32_t pair;       // single query: the pair; multi-query: -1
         GLuint query;
@@ -480,6 +484,8 @@ private:
     // that ends with it still set (nothing to intersect) clears it then.
     bool cellPassWritesAll_ = false;
     std::map<uint64_t, AdaptiveChoice> adaptive_; // per ray kind
+    // The programs of the grid, the cell passes and the hint pass; one cache for the tracers of all heights.
+    std::shared_ptr<ProgramCache> programCache_ = std::make_shared<ProgramCache>();
     std::unique_ptr<RayBoundsGrid> rayExtent_;    // with options_.rayExtentCulling or BoundsOnly, updated per trace
     std::unique_ptr<CellTraversal> cells_;        // BoundsOnly's and BoundsGpu's intersection rounds
     std::unique_ptr<GpuCellLists> gpuLists_;      // BoundsGpu's cell lists

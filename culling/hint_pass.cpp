@@ -6,24 +6,25 @@
 
 namespace chcrt {
 
-HintPass::HintPass(bool compute, int cellSize, std::vector<ShaderDefine> defines)
-    : compute_(compute), defines_(std::move(defines)), cellSize_(cellSize) {
+HintPass::HintPass(bool compute, int cellSize, std::vector<ShaderDefine> defines,
+                   std::shared_ptr<ProgramCache> programs)
+    : compute_(compute), defines_(std::move(defines)), programs_(std::move(programs)), cellSize_(cellSize) {
     program(true, false);
     program(false, false);
 }
 
 const ShaderProgram& HintPass::program(bool anyHit, bool debugCost) {
-    ShaderProgram& program = programs_[anyHit ? 1 : 0][debugCost ? 1 : 0];
-    if (!program.valid()) {
+    const ShaderProgram*& program = variants_[anyHit ? 1 : 0][debugCost ? 1 : 0];
+    if (!program) {
         std::vector<ShaderDefine> defines = defines_;
         defines.push_back({"TRACE_ANY_HIT", anyHit ? "1" : "0"});
         if (debugCost) defines.push_back({"CHCRT_CULLING_DEBUG_COST", "1"});
-        program = compute_ ? ShaderProgram({{GL_COMPUTE_SHADER, "culling/chcrt_hints.comp.glsl"}}, defines)
-                           : ShaderProgram({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
-                                            {GL_FRAGMENT_SHADER, "culling/chcrt_hints.frag.glsl"}},
-                                           defines);
+        program = compute_ ? &programs_->get({{GL_COMPUTE_SHADER, "culling/chcrt_hints.comp.glsl"}}, defines)
+                           : &programs_->get({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
+                                              {GL_FRAGMENT_SHADER, "culling/chcrt_hints.frag.glsl"}},
+                                             defines);
     }
-    return program;
+    return *program;
 }
 
 void HintPass::run(bool anyHit, int width, int height, GLuint maskFramebuffer, bool debugCost, const HintSlots& slots) {

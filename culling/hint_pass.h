@@ -7,9 +7,11 @@
 // group wait in every loop of the list traversal for its slowest ray. Same hits: the hint visit is the one the cell
 // pass made (shaders/culling/hint_leaf.glsl), and the rays left are traversed as before.
 #include "renderer/gl/gl_objects.h"
+#include "renderer/gl/program_cache.h"
 #include "renderer/gl/shader.h"
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace chcrt {
@@ -25,8 +27,10 @@ class HintPass {
 public:
     // `compute`: the pass is a compute dispatch (GPUs); else a full-screen fragment pass behind the active-ray mask.
     // `cellSize`: the ray bounds grid's cell edge (its marks are per cell). `defines`: the subtree buffers' layout
-    // (CHCRT_COMPACT_SUBTREES out of core). Compiles the pass's programs now, so that no trace pays for them.
-    HintPass(bool compute, int cellSize, std::vector<ShaderDefine> defines = {});
+    // (CHCRT_COMPACT_SUBTREES out of core). Compiles the pass's programs now, so that no trace pays for them, in
+    // `programs` (shared with other passes that compile the same ones).
+    HintPass(bool compute, int cellSize, std::vector<ShaderDefine> defines = {},
+             std::shared_ptr<ProgramCache> programs = std::make_shared<ProgramCache>());
 
     // Visits the hinted leaves of a width × height ray set: the ray textures, the hit image (cleared) and the hint
     // image must be bound as the cell passes bind them (culling_layout.h). `maskFramebuffer`: a depth-only target
@@ -49,7 +53,8 @@ private:
 
     bool compute_ = false;
     std::vector<ShaderDefine> defines_;
-    ShaderProgram programs_[2][2]; // [anyHit][debugCost]; the debug variants compiled on first use
+    std::shared_ptr<ProgramCache> programs_;
+    const ShaderProgram* variants_[2][2] = {}; // [anyHit][debugCost] of programs_; the debug ones made on first use
     int cellSize_ = 8;
     GlBuffer buffer_, marks_;
     size_t capacity_ = 0, markCapacity_ = 0; // rays the buffer can list, cells the marks hold

@@ -19,7 +19,8 @@ bool boxesOverlap(const glm::vec3& aLo, const glm::vec3& aHi, const glm::vec3& b
 
 } // namespace
 
-RayBoundsGrid::RayBoundsGrid(const RayBoundsOptions& options) : options_(options) {
+RayBoundsGrid::RayBoundsGrid(const RayBoundsOptions& options, std::shared_ptr<ProgramCache> programs)
+    : options_(options), programs_(std::move(programs)) {
     if (options.cellSize < 1 || options.cellSize > 32 || (options.cellSize & (options.cellSize - 1)) != 0) {
         throw InputError("chcrt: bounds cell size must be a power of two in [1, 32]");
     }
@@ -43,15 +44,16 @@ void RayBoundsGrid::update(GLuint origins, GLuint directions, GLuint hitImage, b
 void RayBoundsGrid::reduce(GLuint origins, GLuint directions, GLuint hitImage, bool anyHit, int width, int height,
                            glm::vec3 sceneMin, glm::vec3 sceneMax, GLuint cellMarks) {
     const int variant = hitImage == 0 ? 0 : (anyHit ? 2 : 1);
-    ShaderProgram& program = programs_[variant][cellMarks != 0 ? 1 : 0];
-    if (!program.valid()) {
-        program = ShaderProgram({{GL_COMPUTE_SHADER, "culling/ray_bounds.comp.glsl"}},
-                                {{"CHCRT_BOUNDS_WITH_HITS", variant != 0 ? "1" : "0"},
-                                 {"TRACE_ANY_HIT", variant == 2 ? "1" : "0"},
-                                 {"CHCRT_BOUNDS_CELL_MARKS", cellMarks != 0 ? "1" : "0"},
-                                 {"CHCRT_BOUNDS_PIECES", std::to_string(options_.pieces)},
-                                 {"CHCRT_BOUNDS_CELL", std::to_string(options_.cellSize)}});
+    const ShaderProgram*& slot = variants_[variant][cellMarks != 0 ? 1 : 0];
+    if (!slot) {
+        slot = &programs_->get({{GL_COMPUTE_SHADER, "culling/ray_bounds.comp.glsl"}},
+                                   {{"CHCRT_BOUNDS_WITH_HITS", variant != 0 ? "1" : "0"},
+                                    {"TRACE_ANY_HIT", variant == 2 ? "1" : "0"},
+                                    {"CHCRT_BOUNDS_CELL_MARKS", cellMarks != 0 ? "1" : "0"},
+                                    {"CHCRT_BOUNDS_PIECES", std::to_string(options_.pieces)},
+                                    {"CHCRT_BOUNDS_CELL", std::to_string(options_.cellSize)}});
     }
+    const ShaderProgram& program = *slot;
     const int cell = options_.cellSize, pieces = options_.pieces;
     const int cellsX = (width + cell - 1) / cell, cellsY = (height + cell - 1) / cell;
     const size_t values = size_t(cellsX) * size_t(cellsY) * size_t(CHCRT_CULLING_BOUNDS_STRIDE(pieces));

@@ -18,11 +18,13 @@
 #include "culling/query_pair_hierarchy.h"
 #include "renderer/render/camera_math.h"
 #include "renderer/gl/gl_objects.h"
+#include "renderer/gl/program_cache.h"
 #include "renderer/gl/shader.h"
 
 #include <glm/glm.hpp>
 
 #include <array>
+#include <memory>
 #include <vector>
 
 namespace chcrt {
@@ -47,7 +49,10 @@ class RayBoundsGrid {
 public:
     static constexpr int kMaxPieces = 8;
 
-    explicit RayBoundsGrid(const RayBoundsOptions& options = {}); // throws InputError for out-of-range options
+    // Throws InputError for out-of-range options. `programs`: where the reduction's programs are compiled, on first
+    // use (shared with other grids that compile the same ones).
+    explicit RayBoundsGrid(const RayBoundsOptions& options = {},
+                           std::shared_ptr<ProgramCache> programs = std::make_shared<ProgramCache>());
 
     // Reduces a width × height ray set (RayTextures' origin+tmin and direction+tmax textures) to cell boxes and
     // reads them back (waits for the GPU). `hitImage` (0: none) holds the hits found so far (RGBA32UI, the
@@ -119,7 +124,9 @@ private:
     void buildCoarse();
 
     RayBoundsOptions options_;
-    ShaderProgram programs_[3][2]; // [without hits, with hits (closest hit), with hits (any hit)][cell marks]
+    std::shared_ptr<ProgramCache> programs_;
+    // Of programs_: [without hits, with hits (closest hit), with hits (any hit)][cell marks]
+    const ShaderProgram* variants_[3][2] = {};
     GlBuffer buffer_;
     size_t bufferBytes_ = 0;
     int cellsX_ = 0, cellsY_ = 0;

@@ -5,6 +5,7 @@ chcrt_add_library(chcrt_gl
   gl/context_osmesa.cpp
   gl/shader.cpp
   gl/shader_preprocess.cpp
+  gl/program_cache.cpp
   gl/gl_objects.cpp
   gl/gl_object_count.cpp
   ${CHCRT_GL_LOADER_SOURCES}

@@ -1,6 +1,7 @@
 // Shader loader: #include pasting, #line numbering, source lookup (embedded and CHCRT_SHADER_DIR), log mapping,
 // and compile/link errors that name the right file and line.
 #include "renderer/core/error.h"
+#include "renderer/gl/program_cache.h"
 #include "renderer/gl/shader.h"
 #include "tests/gl/gl_test_fixture.h"
 
@@ -250,6 +251,31 @@ TEST_F(GlTest, ProgramsMoveAndIgnoreUnknownUniforms) {
     moved = ShaderProgram();
     EXPECT_EQ(glIsProgram(id), GL_FALSE);
     checkGlErrors("programs");
+}
+
+TEST_F(GlTest, ProgramCacheLinksEachStagesAndDefinesOnce) {
+    test::ScopedEnv env("CHCRT_SHADER_DIR", std::nullopt);
+    const std::vector<ShaderStage> stages = {{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
+                                             {GL_FRAGMENT_SHADER, "test/solid_colour.frag.glsl"}};
+    ProgramCache cache;
+    const ShaderProgram& a = cache.get(stages, {{"VARIANT", "1"}});
+    const ShaderProgram& b = cache.get(stages, {{"VARIANT", "2"}});
+    const ShaderProgram& plain = cache.get(stages);
+    EXPECT_NE(a.id(), b.id());
+    EXPECT_NE(a.id(), plain.id());
+    EXPECT_EQ(cache.size(), 3u);
+    // The same request again: the same linked program, at the same address (references stay valid as it grows).
+    EXPECT_EQ(&cache.get(stages, {{"VARIANT", "1"}}), &a);
+    EXPECT_EQ(&cache.get(stages), &plain);
+    EXPECT_EQ(cache.size(), 3u);
+    // A stage list that differs only in its fragment shader is another program.
+    const ShaderProgram& other =
+        cache.get({stages[0], {GL_FRAGMENT_SHADER, "test/define_colour.frag.glsl"}}, {{"RED", "1.0"}, {"GREEN", "0.0"}});
+    EXPECT_NE(other.id(), plain.id());
+    // A failed compile caches nothing and throws as ShaderProgram does.
+    EXPECT_THROW(cache.get({{GL_FRAGMENT_SHADER, "test/absent.frag.glsl"}}), GlError);
+    EXPECT_EQ(cache.size(), 4u);
+    checkGlErrors("program cache");
 }
 
 } // namespace
