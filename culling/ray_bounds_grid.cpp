@@ -47,11 +47,11 @@ void RayBoundsGrid::reduce(GLuint origins, GLuint directions, GLuint hitImage, b
     const ShaderProgram*& slot = variants_[variant][cellMarks != 0 ? 1 : 0];
     if (!slot) {
         slot = &programs_->get({{GL_COMPUTE_SHADER, "culling/ray_bounds.comp.glsl"}},
-                                   {{"CHCRT_BOUNDS_WITH_HITS", variant != 0 ? "1" : "0"},
-                                    {"TRACE_ANY_HIT", variant == 2 ? "1" : "0"},
-                                    {"CHCRT_BOUNDS_CELL_MARKS", cellMarks != 0 ? "1" : "0"},
-                                    {"CHCRT_BOUNDS_PIECES", std::to_string(options_.pieces)},
-                                    {"CHCRT_BOUNDS_CELL", std::to_string(options_.cellSize)}});
+                               {{"CHCRT_BOUNDS_WITH_HITS", variant != 0 ? "1" : "0"},
+                                {"TRACE_ANY_HIT", variant == 2 ? "1" : "0"},
+                                {"CHCRT_BOUNDS_CELL_MARKS", cellMarks != 0 ? "1" : "0"},
+                                {"CHCRT_BOUNDS_PIECES", std::to_string(options_.pieces)},
+                                {"CHCRT_BOUNDS_CELL", std::to_string(options_.cellSize)}});
     }
     const ShaderProgram& program = *slot;
     const int cell = options_.cellSize, pieces = options_.pieces;
