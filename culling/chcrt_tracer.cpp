@@ -337,7 +337,7 @@ void ChcrtTracer::compilePrograms() {
     }
     if (options_.queries == ChcrtQueries::Batched && !batched_) batched_ = std::make_unique<BatchedQueries>();
     if (options_.queries == ChcrtQueries::BoundsGpu && !gpuLists_) {
-        gpuLists_ = std::make_unique<GpuCellLists>(hierarchy_, options_.bounds.pieces);
+        gpuLists_ = std::make_unique<GpuCellLists>(hierarchy_, options_.bounds.pieces, programCache_);
     }
     for (int anyHit = 0; anyHit < 2; ++anyHit) {
         const std::vector<ShaderDefine> defines = subtreeDefines(anyHit != 0);

@@ -40,9 +40,10 @@ GlTexture textureView(GLuint buffer, GLenum format, size_t offset, size_t bytes)
 
 } // namespace
 
-GpuCellLists::GpuCellLists(const CullingHierarchy& hierarchy, int pieces)
-    : program_({{GL_COMPUTE_SHADER, "culling/cell_lists.comp.glsl"}},
-               {{"CHCRT_BOUNDS_PIECES", std::to_string(pieces)}}) {
+GpuCellLists::GpuCellLists(const CullingHierarchy& hierarchy, int pieces, std::shared_ptr<ProgramCache> programs)
+    : programs_(std::move(programs)),
+      program_(&programs_->get({{GL_COMPUTE_SHADER, "culling/cell_lists.comp.glsl"}},
+                               {{"CHCRT_BOUNDS_PIECES", std::to_string(pieces)}})) {
     const std::vector<glm::vec4> texels = hierarchyTexels(hierarchy);
     hierarchy_ = createTextureBuffer(texels.data(), texels.size() * sizeof(glm::vec4), GL_RGBA32F);
 }
@@ -72,11 +73,11 @@ void GpuCellLists::build(GLuint boundsBuffer, int cellsX, int cellsY, uint32_t l
     const std::array<uint32_t, 14> reset = {0u, 1u, 0u, 0u, 0u, 1u, 1u, 0u, 0u, 0u, 0u, 0u, 0u, 0u};
     glNamedBufferSubData(draw_.id(), 0, sizeof(reset), reset.data());
     const uint32_t limit = listLimit == 0 ? CHCRT_CULLING_GPU_LIST_MAX : std::min<uint32_t>(listLimit, CHCRT_CULLING_GPU_LIST_MAX);
-    program_.use();
-    program_.set("cellCount", uint32_t(cells));
-    program_.set("listLimit", limit);
-    program_.set("relativePad", relativePad);
-    program_.set("frustum", int(frustum));
+    program_->use();
+    program_->set("cellCount", uint32_t(cells));
+    program_->set("listLimit", limit);
+    program_->set("relativePad", relativePad);
+    program_->set("frustum", int(frustum));
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, CHCRT_CULLING_BOUNDS_BUFFER, boundsBuffer);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, CHCRT_CULLING_GPU_HEADERS_BUFFER, headers_.buffer.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, CHCRT_CULLING_GPU_ROOTS_BUFFER, roots_.buffer.id());

@@ -9,17 +9,21 @@
 // and a cell over its list limit traverses the whole tree. Counters of the last build are read after the trace.
 #include "culling/culling_hierarchy.h"
 #include "renderer/gl/gl_objects.h"
-#include "renderer/gl/shader.h"
+#include "renderer/gl/program_cache.h"
 
 #include <cstdint>
+#include <memory>
 
 namespace chcrt {
 
 class GpuCellLists {
 public:
     // Uploads the upper hierarchy (`hierarchy.subtrees[s].bvhNode` as each root's GPU node). `pieces`: the ray bounds
-    // grid's. Needs a current GL context.
-    GpuCellLists(const CullingHierarchy& hierarchy, int pieces);
+    // grid's. The program depends on `pieces` only, not on the hierarchy, so it comes from `programs` (shared with the
+    // other termination heights' lists: a GPU driver compiles at link time, and a height first tried mid-walkthrough
+    // would otherwise stall that frame on the compile). Needs a current GL context.
+    GpuCellLists(const CullingHierarchy& hierarchy, int pieces,
+                 std::shared_ptr<ProgramCache> programs = std::make_shared<ProgramCache>());
 
     // Decides the lists of a cellsX × cellsY grid from the reduction in `boundsBuffer`: a cell with more than
     // `listLimit` subtrees (at most CHCRT_CULLING_GPU_LIST_MAX; 0 = that maximum) traverses the whole tree.
@@ -40,7 +44,8 @@ public:
 private:
     void ensureCapacity(size_t cells);
 
-    ShaderProgram program_;
+    std::shared_ptr<ProgramCache> programs_;
+    const ShaderProgram* program_; // of programs_
     TextureBuffer hierarchy_;
     TextureBuffer headers_, roots_, ids_, drawCells_; // texture views for the cell pass over the compute's buffers
     GlBuffer draw_;                                   // indirect command, counters, cells drawn

@@ -4,6 +4,7 @@
 #include "tests/render/render_fixture.h"
 
 #include "culling/chcrt_tracer.h"
+#include "culling/gpu_cell_lists.h"
 #include "renderer/gl/gl_object_count.h"
 
 #include <algorithm>
@@ -693,49 +694,74 @@ TEST_F(RenderTest, RecommendedConfigurationsOfSoftwareAndHardwareRenderersEqualP
 
 // The tracers of the adaptive choice's further heights link no pass of their own while they trace: they take the
 // passes the tracer that made them linked (whose defines do not depend on the height where cells over the list limit
-// traverse the whole tree), so a height's first trace does not compile them again (llvmpipe: ~3 ms each). Their hits
-// are pure BVH's: the exactness cases with `adaptiveHeights` trace every arm.
+// traverse the whole tree), so a height's first trace does not compile them again (llvmpipe: ~3 ms each). Both
+// recommended configurations. Their hits are pure BVH's: the exactness cases with `adaptiveHeights` trace every arm.
 TEST_F(RenderTest, TheAdaptiveHeightsTracersShareTheirPassPrograms) {
     RenderSettings settings;
     settings.width = 64;
     settings.height = 48;
     Renderer& renderer = makeProceduralRenderer("city:60k", settings);
-    ChcrtOptions options = recommendedChcrtOptions(RendererTraits{.software = true});
-    options.partition.maxSubtreeHeight = 8;
-    options.adaptiveHeights = {6, 10};
-    options.adaptiveTiming = [](uint32_t arm, double) { return arm == 0 ? 10.0 : 9.0; }; // culling wins: explore
-    options.adaptiveProbeInterval = 1;
-    options.adaptiveProbeBudget = 1.0;
-    ChcrtTracer probing(bvh_, options);
-    ChcrtOptions single = options;
-    single.adaptive = false;
-    single.adaptiveHeights.clear();
-    ChcrtTracer alone(bvh_, single);
     const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
     FrameStats stats;
     renderer.renderGBuffer(camera, stats);
-    // Programs linked while each tracer traces the same ray sets (variants made on first use: the primary pass that
-    // writes every ray, the reductions, ...).
-    const auto linkedWhileTracing = [&](ChcrtTracer& tracer, std::set<uint64_t>& heights) {
-        const int64_t before = liveGlObjects().programs;
-        renderer.useTracer(&tracer);
-        for (int trace = 0; trace < 24; ++trace) {
-            for (RayType type : {RayType::Primary, RayType::Shadow}) {
-                renderer.generateRayPass(camera, type, 0, stats);
-                renderer.traceRayPass(camera, type, 0, stats);
-                if (tracer.lastStats().fallbackTraces == 0) heights.insert(tracer.lastStats().heightSum);
+    for (bool software : {true, false}) {
+        SCOPED_TRACE(software ? "software configuration" : "hardware configuration");
+        ChcrtOptions options = recommendedChcrtOptions(RendererTraits{.software = software});
+        options.partition.maxSubtreeHeight = 8;
+        options.adaptiveHeights = {6, 10};
+        options.adaptiveTiming = [](uint32_t arm, double) { return arm == 0 ? 10.0 : 9.0; }; // culling wins: explore
+        options.adaptiveProbeInterval = 1;
+        options.adaptiveProbeBudget = 1.0;
+        ChcrtTracer probing(bvh_, options);
+        ChcrtOptions single = options;
+        single.adaptive = false;
+        single.adaptiveHeights.clear();
+        ChcrtTracer alone(bvh_, single);
+        // Programs linked while each tracer traces the same ray sets (variants made on first use: the primary pass
+        // that writes every ray, the reductions, ...).
+        const auto linkedWhileTracing = [&](ChcrtTracer& tracer, std::set<uint64_t>& heights) {
+            const int64_t before = liveGlObjects().programs;
+            renderer.useTracer(&tracer);
+            for (int trace = 0; trace < 24; ++trace) {
+                for (RayType type : {RayType::Primary, RayType::Shadow}) {
+                    renderer.generateRayPass(camera, type, 0, stats);
+                    renderer.traceRayPass(camera, type, 0, stats);
+                    if (tracer.lastStats().fallbackTraces == 0) heights.insert(tracer.lastStats().heightSum);
+                }
             }
-        }
-        renderer.useTracer(nullptr);
+            renderer.useTracer(nullptr);
+            return liveGlObjects().programs - before;
+        };
+        std::set<uint64_t> probed, once;
+        const int64_t probingLinked = linkedWhileTracing(probing, probed);
+        const int64_t aloneLinked = linkedWhileTracing(alone, once);
+        EXPECT_EQ(probed, (std::set<uint64_t>{6, 8, 10})) << "every height traced";
+        EXPECT_EQ(once, (std::set<uint64_t>{8}));
+        EXPECT_GT(aloneLinked, 0);
+        EXPECT_EQ(probingLinked, aloneLinked) << "the heights' tracers linked passes of their own";
+    }
+}
+
+// The GPU configuration's list decisions (bounds-gpu) of several termination heights link one program: it depends on
+// the pieces per cell, not on the hierarchy, so the adaptive choice's heights take it from their shared cache instead
+// of each linking it when their tracer is made (a GPU driver compiles at link time).
+TEST_F(RenderTest, GpuCellListsOfSeveralHeightsLinkOneProgram) {
+    makeProceduralRenderer("city:60k", RenderSettings{});
+    const CullingHierarchy low = buildCullingHierarchy(bvh_, SubtreePartitionOptions{.maxSubtreeHeight = 6});
+    const CullingHierarchy high = buildCullingHierarchy(bvh_, SubtreePartitionOptions{.maxSubtreeHeight = 10});
+    ASSERT_NE(low.subtrees.size(), high.subtrees.size());
+    const auto linkedBy = [](const std::function<void()>& make) {
+        const int64_t before = liveGlObjects().programs;
+        make();
         return liveGlObjects().programs - before;
     };
-    std::set<uint64_t> probed, once;
-    const int64_t probingLinked = linkedWhileTracing(probing, probed);
-    const int64_t aloneLinked = linkedWhileTracing(alone, once);
-    EXPECT_EQ(probed, (std::set<uint64_t>{6, 8, 10})) << "every height traced";
-    EXPECT_EQ(once, (std::set<uint64_t>{8}));
-    EXPECT_GT(aloneLinked, 0);
-    EXPECT_EQ(probingLinked, aloneLinked) << "the heights' tracers linked passes of their own";
+    auto cache = std::make_shared<ProgramCache>();
+    std::unique_ptr<GpuCellLists> first, second, own, otherPieces;
+    EXPECT_EQ(linkedBy([&] { first = std::make_unique<GpuCellLists>(low, 4, cache); }), 1);
+    EXPECT_EQ(linkedBy([&] { second = std::make_unique<GpuCellLists>(high, 4, cache); }), 0);
+    EXPECT_EQ(linkedBy([&] { own = std::make_unique<GpuCellLists>(high, 4); }), 1) << "a cache of its own links again";
+    EXPECT_EQ(linkedBy([&] { otherPieces = std::make_unique<GpuCellLists>(high, 2, cache); }), 1)
+        << "other pieces, another program";
 }
 
 // The renderer's frame targets are made again when its size changes (the viewer's resize, bench's supersampled
