@@ -20,8 +20,8 @@ class GpuCellLists {
 public:
     // Uploads the upper hierarchy (`hierarchy.subtrees[s].bvhNode` as each root's GPU node). `pieces`: the ray bounds
     // grid's. The program depends on `pieces` only, not on the hierarchy, so it comes from `programs` (shared with the
-    // other termination heights' lists: a GPU driver compiles at link time, and a height first tried mid-walkthrough
-    // would otherwise stall that frame on the compile). Needs a current GL context.
+    // other termination heights' lists, whose tracers are made with the configuring one: a GPU driver compiles at link
+    // time, once instead of once per height). Needs a current GL context.
     GpuCellLists(const CullingHierarchy& hierarchy, int pieces,
                  std::shared_ptr<ProgramCache> programs = std::make_shared<ProgramCache>());
 
