@@ -35,42 +35,40 @@ GpuSubtreeCache::GpuSubtreeCache(SubtreeStore& store, const GpuCacheOptions& opt
     subtrees.slotTriangles = std::max(1u, h.maxSubtreeTriangles);
     subtrees.slotVertices = file.maxSubtreeVertices();
     const uint64_t slotBytes = shapeOf(subtrees).bytes();
-    // chcrt-lod: a pool per proxy level, each of up to kLodPoolShare of the budget and at most one slot per proxy of
-    // that level, but never at the cost of the one subtree slot that tracing needs.
+    // chcrt-lod: a pool per proxy level, each of up to kLodPoolShare of the budget and at most what all of that
+    // level's proxies take packed (packed_ring.h), split among the buffers as those proxies need them, but never at
+    // the cost of the one subtree slot that tracing needs.
     std::vector<Pool> proxyPools;
     uint64_t proxyBytes = 0, proxyNodeTexels = 0, proxyTriangleTexels = 0, proxyVertices = 0;
     if (lodEnabled()) {
         for (uint32_t level = 1; level <= file.lodLevels(); ++level) {
-            // Slots sized for the 95th percentile of the level's proxies, not the largest: a few proxies that barely
-            // simplified would otherwise make every slot as large as theirs. Those few are served at a finer level.
-            std::vector<uint32_t> nodeCounts, triangleCounts, vertexCounts;
+            PackedRing::Units demand{};
+            uint64_t demandBytes = 0, proxies = 0;
             for (uint32_t s = 0; s < h.subtreeCount; ++s) {
-                const ChsLodRecord& r = file.lodRecord(s, level);
-                if (r.nodeCount == 0) continue;
-                nodeCounts.push_back(r.nodeCount);
-                triangleCounts.push_back(r.triangleCount);
-                vertexCounts.push_back(file.vertexCount(s, level));
+                if (file.lodRecord(s, level).nodeCount == 0) continue;
+                const PackedRing::Units units = proxyUnits(s, level);
+                for (size_t p = 0; p < units.size(); ++p) demand[p] += units[p];
+                demandBytes += GpuSlotShape{units[0], units[1], units[2], compact_}.bytes();
+                ++proxies;
+            }
+            const double share = level == file.lodLevels() ? kLodCoarsestPoolShare : kLodPoolShare;
+            const uint64_t left = budget > slotBytes + proxyBytes ? budget - slotBytes - proxyBytes : 0; // one subtree slot stays
+            const uint64_t bytes = std::min({demandBytes, uint64_t(double(budget) * share), left});
+            PackedRing::Units capacity{};
+            for (size_t p = 0; p < capacity.size(); ++p) {
+                capacity[p] = bytes == demandBytes ? demand[p] : uint64_t(double(demand[p]) * double(bytes) / double(demandBytes));
             }
             Pool pool;
-            const auto percentile = [](std::vector<uint32_t>& v) {
-                std::sort(v.begin(), v.end());
-                return v.empty() ? 0u : v[std::min(v.size() - 1, v.size() * 95 / 100)];
-            };
-            pool.slotNodes = nodeUnits(std::max(1u, percentile(nodeCounts)));
-            pool.slotTriangles = std::max(1u, percentile(triangleCounts));
-            pool.slotVertices = compact_ ? std::max(1u, percentile(vertexCounts)) : 0u;
-            uint64_t fitting = 0;
-            for (uint32_t s = 0; s < h.subtreeCount; ++s) fitting += proxyFits(pool, s, level);
-            const GpuSlotShape shape = shapeOf(pool);
-            const uint64_t bytes = shape.bytes();
-            const double share = level == file.lodLevels() ? kLodCoarsestPoolShare : kLodPoolShare;
-            uint64_t slots = std::min<uint64_t>(fitting, uint64_t(double(budget) * share) / bytes);
-            if (fitting != 0 && slots == 0 && budget >= slotBytes + proxyBytes + bytes) slots = 1;
-            pool.slotKey.assign(slots, kNotResident);
-            proxyBytes += slots * bytes;
-            proxyNodeTexels += slots * shape.nodeTexels();
-            proxyTriangleTexels += slots * shape.triangleTexels();
-            proxyVertices += slots * shape.vertices;
+            pool.ring.emplace(capacity, h.subtreeCount);
+            pool.slotKey.assign(h.subtreeCount, kNotResident);
+            const GpuSlotShape extent = extentOf(pool);
+            proxyBytes += extent.bytes();
+            proxyNodeTexels += extent.nodeTexels();
+            proxyTriangleTexels += extent.triangleTexels();
+            proxyVertices += extent.vertices;
+            if (demandBytes != 0) {
+                stats_.proxySlots += uint32_t(std::min<uint64_t>(proxies, extent.bytes() * proxies / demandBytes));
+            }
             proxyPools.push_back(std::move(pool));
         }
     }
@@ -96,15 +94,15 @@ GpuSubtreeCache::GpuSubtreeCache(SubtreeStore& store, const GpuCacheOptions& opt
         p.firstNode = nodes;
         p.firstTriangle = triangles;
         p.firstVertex = vertices;
-        nodes += uint64_t(p.slotKey.size()) * p.slotNodes;
-        triangles += uint64_t(p.slotKey.size()) * p.slotTriangles;
-        vertices += uint64_t(p.slotKey.size()) * p.slotVertices;
+        const GpuSlotShape extent = extentOf(p);
+        nodes += extent.nodes;
+        triangles += extent.triangles;
+        vertices += extent.vertices;
         p.lastUse.assign(p.slotKey.size(), 0);
         p.pinned.assign(p.slotKey.size(), 0);
         p.slotOf.assign(h.subtreeCount, kNotResident);
-        stats_.slots += uint32_t(p.slotKey.size());
     }
-    stats_.proxySlots = stats_.slots - uint32_t(pools_[0].slotKey.size());
+    stats_.slots = slotCount() + stats_.proxySlots;
     lastAcquired_.assign(h.subtreeCount, 0);
     const GpuSlotShape total{nodes, triangles, vertices, compact_};
     nodes_ = createTextureBuffer(nullptr, total.nodeBytes(), compact_ ? GL_RGBA32UI : GL_RGBA32F);
@@ -120,10 +118,20 @@ GpuSlotShape GpuSubtreeCache::shapeOf(const Pool& pool) const {
     return {pool.slotNodes, pool.slotTriangles, pool.slotVertices, compact_};
 }
 
-bool GpuSubtreeCache::proxyFits(const Pool& pool, uint32_t subtree, uint32_t level) const {
+GpuSlotShape GpuSubtreeCache::extentOf(const Pool& pool) const {
+    if (pool.ring) return {pool.ring->capacity()[0], pool.ring->capacity()[1], pool.ring->capacity()[2], compact_};
+    const uint64_t slots = pool.slotKey.size();
+    return {slots * pool.slotNodes, slots * pool.slotTriangles, slots * pool.slotVertices, compact_};
+}
+
+PackedRing::Units GpuSubtreeCache::proxyUnits(uint32_t subtree, uint32_t level) const {
     const ChsLodRecord& r = store_.file().lodRecord(subtree, level);
-    return r.nodeCount != 0 && nodeUnits(r.nodeCount) <= pool.slotNodes && r.triangleCount <= pool.slotTriangles &&
-           store_.file().vertexCount(subtree, level) <= pool.slotVertices;
+    const GpuSlotShape shape = gpuEntryShape(r.nodeCount, r.triangleCount, store_.file().vertexCount(subtree, level), compact_);
+    return {shape.nodes, shape.triangles, shape.vertices};
+}
+
+bool GpuSubtreeCache::proxyFits(const Pool& pool, uint32_t subtree, uint32_t level) const {
+    return pool.ring && store_.file().lodRecord(subtree, level).nodeCount != 0 && pool.ring->fits(proxyUnits(subtree, level));
 }
 
 void GpuSubtreeCache::resetCounters() {
@@ -151,9 +159,8 @@ uint32_t GpuSubtreeCache::levelFor(uint32_t subtree) const {
     const float pixelsPerUnit = focalPixels_ / std::max(distance, floorDistance);
     for (uint32_t level = uint32_t(pools_.size()) - 1; level >= 1; --level) {
         const ChsLodRecord& lod = file.lodRecord(subtree, level);
-        const Pool& pool = pools_[level];
-        if (pool.slotKey.empty() || !proxyFits(pool, subtree, level)) {
-            continue; // no proxy, or one larger than the level's slots: a finer level serves
+        if (!proxyFits(pools_[level], subtree, level)) {
+            continue; // no proxy, or one larger than the level's pool: a finer level serves
         }
         if (lod.errorWorld * pixelsPerUnit < options_.lodPixels) return level;
     }
@@ -194,13 +201,12 @@ uint64_t GpuSubtreeCache::entryBytes(uint32_t level, uint32_t subtree) const {
 void GpuSubtreeCache::upload(uint32_t level, uint32_t subtree, uint32_t slot) {
     Pool& pool = pools_[level];
     const std::shared_ptr<const SubtreeData> data = store_.get(subtree, level, false); // nodes and triangles only
-    const uint64_t nodeBase = pool.firstNode + uint64_t(slot) * pool.slotNodes;
-    const uint64_t triBase = pool.firstTriangle + uint64_t(slot) * pool.slotTriangles;
+    const uint64_t nodeBase = pool.nodeBase(slot), triBase = pool.triangleBase(slot);
     size_t nodeBytes, triBytes, vertexBytes = 0;
     if (compact_) {
         // As stored: indices stay local, and the root's texel 2 tells the traversal where the subtree's triangles and
         // vertices start (shared/bvh_layout.h; its nodes start at the root).
-        const uint64_t vertexBase = pool.firstVertex + uint64_t(slot) * pool.slotVertices;
+        const uint64_t vertexBase = pool.vertexBase(slot);
         nodeBytes = data->compactNodes.size() * sizeof(glm::uvec4);
         triBytes = data->compactTriangles.size() * sizeof(glm::uvec4);
         vertexBytes = data->vertices.size() * sizeof(glm::vec3);
@@ -231,18 +237,7 @@ void GpuSubtreeCache::upload(uint32_t level, uint32_t subtree, uint32_t slot) {
                                  data->triangles.data());
         }
     }
-    const uint32_t previous = pool.slotKey[slot];
-    if (previous != kNotResident) {
-        stats_.residentBytes -= entryBytes(level, previous);
-        pool.slotOf[previous] = kNotResident;
-        ++stats_.evictions;
-        ++replacements_;
-        if (level == 0) {
-            slotEpochs_[slot] = uint32_t(replacements_);
-            slotEpochsChanged_ = true;
-        }
-        --stats_.residentSubtrees;
-    }
+    evict(level, slot);
     pool.slotKey[slot] = subtree;
     pool.slotOf[subtree] = slot;
     stats_.residentBytes += nodeBytes + triBytes + vertexBytes;
@@ -258,9 +253,42 @@ void GpuSubtreeCache::upload(uint32_t level, uint32_t subtree, uint32_t slot) {
     }
 }
 
+void GpuSubtreeCache::evict(uint32_t level, uint32_t slot) {
+    Pool& pool = pools_[level];
+    const uint32_t previous = pool.slotKey[slot];
+    if (previous == kNotResident) return;
+    stats_.residentBytes -= entryBytes(level, previous);
+    pool.slotOf[previous] = kNotResident;
+    pool.slotKey[slot] = kNotResident;
+    ++stats_.evictions;
+    ++replacements_;
+    if (level == 0) {
+        slotEpochs_[slot] = uint32_t(replacements_);
+        slotEpochsChanged_ = true;
+    }
+    --stats_.residentSubtrees;
+}
+
+uint32_t GpuSubtreeCache::placeProxy(uint32_t level, uint32_t subtree) {
+    Pool& pool = pools_[level];
+    std::vector<uint32_t>& evicted = evictedScratch_;
+    evicted.clear();
+    const bool placed = pool.ring->place(subtree, proxyUnits(subtree, level),
+                                         [&](uint32_t other) { return pool.pinned[other] == acquireCount_; }, evicted);
+    for (uint32_t victim : evicted) {
+        if (pool.lastUse[victim] > traceStartTick_) proxyPoolFullThisTrace_ = true; // this trace's entries fill it
+        evict(level, victim);
+    }
+    if (!placed) {
+        proxyPoolFullThisTrace_ = true;
+        return kNotResident;
+    }
+    return subtree; // a packed pool's slot is the subtree index
+}
+
 void GpuSubtreeCache::use(Pool& pool, uint32_t slot) {
     pool.pinned[slot] = acquireCount_;
-    if (pool.lastUse[slot] <= traceStartTick_) ++slotsUsedThisTrace_;
+    if (pool.lastUse[slot] <= traceStartTick_ && !pool.ring) ++slotsUsedThisTrace_;
     pool.lastUse[slot] = ++tick_;
 }
 
@@ -295,7 +323,7 @@ void GpuSubtreeCache::acquire(std::span<const uint32_t> subtrees, std::span<uint
             ++stats_.postponed;
             continue;
         }
-        const uint32_t slot = chooseVictim(pool);
+        const uint32_t slot = pool.ring ? placeProxy(levels[i], subtrees[i]) : chooseVictim(pool);
         if (slot == kNotResident) {
             ++stats_.deferred;
             continue;

@@ -19,14 +19,17 @@
 // file with proxies, a requested subtree is served at the coarsest level whose geometric error projects below
 // lodPixels pixels from the view set by setView() (error × focal length / distance from the eye to the subtree's
 // box; an eye inside the box gets the subtree itself). Entries are keyed by (subtree, level): the subtree pool
-// holds full subtrees, and each proxy level has a pool of its own whose slots hold that level's largest proxy
-// (proxies are 8-500× smaller, so equal slots for both would waste most of the budget). Exact methods run with
-// lodPixels 0: no proxy pool is allocated and no proxy is ever served (tested: proxy uploads stay 0).
+// holds full subtrees, and each proxy level has a pool of its own (proxies are 8-500× smaller, so equal slots for
+// both would waste most of the budget) in which proxies are packed at their own sizes (packed_ring.h: one level's
+// proxies differ in size by 10× and more). Exact methods run with lodPixels 0: no proxy pool is allocated and no
+// proxy is ever served (tested: proxy uploads stay 0).
+#include "culling/outofcore/packed_ring.h"
 #include "culling/subtree_source.h"
 #include "renderer/gl/gl_objects.h"
 #include "renderer/outofcore/gpu_cache_slots.h"
 #include "renderer/outofcore/subtree_store.h"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,11 +49,11 @@ struct GpuCacheOptions {
     float lodPixels = 0.0f;
 };
 
-// Share of the budget each proxy level's pool may take (at most what all of that level's proxies need), the coarsest
-// level's more: a far view needs it for nearly every subtree. The subtree pool gets the rest (near views need it;
-// exact methods have no proxy pools). At 1/8 and 1/4 the 140M city's far path (640×360, 1 GiB) uploaded 145-228
-// proxies per trace, both pools too small for the ~2,800 coarsest and ~250 level-1 proxies a view asks for; at 1/6
-// and 1/3, 41-49 (docs/benchmarks.md, 2026-12-06).
+// Share of the budget each proxy level's pool may take (at most what all of that level's proxies need, packed), the
+// coarsest level's more: a far view needs it for nearly every subtree. The subtree pool gets the rest (near views
+// need it; exact methods have no proxy pools). At 1/8 and 1/4 the 140M city's far path (640×360, 1 GiB; equal slots
+// then) uploaded 145-228 proxies per trace, both pools too small for the ~2,800 coarsest and ~250 level-1 proxies a
+// view asks for; at 1/6 and 1/3, 41-49 (docs/benchmarks.md, 2026-12-06).
 inline constexpr double kLodPoolShare = 1.0 / 6.0;
 inline constexpr double kLodCoarsestPoolShare = 1.0 / 3.0;
 inline constexpr uint32_t kLodStatLevels = 5; // statistics per level 0 (subtree) ... 4 (kMaxLodLevels)
@@ -58,7 +61,7 @@ inline constexpr uint32_t kLodStatLevels = 5; // statistics per level 0 (subtree
 struct GpuCacheStats {
     uint64_t hits = 0;
     uint64_t misses = 0;    // uploads
-    uint64_t evictions = 0; // uploads that replaced a resident subtree
+    uint64_t evictions = 0; // resident entries replaced by uploads (a proxy's upload may replace several smaller ones)
     uint64_t deferred = 0;  // requests answered kNotResident (all slots pinned by the same acquire)
     uint64_t postponed = 0; // requests answered kNotResident because the per-trace upload limit was reached
     uint64_t uploadedNodeBytes = 0;     // BVH MB transferred (Table 3)
@@ -70,7 +73,9 @@ struct GpuCacheStats {
     uint64_t residentBytes = 0;  // nodes + triangles of the resident subtrees
     uint64_t peakResidentBytes = 0; // the most residentBytes has been (kept by resetCounters)
     uint64_t allocatedBytes = 0; // both texture buffers, as allocated (<= budget)
-    uint32_t slots = 0;      // all pools
+    // The subtree pool's slots plus the proxy pools' (per proxy level: how many of its proxies the pool holds at
+    // their mean size, at most all of them; packed_ring.h).
+    uint32_t slots = 0;
     uint32_t proxySlots = 0; // of slots: the proxy pools'
     uint32_t residentSubtrees = 0; // entries of every level
 };
@@ -81,15 +86,17 @@ public:
     GpuSubtreeCache(SubtreeStore& store, const GpuCacheOptions& options);
 
     void acquire(std::span<const uint32_t> subtrees, std::span<uint32_t> gpuRoots) override;
-    // The limit holds only while some slot is not used by the current trace: once this trace's subtrees fill the
-    // cache, later traces could not do better (the working set exceeds the cache), so the trace completes.
+    // The limit holds only while the subtree pool has a slot the current trace does not use and no proxy pool had
+    // to evict (or could not place) an entry of this trace: once this trace's entries fill a pool, later traces
+    // could not do better (the working set exceeds the cache), so the trace completes.
     bool uploadBudgetExhausted() const override {
         return options_.maxUploadsPerTrace != 0 && uploadsThisTrace_ >= options_.maxUploadsPerTrace &&
-               slotsUsedThisTrace_ < stats_.slots;
+               slotsUsedThisTrace_ < slotCount() && !proxyPoolFullThisTrace_;
     }
     void beginTrace() { // the per-trace upload limit starts again
         uploadsThisTrace_ = 0;
         slotsUsedThisTrace_ = 0;
+        proxyPoolFullThisTrace_ = false;
         traceStartTick_ = tick_;
     }
 
@@ -137,7 +144,6 @@ public:
     uint64_t acquireCount() const { return acquireCount_; }
     bool acquiredAfter(uint32_t subtree, uint64_t calls) const { return lastAcquired_.at(subtree) > calls; }
     // Slots of the pool of proxy level `level` >= 1 (0 when it has none).
-    uint32_t proxySlotCount(uint32_t level) const { return level < pools_.size() ? uint32_t(pools_[level].slotKey.size()) : 0u; }
     GLuint nodeBuffer() const { return nodes_.buffer.id(); }
     GLuint triangleBuffer() const { return triangles_.buffer.id(); }
     GLuint vertexBuffer() const { return vertices_.buffer.id(); } // compact layout only
@@ -145,23 +151,32 @@ public:
     GLuint triangleTexture() const { return triangles_.texture.id(); }
 
 private:
-    // Equal slots for one level (0 = subtrees) in a range of both buffers.
+    // One level's entries (0 = subtrees) in a range of each buffer: equal slots for subtrees, packed proxies (`ring`;
+    // slot = subtree index) for the levels >= 1.
     struct Pool {
-        uint32_t slotNodes = 0, slotTriangles = 0, slotVertices = 0; // records of the layout (compact: node texels)
+        uint32_t slotNodes = 0, slotTriangles = 0, slotVertices = 0; // equal slots: records of the layout (compact: node texels)
         uint64_t firstNode = 0, firstTriangle = 0, firstVertex = 0;   // where the pool starts in the buffers
+        std::optional<PackedRing> ring; // proxy levels: where each resident proxy lies, in units from the pool's start
         std::vector<uint32_t> slotKey;  // subtree in each slot, kNotResident when empty
         std::vector<uint64_t> lastUse;
         std::vector<uint64_t> pinned;   // == acquireCount_: used by the current acquire, not evictable
         std::vector<uint32_t> slotOf;   // per subtree: its slot in this pool, or kNotResident
         uint32_t nextVictim = 0;        // round-robin pointer
-        uint32_t root(uint32_t slot) const { return uint32_t(firstNode + uint64_t(slot) * slotNodes); }
+        uint64_t nodeBase(uint32_t slot) const { return firstNode + (ring ? ring->offset(slot)[0] : uint64_t(slot) * slotNodes); }
+        uint64_t triangleBase(uint32_t slot) const { return firstTriangle + (ring ? ring->offset(slot)[1] : uint64_t(slot) * slotTriangles); }
+        uint64_t vertexBase(uint32_t slot) const { return firstVertex + (ring ? ring->offset(slot)[2] : uint64_t(slot) * slotVertices); }
+        uint32_t root(uint32_t slot) const { return uint32_t(nodeBase(slot)); }
     };
     uint32_t chooseVictim(Pool& pool); // kNotResident when every slot is pinned
+    uint32_t placeProxy(uint32_t level, uint32_t subtree); // its slot, evicting what it is placed over; kNotResident when pinned entries fill the pool
     void upload(uint32_t level, uint32_t subtree, uint32_t slot);
+    void evict(uint32_t level, uint32_t slot); // the entry in the slot, if any
     uint64_t entryBytes(uint32_t level, uint32_t subtree) const; // nodes + triangles (+ vertices) on the GPU
     uint32_t nodeUnits(uint32_t nodes) const;                     // node records of a subtree (compact: texels)
-    GpuSlotShape shapeOf(const Pool& pool) const;
-    bool proxyFits(const Pool& pool, uint32_t subtree, uint32_t level) const; // a kept proxy within the pool's slots
+    GpuSlotShape shapeOf(const Pool& pool) const;   // of one slot (equal slots)
+    GpuSlotShape extentOf(const Pool& pool) const;  // of the whole pool
+    PackedRing::Units proxyUnits(uint32_t subtree, uint32_t level) const; // its records and vertices in the buffers
+    bool proxyFits(const Pool& pool, uint32_t subtree, uint32_t level) const; // a kept proxy that the pool can hold
     void use(Pool& pool, uint32_t slot);                          // pins and marks it used by this trace
 
     SubtreeStore& store_;
@@ -170,6 +185,7 @@ private:
     TextureBuffer nodes_, triangles_, vertices_;
     std::vector<Pool> pools_; // [0] subtrees, [l] proxies of level l (empty pools when LOD is off)
     UninitializedVector<BvhNodeGpu> rebased_; // an upload's nodes with slot indices, reused (no allocation per upload)
+    std::vector<uint32_t> evictedScratch_;    // placeProxy's evicted entries, reused
     uint64_t acquireCount_ = 0, tick_ = 0;
     std::vector<uint64_t> lastAcquired_; // per subtree: acquireCount_ of the last acquire() that asked for it
     uint64_t replacements_ = 0; // contentEpoch(): never reset (the per-frame evictions are)
@@ -178,7 +194,8 @@ private:
     std::vector<uint32_t> slotEpochs_;
     bool slotEpochsChanged_ = true;
     TextureBuffer slotEpochTexture_;
-    uint32_t uploadsThisTrace_ = 0, slotsUsedThisTrace_ = 0;
+    uint32_t uploadsThisTrace_ = 0, slotsUsedThisTrace_ = 0; // slots: of the subtree pool
+    bool proxyPoolFullThisTrace_ = false;
     uint64_t traceStartTick_ = 0;
     glm::vec3 eye_{0.0f};
     float focalPixels_ = 0.0f;

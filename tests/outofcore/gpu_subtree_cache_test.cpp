@@ -11,6 +11,7 @@
 
 #include <cstring>
 #include <random>
+#include <string>
 
 namespace chcrt {
 namespace {
@@ -42,37 +43,42 @@ protected:
         if (count != 0) glGetNamedBufferSubData(buffer, GLintptr(first * sizeof(T)), GLsizeiptr(count * sizeof(T)), out.data());
         return out;
     }
+    // The entry whose nodes start at `nodeBase` and whose triangles (and a compact file's vertices) start at
+    // `triBase` (`vertexBase`) equals `d` with its indices rebased there.
+    void expectEntryAt(const GpuSubtreeCache& cache, uint64_t nodeBase, uint64_t triBase, uint64_t vertexBase,
+                       const outofcore::SubtreeData& d, const std::string& what) {
+        if (chs_->compact()) {
+            const auto nodes = readBack<glm::uvec4>(cache.nodeBuffer(), nodeBase, d.compactNodes.size());
+            const auto tris = readBack<glm::uvec4>(cache.triangleBuffer(), triBase, d.compactTriangles.size());
+            const auto vertices = readBack<glm::vec3>(cache.vertexBuffer(), vertexBase, d.vertices.size());
+            // As stored, but for the root's texel 2: the entry's first triangle and vertex.
+            for (size_t k = 0; k < nodes.size(); ++k) {
+                const glm::uvec4 expected =
+                    k == 2 ? glm::uvec4(uint32_t(triBase), uint32_t(vertexBase), d.compactNodes[2].z, d.compactNodes[2].w)
+                           : d.compactNodes[k];
+                ASSERT_EQ(expected, nodes[k]) << what << " texel " << k;
+            }
+            ASSERT_EQ(0, std::memcmp(d.compactTriangles.data(), tris.data(), tris.size() * sizeof(glm::uvec4))) << what;
+            ASSERT_EQ(0, std::memcmp(d.vertices.data(), vertices.data(), vertices.size() * sizeof(glm::vec3))) << what;
+            return;
+        }
+        const auto nodes = readBack<BvhNodeGpu>(cache.nodeBuffer(), nodeBase, d.nodes.size());
+        const auto tris = readBack<TriangleGpu>(cache.triangleBuffer(), triBase, d.triangles.size());
+        for (size_t k = 0; k < nodes.size(); ++k) {
+            BvhNodeGpu expected = d.nodes[k];
+            expected.leftFirst += uint32_t(expected.triCount != 0 ? triBase : nodeBase);
+            ASSERT_EQ(0, std::memcmp(&expected, &nodes[k], sizeof(BvhNodeGpu))) << what << " node " << k;
+        }
+        ASSERT_EQ(0, std::memcmp(d.triangles.data(), tris.data(), tris.size() * sizeof(TriangleGpu))) << what;
+    }
     // Every resident slot equals the file's subtree with indices rebased to the slot.
     void expectSlotsMatchFile(const GpuSubtreeCache& cache) {
         for (uint32_t slot = 0; slot < cache.slotCount(); ++slot) {
             const uint32_t subtree = cache.slotSubtree(slot);
             if (subtree == SubtreeSource::kNotResident) continue;
-            const outofcore::SubtreeData d = chs_->readSubtree(subtree);
-            const uint64_t nodeBase = uint64_t(slot) * cache.slotNodes(), triBase = uint64_t(slot) * cache.slotTriangles();
-            if (chs_->compact()) {
-                const uint64_t vertexBase = uint64_t(slot) * cache.slotVertices();
-                const auto nodes = readBack<glm::uvec4>(cache.nodeBuffer(), nodeBase, d.compactNodes.size());
-                const auto tris = readBack<glm::uvec4>(cache.triangleBuffer(), triBase, d.compactTriangles.size());
-                const auto vertices = readBack<glm::vec3>(cache.vertexBuffer(), vertexBase, d.vertices.size());
-                // As stored, but for the root's texel 2: the slot's first triangle and vertex.
-                for (size_t k = 0; k < nodes.size(); ++k) {
-                    const glm::uvec4 expected =
-                        k == 2 ? glm::uvec4(uint32_t(triBase), uint32_t(vertexBase), d.compactNodes[2].z, d.compactNodes[2].w)
-                               : d.compactNodes[k];
-                    ASSERT_EQ(expected, nodes[k]) << "slot " << slot << " texel " << k;
-                }
-                ASSERT_EQ(0, std::memcmp(d.compactTriangles.data(), tris.data(), tris.size() * sizeof(glm::uvec4)));
-                ASSERT_EQ(0, std::memcmp(d.vertices.data(), vertices.data(), vertices.size() * sizeof(glm::vec3)));
-                continue;
-            }
-            const auto nodes = readBack<BvhNodeGpu>(cache.nodeBuffer(), nodeBase, d.nodes.size());
-            const auto tris = readBack<TriangleGpu>(cache.triangleBuffer(), triBase, d.triangles.size());
-            for (size_t k = 0; k < nodes.size(); ++k) {
-                BvhNodeGpu expected = d.nodes[k];
-                expected.leftFirst += uint32_t(expected.triCount != 0 ? triBase : nodeBase);
-                ASSERT_EQ(0, std::memcmp(&expected, &nodes[k], sizeof(BvhNodeGpu))) << "slot " << slot << " node " << k;
-            }
-            ASSERT_EQ(0, std::memcmp(d.triangles.data(), tris.data(), tris.size() * sizeof(TriangleGpu))) << "slot " << slot;
+            const uint64_t vertexBase = chs_->compact() ? uint64_t(slot) * cache.slotVertices() : 0;
+            expectEntryAt(cache, uint64_t(slot) * cache.slotNodes(), uint64_t(slot) * cache.slotTriangles(), vertexBase,
+                          chs_->readSubtree(subtree), "slot " + std::to_string(slot));
         }
     }
     test::ScratchDir dir_;
@@ -135,6 +141,50 @@ TEST_P(GpuSubtreeCacheTest, PoliciesChooseTheirVictims) {
     // Round-robin replaces slot 0 (subtree 0, although just used); LRU replaces subtree 1.
     EXPECT_EQ(run(CachePolicy::RoundRobin), (std::vector<uint32_t>{3, 1, 2}));
     EXPECT_EQ(run(CachePolicy::Lru), (std::vector<uint32_t>{0, 3, 2}));
+}
+
+// LOD proxies are packed at their own sizes into their level's pool (packed_ring.h): under a budget whose coarsest
+// pool holds a few of them, every proxy an acquire returns reads back as the file's proxy where its root says (the
+// compact root's bases, the full layout's rebased leaves), so no two proxies of one request overlap.
+TEST_P(GpuSubtreeCacheTest, PackedProxiesMatchTheFileUnderTheBudget) {
+    const uint32_t subtrees = chs_->header().subtreeCount, coarsest = chs_->lodLevels();
+    ASSERT_GE(coarsest, 1u);
+    outofcore::GpuCacheOptions options{3 * slotBytes(), CachePolicy::Lru};
+    options.lodPixels = 1e9f; // every proxy's error projects below it: the coarsest level that has one serves
+    GpuSubtreeCache cache(*store_, options);
+    cache.setView(glm::vec3(1e6f), 1000.0f);
+    EXPECT_LE(cache.stats().allocatedBytes, options.budgetBytes);
+    std::mt19937 rng(5);
+    uint32_t served = 0;
+    for (int round = 0; round < 60; ++round) {
+        std::vector<uint32_t> request(1 + rng() % 6);
+        for (uint32_t& s : request) s = uint32_t(rng() % subtrees);
+        std::vector<uint32_t> roots(request.size());
+        cache.acquire(request, roots);
+        for (size_t i = 0; i < request.size(); ++i) {
+            const uint32_t level = cache.levelFor(request[i]);
+            if (level == 0 || roots[i] == SubtreeSource::kNotResident) continue;
+            const outofcore::SubtreeData d = chs_->readSubtree(request[i], level);
+            uint64_t triBase = 0, vertexBase = 0;
+            if (chs_->compact()) {
+                const glm::uvec4 bases = readBack<glm::uvec4>(cache.nodeBuffer(), roots[i] + 2, 1)[0];
+                triBase = bases.x, vertexBase = bases.y;
+            } else {
+                const auto nodes = readBack<BvhNodeGpu>(cache.nodeBuffer(), roots[i], d.nodes.size());
+                size_t leaf = 0;
+                while (leaf < nodes.size() && d.nodes[leaf].triCount == 0) ++leaf;
+                ASSERT_LT(leaf, nodes.size());
+                triBase = nodes[leaf].leftFirst - d.nodes[leaf].leftFirst;
+            }
+            expectEntryAt(cache, roots[i], triBase, vertexBase, d,
+                          "round " + std::to_string(round) + " subtree " + std::to_string(request[i]));
+            ++served;
+        }
+        EXPECT_LE(cache.stats().residentBytes, cache.stats().allocatedBytes);
+    }
+    EXPECT_GT(served, 100u);
+    EXPECT_GT(cache.stats().proxyUploads, 0u);
+    EXPECT_GT(cache.stats().evictions, 10u); // the pools hold fewer proxies than were asked for
 }
 
 TEST_P(GpuSubtreeCacheTest, BudgetBelowOneSlotIsAnError) {
