@@ -36,17 +36,19 @@ void HintPass::run(bool anyHit, int width, int height, GLuint maskFramebuffer, b
     const int cellsX = (width + cellSize_ - 1) / cellSize_, cellsY = (height + cellSize_ - 1) / cellSize_;
     const size_t cells = size_t(cellsX) * size_t(cellsY);
     if (cells > markCapacity_) {
-        marks_ = createBuffer(cells * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
+        marks_ = createBuffer(size_t(CHCRT_CULLING_MARKED_UINTS(cells)) * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
         markCapacity_ = cells;
     }
-    // No rays listed yet: a dispatch of no work groups, no cell marked.
+    // No rays listed yet: a dispatch of no work groups; no cell marked, none listed.
     const std::array<uint32_t, CHCRT_CULLING_COMPACT_HEADER> reset = {0u, 1u, 1u, 0u};
     glNamedBufferSubData(buffer_.id(), 0, sizeof(reset), reset.data());
     const uint32_t zero = 0u;
     glClearNamedBufferSubData(marks_.id(), GL_R32UI, 0, GLsizeiptr(cells * 4), GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    glNamedBufferSubData(marks_.id(), GLintptr(CHCRT_CULLING_MARKED_HEADER(cells) * 4), sizeof(reset), reset.data());
     const ShaderProgram& pass = program(anyHit, debugCost);
     pass.use();
     pass.set("cellsX", cellsX);
+    pass.set("cellCount", int(cells));
     pass.set("cellSize", cellSize_);
     if (slots.slotNodes != 0) {
         pass.set("hintSlotNodes", slots.slotNodes);

@@ -70,8 +70,19 @@ void RayBoundsGrid::reduce(GLuint origins, GLuint directions, GLuint hitImage, b
     glBindTextureUnit(CHCRT_UNIT_RAY_DIRECTION, directions);
     if (hitImage != 0) glBindImageTexture(CHCRT_CULLING_IMAGE_HIT, hitImage, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32UI);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, CHCRT_CULLING_BOUNDS_BUFFER, buffer_.id());
-    if (cellMarks != 0) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, CHCRT_CULLING_COMPACT_CELLS, cellMarks);
-    glDispatchCompute(GLuint((cellsX + 7) / 8), GLuint((cellsY + 7) / 8), 1); // an invocation per cell
+    if (cellMarks != 0) {
+        // An invocation per marked cell, from the command the hint pass counted; every other cell is empty (0).
+        const float empty = float(CHCRT_CULLING_CELL_EMPTY);
+        glClearNamedBufferSubData(buffer_.id(), GL_R32F, 0, GLsizeiptr(bytes), GL_RED, GL_FLOAT, &empty);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, CHCRT_CULLING_COMPACT_CELLS, cellMarks);
+        GLint previous = 0; // the compact pass's command stays bound for the passes after this one
+        glGetIntegerv(GL_DISPATCH_INDIRECT_BUFFER_BINDING, &previous);
+        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, cellMarks);
+        glDispatchComputeIndirect(GLintptr(CHCRT_CULLING_MARKED_HEADER(size_t(cellsX) * size_t(cellsY)) * 4));
+        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, GLuint(previous));
+    } else {
+        glDispatchCompute(GLuint((cellsX + 7) / 8), GLuint((cellsY + 7) / 8), 1); // an invocation per cell
+    }
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
 }
 

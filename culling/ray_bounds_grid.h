@@ -57,8 +57,9 @@ public:
     // Reduces a width × height ray set (RayTextures' origin+tmin and direction+tmax textures) to cell boxes and
     // reads them back (waits for the GPU). `hitImage` (0: none) holds the hits found so far (RGBA32UI, the
     // hit-target layout); `anyHit` says whether rays with a hit are finished. Needs a current GL context (the first
-    // call compiles the reduction shader). `cellMarks` (0: none): a buffer with a uint per cell, nonzero where a ray
-    // may be left to trace (the hint pass's, hint_pass.h); unmarked cells are empty without looking at their rays.
+    // call compiles the reduction shader). `cellMarks` (0: none): the hint pass's marks of the cells where a ray
+    // may be left to trace and their list (CHCRT_CULLING_COMPACT_CELLS layout, hint_pass.h): only the listed cells
+    // are reduced, the others are empty without looking at their rays.
     void update(GLuint origins, GLuint directions, GLuint hitImage, bool anyHit, int width, int height,
                 glm::vec3 sceneMin, glm::vec3 sceneMax, GLuint cellMarks = 0);
     // The reduction alone, into buffer() (CHCRT_CULLING_BOUNDS_* layout), for passes that read the grid on the GPU

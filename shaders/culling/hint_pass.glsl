@@ -5,8 +5,8 @@
 //    active ray drops its hint (it no longer hits) and is appended to the compaction buffer, so that the cell lists
 //    are traversed by a dispatch over exactly those rays (chcrt_cells_compact.comp.glsl): when a few rays of a cell
 //    miss their hints, the others no longer wait for them in every loop of the traversal, as SIMD lanes do in a
-//    pass over all rays. The cell of every listed ray is marked, so that the reduction skips the cells left without
-//    a ray to trace.
+//    pass over all rays. The cell of every listed ray is marked and listed once, so that the reduction runs over
+//    the cells left with a ray to trace and no others.
 //  - Closest-hit rays: the hit bounds the ray (a nearer one may still exist), so the reduction that follows ends
 //    its segment there — the "hit-bounded ray bounds" a primary ray otherwise gets only after its cell lists were
 //    traced — and the cell lists hold only the subtrees the shortened segments reach. Every ray is traced by the
@@ -31,11 +31,12 @@ layout(std430, binding = CHCRT_CULLING_COMPACT_BUFFER) buffer Compaction {
     uint listed; // rays listed in pixels[]
     uint pixels[];
 };
-layout(std430, binding = CHCRT_CULLING_COMPACT_CELLS) writeonly buffer CellMarks {
-    uint cellMarks[];
+layout(std430, binding = CHCRT_CULLING_COMPACT_CELLS) buffer CellMarks {
+    uint cellMarks[]; // CHCRT_CULLING_COMPACT_CELLS layout: marks, dispatch command and count, marked cells
 };
 
 uniform int cellsX;   // the ray bounds grid's cells per row
+uniform int cellCount; // and all of them
 uniform int cellSize; // and their edge in pixels
 
 #include "culling/hint_leaf.glsl"
@@ -76,5 +77,13 @@ void visitHintOfPixel(ivec2 pixel) {
     }
     pixels[slot] = uint(pixel.x) | (uint(pixel.y) << 16);
     ivec2 cell = pixel / cellSize;
-    cellMarks[cell.y * cellsX + cell.x] = 1u; // every writer writes the same value: no atomic needed
+    uint index = uint(cell.y * cellsX + cell.x);
+    if (atomicExchange(cellMarks[index], 1u) == 0u) { // the cell's first listed ray lists the cell
+        uint header = uint(CHCRT_CULLING_MARKED_HEADER(cellCount));
+        uint marked = atomicAdd(cellMarks[header + 3u], 1u);
+        if (marked % uint(CHCRT_CULLING_MARKED_GROUP) == 0u) {
+            atomicAdd(cellMarks[header], 1u);
+        }
+        cellMarks[uint(CHCRT_CULLING_MARKED_LIST(cellCount)) + marked] = index;
+    }
 }

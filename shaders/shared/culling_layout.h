@@ -88,9 +88,16 @@
 #define CHCRT_CULLING_COMPACT_BUFFER 5
 #define CHCRT_CULLING_COMPACT_GROUP 64
 #define CHCRT_CULLING_COMPACT_HEADER 4
-// And the binding of its cell marks (a uint per ray bounds cell: nonzero where the pass listed a ray), which let the
-// reduction after it skip the cells whose rays all ended at their hints.
+// And the binding of its cell marks, which let the reduction after it skip the cells whose rays all ended at their
+// hints. Layout (uints) for a grid of C cells: a mark per cell (nonzero where the pass listed a ray), then at
+// CHCRT_CULLING_MARKED_HEADER(C) an indirect dispatch command (work groups of CHCRT_CULLING_MARKED_GROUP cells, 1, 1)
+// and the number of cells marked, then from CHCRT_CULLING_MARKED_LIST(C) on the index of each marked cell (the pass
+// appends a cell when it marks it first), so that the reduction runs over the marked cells alone.
 #define CHCRT_CULLING_COMPACT_CELLS 6
+#define CHCRT_CULLING_MARKED_GROUP 32
+#define CHCRT_CULLING_MARKED_HEADER(cells) (cells)
+#define CHCRT_CULLING_MARKED_LIST(cells) ((cells) + 4)
+#define CHCRT_CULLING_MARKED_UINTS(cells) (2 * (cells) + 4)
 
 // Batched queries (`--chcrt-queries batched`, culling/batched_queries.h): the pairs of one round are tested by one
 // compute dispatch instead of a GL occlusion query each. Shader storage bindings: the round's input (uvec4s: per

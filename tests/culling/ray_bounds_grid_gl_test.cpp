@@ -130,6 +130,48 @@ TEST(RayBoundsGridGl, HitsShortenTheSegmentsAndFinishAnyHitRays) {
     expectSegmentsReachable(closest, rays, true, false);
 }
 
+// With the hint pass's marks (CHCRT_CULLING_COMPACT_CELLS layout: a mark per cell, a dispatch command and count, the
+// marked cells in the order they were marked) only the listed cells are reduced, each exactly as without marks, and
+// every other cell is empty — also in a grid whose previous reduction had filled them.
+TEST(RayBoundsGridGl, MarkedCellsAloneAreReducedAsWithoutMarks) {
+    auto context = createHeadlessContext(GlBackend::Egl, true);
+    RaySet rays;
+    const int cells = 9;
+    const std::vector<int> listed = {7, 2, 0}; // cells (1, 2), (2, 0), (0, 0)
+    std::vector<uint32_t> marks(CHCRT_CULLING_MARKED_UINTS(cells), 0u);
+    for (size_t k = 0; k < listed.size(); ++k) {
+        marks[size_t(listed[k])] = 1u;
+        marks[CHCRT_CULLING_MARKED_LIST(cells) + k] = uint32_t(listed[k]);
+    }
+    marks[CHCRT_CULLING_MARKED_HEADER(cells)] = 1u; // work groups
+    marks[CHCRT_CULLING_MARKED_HEADER(cells) + 1] = marks[CHCRT_CULLING_MARKED_HEADER(cells) + 2] = 1u;
+    marks[CHCRT_CULLING_MARKED_HEADER(cells) + 3] = uint32_t(listed.size());
+    const GlBuffer markBuffer = createBuffer(marks.size() * 4, marks.data(), 0);
+    for (bool anyHit : {false, true}) {
+        SCOPED_TRACE(anyHit);
+        RayBoundsGrid all(RayBoundsOptions{kCell, 4, 2}), marked(RayBoundsOptions{kCell, 4, 2});
+        all.update(rays.origin.id(), rays.direction.id(), rays.hit.id(), anyHit, kW, kH, kSceneMin, kSceneMax);
+        marked.update(rays.origin.id(), rays.direction.id(), rays.hit.id(), anyHit, kW, kH, kSceneMin, kSceneMax);
+        marked.update(rays.origin.id(), rays.direction.id(), rays.hit.id(), anyHit, kW, kH, kSceneMin, kSceneMax,
+                      markBuffer.id());
+        for (int c = 0; c < cells; ++c) {
+            const RayBoundsGrid::CellBoxes &a = all.cell(c % 3, c / 3), &m = marked.cell(c % 3, c / 3);
+            if (marks[size_t(c)] == 0u) {
+                EXPECT_EQ(m.state, 0) << "cell " << c << " is not marked";
+                continue;
+            }
+            ASSERT_NE(a.state, 0) << "cell " << c;
+            EXPECT_EQ(m.state, a.state) << "cell " << c;
+            EXPECT_EQ(m.originLower, a.originLower) << "cell " << c;
+            EXPECT_EQ(m.originUpper, a.originUpper) << "cell " << c;
+            EXPECT_EQ(m.lower, a.lower) << "cell " << c;
+            EXPECT_EQ(m.upper, a.upper) << "cell " << c;
+            EXPECT_EQ(m.directionLower, a.directionLower) << "cell " << c;
+            EXPECT_EQ(m.segmentEnd, a.segmentEnd) << "cell " << c;
+        }
+    }
+}
+
 // The bounds made from the camera (camera_ray_bounds.h) hold what the GPU reduction makes of the renderer's own
 // primary rays (the ray generation shader's arithmetic, whatever the driver does with it): per cell, every end point
 // box, the direction box and the segment range, before the grid's padding, within a sixteenth of that padding. Near and
