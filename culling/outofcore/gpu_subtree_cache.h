@@ -143,7 +143,6 @@ public:
     // of them: the prefetch tells a subtree the frame used from one it did not (subtree_prefetch.h).
     uint64_t acquireCount() const { return acquireCount_; }
     bool acquiredAfter(uint32_t subtree, uint64_t calls) const { return lastAcquired_.at(subtree) > calls; }
-    // Slots of the pool of proxy level `level` >= 1 (0 when it has none).
     GLuint nodeBuffer() const { return nodes_.buffer.id(); }
     GLuint triangleBuffer() const { return triangles_.buffer.id(); }
     GLuint vertexBuffer() const { return vertices_.buffer.id(); } // compact layout only
