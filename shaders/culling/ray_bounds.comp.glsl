@@ -1,5 +1,5 @@
 #version 450 core
-// Ray bounds grid (culling/ray_bounds_grid.h): one work group per screen cell of CHCRT_BOUNDS_CELL² pixels reduces
+// Ray bounds grid (culling/ray_bounds_grid.h): one invocation per screen cell of CHCRT_BOUNDS_CELL² pixels reduces
 // its active rays to boxes: the box of the ray origins, and the boxes of the points p_j = o + d·s_j, j = 0..P, that
 // split each ray's segment [t0, t1] into P equal pieces (the CPU makes piece k's box from the boxes of p_k and
 // p_{k+1}); or it marks the cell empty or unbounded. t0 = tmin and t1 = tmax, clipped to the scene's box (nothing
