@@ -29,8 +29,10 @@ void ChcrtTracer::updateBounds(const RayTextures& rays, GLuint hitImage, bool an
     const CullingHierarchy::Node& root = hierarchy_.nodes[0];
     rayExtent_->update(rays.origin.id(), rays.direction.id(), hitImage, anyHit, width, height, root.boxMin,
                        root.boxMax, cellMarks);
-    // The reduction bound the hit image read-only and its own program: restore what the passes expect.
+    // The reduction bound the hit image read-only, its own program and, over marked cells, their dispatch command:
+    // restore what the passes expect.
     if (hitImage != 0) glBindImageTexture(CHCRT_CULLING_IMAGE_HIT, hitImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32UI);
+    if (cellMarks != 0) hintPass_->bindDispatch();
     mode_ = Mode::None;
     ++last_.boundsUpdates;
     last_.boundsMs += millisecondsSince(start);
@@ -119,7 +121,7 @@ bool ChcrtTracer::traceBoundedGpu(const TraceRequest& request, const RayTextures
     beginPassTimer();
     cells_->setHintsVisited(hintPass);
     if (compacted) {
-        hintPass_->bindDispatch(); // the lists' build bound its own indirect commands
+        hintPass_->bindDispatch(); // the reduction and the lists' build bound their own indirect commands
         cells_->dispatchCompacted(anyHit, debugDefineOfKind(), cellsX, cell);
     } else {
         cells_->drawIndirect(anyHit, debugDefineOfKind(), width, height, cellsX, cell,

@@ -75,11 +75,8 @@ void RayBoundsGrid::reduce(GLuint origins, GLuint directions, GLuint hitImage, b
         const float empty = float(CHCRT_CULLING_CELL_EMPTY);
         glClearNamedBufferSubData(buffer_.id(), GL_R32F, 0, GLsizeiptr(bytes), GL_RED, GL_FLOAT, &empty);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, CHCRT_CULLING_COMPACT_CELLS, cellMarks);
-        GLint previous = 0; // the compact pass's command stays bound for the passes after this one
-        glGetIntegerv(GL_DISPATCH_INDIRECT_BUFFER_BINDING, &previous);
-        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, cellMarks);
+        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, cellMarks); // left bound (ray_bounds_grid.h)
         glDispatchComputeIndirect(GLintptr(CHCRT_CULLING_MARKED_HEADER(size_t(cellsX) * size_t(cellsY)) * 4));
-        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, GLuint(previous));
     } else {
         glDispatchCompute(GLuint((cellsX + 7) / 8), GLuint((cellsY + 7) / 8), 1); // an invocation per cell
     }

@@ -59,7 +59,8 @@ public:
     // hit-target layout); `anyHit` says whether rays with a hit are finished. Needs a current GL context (the first
     // call compiles the reduction shader). `cellMarks` (0: none): the hint pass's marks of the cells where a ray
     // may be left to trace and their list (CHCRT_CULLING_COMPACT_CELLS layout, hint_pass.h): only the listed cells
-    // are reduced, the others are empty without looking at their rays.
+    // are reduced, the others are empty without looking at their rays; the marks buffer is then left bound as
+    // GL_DISPATCH_INDIRECT_BUFFER (no state query on this path: a threaded GPU driver waits for its queue on one).
     void update(GLuint origins, GLuint directions, GLuint hitImage, bool anyHit, int width, int height,
                 glm::vec3 sceneMin, glm::vec3 sceneMax, GLuint cellMarks = 0);
     // The reduction alone, into buffer() (CHCRT_CULLING_BOUNDS_* layout), for passes that read the grid on the GPU
