@@ -11,6 +11,7 @@
 
 #include <cstring>
 #include <random>
+#include <span>
 #include <string>
 
 namespace chcrt {
@@ -185,6 +186,37 @@ TEST_P(GpuSubtreeCacheTest, PackedProxiesMatchTheFileUnderTheBudget) {
     EXPECT_GT(served, 100u);
     EXPECT_GT(cache.stats().proxyUploads, 0u);
     EXPECT_GT(cache.stats().evictions, 10u); // the pools hold fewer proxies than were asked for
+}
+
+// The per-trace upload limit (the viewer's streaming) with packed proxy pools: it holds while the pools fill (traces
+// left incomplete), and once a pool must evict a proxy of the current trace to place another, later traces could not
+// do better, so the limit lifts and a trace completes — although the proxies asked for never fit at once.
+TEST_P(GpuSubtreeCacheTest, UploadLimitLiftsOnceAProxyPoolHoldsOnlyThisTracesProxies) {
+    outofcore::GpuCacheOptions options{3 * slotBytes(), CachePolicy::Lru};
+    options.lodPixels = 1e9f;
+    options.maxUploadsPerTrace = 2;
+    GpuSubtreeCache cache(*store_, options);
+    cache.setView(glm::vec3(1e6f), 1000.0f);
+    std::vector<uint32_t> proxies; // subtrees served as a proxy
+    for (uint32_t s = 0; s < chs_->header().subtreeCount; ++s) {
+        if (cache.levelFor(s) != 0) proxies.push_back(s);
+    }
+    ASSERT_GT(proxies.size(), 10u);
+    int incomplete = 0, completeAt = -1;
+    for (int trace = 0; trace < int(proxies.size()) && completeAt < 0; ++trace) {
+        cache.beginTrace();
+        const uint64_t before = cache.stats().postponed;
+        for (size_t i = 0; i < proxies.size(); i += 2) { // requests of two, as a tracer's residency rounds
+            const size_t n = std::min<size_t>(2, proxies.size() - i);
+            std::vector<uint32_t> roots(n);
+            cache.acquire(std::span<const uint32_t>(proxies.data() + i, n), roots);
+        }
+        if (cache.stats().postponed == before) completeAt = trace;
+        else ++incomplete;
+    }
+    EXPECT_GT(incomplete, 0) << "the limit never held";
+    ASSERT_GE(completeAt, 0) << "no trace completed: the limit never lifted";
+    EXPECT_GT(cache.stats().evictions, 0u) << "the proxies asked for fit at once: nothing tested the lift";
 }
 
 TEST_P(GpuSubtreeCacheTest, BudgetBelowOneSlotIsAnError) {
