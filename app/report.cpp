@@ -229,6 +229,7 @@ nlohmann::json chcrtStatsJson(const ChcrtStats& s, double frames) {
                            {"decide_ms", s.decideMs},
                            {"cell_list_ms", s.cellListMs},
                            {"subtree_pass_ms", s.subtreePassMs},
+                           {"hint_pass_ms", s.hintPassMs},
                            {"bounds_culled_pieces", s.boundsCulledPieces},
                            {"bounds_culled_frustum", s.boundsCulledFrustum},
                            {"bounds_reached", s.boundsReached},

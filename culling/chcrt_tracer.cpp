@@ -239,6 +239,7 @@ ChcrtStats& ChcrtStats::operator+=(const ChcrtStats& o) {
     decideMs += o.decideMs;
     cellListMs += o.cellListMs;
     subtreePassMs += o.subtreePassMs;
+    hintPassMs += o.hintPassMs;
     pairsVisible += o.pairsVisible;
     pairsInvisible += o.pairsInvisible;
     pairsNewlyVisible += o.pairsNewlyVisible;
@@ -700,8 +701,12 @@ void ChcrtTracer::intersect(std::vector<Scheduled>& work, bool anyHit) {
     });
 }
 
-void ChcrtTracer::beginPassTimer() {
-    if (passTimersUsed_ == passTimers_.size()) passTimers_.push_back(std::make_unique<GpuTimer>());
+void ChcrtTracer::beginPassTimer(bool hintPass) {
+    if (passTimersUsed_ == passTimers_.size()) {
+        passTimers_.push_back(std::make_unique<GpuTimer>());
+        passTimerIsHint_.push_back(false);
+    }
+    passTimerIsHint_[passTimersUsed_] = hintPass;
     passTimers_[passTimersUsed_]->begin();
 }
 
@@ -710,7 +715,11 @@ void ChcrtTracer::endPassTimer() {
 }
 
 void ChcrtTracer::readPassTimers() {
-    for (size_t i = 0; i < passTimersUsed_; ++i) last_.subtreePassMs += passTimers_[i]->milliseconds();
+    for (size_t i = 0; i < passTimersUsed_; ++i) {
+        const double ms = passTimers_[i]->milliseconds();
+        last_.subtreePassMs += ms;
+        if (passTimerIsHint_[i]) last_.hintPassMs += ms;
+    }
     passTimersUsed_ = 0;
 }
 

@@ -200,6 +200,9 @@ struct ChcrtStats {
     // GPU time of the subtree passes (per-tile batches or cell-list draws, with their masks; GL timer queries), for
     // the cost of a traversal step in a subtree pass against one in a pure pass (chcrt bench --steps).
     double subtreePassMs = 0;
+    // Of subtreePassMs, the hint passes' (hintPass): what is left is the traversal of the cell lists, so a reader sees
+    // what the lists cost apart from the hint visits (culling/README.md, "The ceiling of the passes").
+    double hintPassMs = 0;
     uint64_t pairsVisible = 0;       // visible front after the trace
     uint64_t pairsInvisible = 0;     // invisible front after the trace
     uint64_t pairsNewlyVisible = 0;  // terminal pairs found visible in Phase 3
@@ -404,8 +407,9 @@ private:
     void intersectCells(std::vector<Scheduled>& work, bool anyHit, const RayTextures& rays, HitTargets& hits,
                         bool firstRound, bool compacted, int width, int height);
     GLuint maskFramebufferFor(GLuint depthTexture);
-    // GL timer queries around the subtree passes of a trace (beginPassTimer/endPassTimer), read once it has finished.
-    void beginPassTimer();
+    // GL timer queries around the subtree passes of a trace (beginPassTimer/endPassTimer), read once it has finished;
+    // `hintPass`: the timer also counts as the hint pass's (ChcrtStats::hintPassMs).
+    void beginPassTimer(bool hintPass = false);
     void endPassTimer();
     void readPassTimers();
     // Whether traces use hit hints: hitHints with bounds-decided cell lists on the in-core BVH, or out of core with
@@ -492,6 +496,7 @@ private:
     std::unique_ptr<HintPass> hintPass_;          // options_.hintPass with hints available
     std::vector<GLuint> queryPool_;
     std::vector<std::unique_ptr<GpuTimer>> passTimers_; // the first passTimersUsed_ hold this trace's passes
+    std::vector<bool> passTimerIsHint_;                 // per timer: it timed a hint pass
     size_t passTimersUsed_ = 0;
     size_t queriesInUse_ = 0;
     std::deque<PendingQuery> queue_;

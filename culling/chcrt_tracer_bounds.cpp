@@ -161,7 +161,7 @@ bool ChcrtTracer::startHints(const TraceRequest& request, const RayTextures& ray
     if (!hintPass) return false;
     warm = warm && hintPassRan_;
     hintPassRan_ = true;
-    beginPassTimer();
+    beginPassTimer(true);
     source_->bind(); // out of core: the cache's buffers (the renderer bound the in-core scene's, if any)
     hintPass_->run(request.anyHit, width, height, maskFramebufferFor(rays.active.id()),
                    debugKind_ == ChcrtDebugImage::Cost, validateHints(request));

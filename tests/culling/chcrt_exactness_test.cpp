@@ -170,8 +170,12 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
             // The hint pass ran on every culled any-hit trace and left some rays (not all) to the cell lists.
             EXPECT_GT(chcrt.totalStats().hintPasses, 0u);
             EXPECT_GT(chcrt.totalStats().hintRaysLeft, 0u);
+            // Their GPU time is counted apart, as a part of the subtree passes'.
+            EXPECT_GT(chcrt.totalStats().hintPassMs, 0.0);
+            EXPECT_LT(chcrt.totalStats().hintPassMs, chcrt.totalStats().subtreePassMs);
         } else {
             EXPECT_EQ(chcrt.totalStats().hintPasses, 0u);
+            EXPECT_EQ(chcrt.totalStats().hintPassMs, 0.0);
         }
     } else {
         EXPECT_EQ(chcrt.hintTexture(shadow), 0u);
