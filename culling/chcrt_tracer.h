@@ -197,8 +197,9 @@ struct ChcrtStats {
     double boundsMs = 0;               // time of the ray bounds reductions (inside the phases' times)
     double decideMs = 0;               // BoundsOnly: CPU time deciding pairs against the grid (inside the phases)
     double cellListMs = 0;             // BoundsOnly: CPU time building and uploading cell lists (inside the phases)
-    // GPU time of the subtree passes (per-tile batches or cell-list draws, with their masks; GL timer queries), for
-    // the cost of a traversal step in a subtree pass against one in a pure pass (chcrt bench --steps).
+    // GPU time of the subtree passes (per-tile batches or cell-list draws, with their masks) and of the hint pass (GL
+    // timer queries), for the cost of a traversal step in a subtree pass against one in a pure pass (chcrt bench
+    // --steps, which counts the hint visits' steps too).
     double subtreePassMs = 0;
     // Of subtreePassMs, the hint passes' (hintPass): what is left is the traversal of the cell lists, so a reader sees
     // what the lists cost apart from the hint visits (culling/README.md, "The ceiling of the passes").
