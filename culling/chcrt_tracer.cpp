@@ -702,23 +702,21 @@ void ChcrtTracer::intersect(std::vector<Scheduled>& work, bool anyHit) {
 }
 
 void ChcrtTracer::beginPassTimer(bool hintPass) {
-    if (passTimersUsed_ == passTimers_.size()) {
-        passTimers_.push_back(std::make_unique<GpuTimer>());
-        passTimerIsHint_.push_back(false);
-    }
-    passTimerIsHint_[passTimersUsed_] = hintPass;
-    passTimers_[passTimersUsed_]->begin();
+    if (passTimersUsed_ == passTimers_.size()) passTimers_.push_back({std::make_unique<GpuTimer>()});
+    PassTimer& pass = passTimers_[passTimersUsed_];
+    pass.hintPass = hintPass;
+    pass.timer->begin();
 }
 
 void ChcrtTracer::endPassTimer() {
-    passTimers_[passTimersUsed_++]->end();
+    passTimers_[passTimersUsed_++].timer->end();
 }
 
 void ChcrtTracer::readPassTimers() {
     for (size_t i = 0; i < passTimersUsed_; ++i) {
-        const double ms = passTimers_[i]->milliseconds();
+        const double ms = passTimers_[i].timer->milliseconds();
         last_.subtreePassMs += ms;
-        if (passTimerIsHint_[i]) last_.hintPassMs += ms;
+        if (passTimers_[i].hintPass) last_.hintPassMs += ms;
     }
     passTimersUsed_ = 0;
 }

@@ -496,8 +496,11 @@ private:
     std::unique_ptr<GpuCellLists> gpuLists_;      // BoundsGpu's cell lists
     std::unique_ptr<HintPass> hintPass_;          // options_.hintPass with hints available
     std::vector<GLuint> queryPool_;
-    std::vector<std::unique_ptr<GpuTimer>> passTimers_; // the first passTimersUsed_ hold this trace's passes
-    std::vector<bool> passTimerIsHint_;                 // per timer: it timed a hint pass
+    struct PassTimer {
+        std::unique_ptr<GpuTimer> timer;
+        bool hintPass = false; // it timed a hint pass
+    };
+    std::vector<PassTimer> passTimers_; // the first passTimersUsed_ hold this trace's passes
     size_t passTimersUsed_ = 0;
     size_t queriesInUse_ = 0;
     std::deque<PendingQuery> queue_;
