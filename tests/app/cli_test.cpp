@@ -200,6 +200,8 @@ TEST_F(CliTest, BenchStepsOfOneSubtreeChcrtEqualPureBvhSteps) {
                     pure["ms_median"].get<double>(), 1e-6 * pure["ms_median"].get<double>());
         const double subtreeMs = culled["chcrt"]["sum"]["subtree_pass_ms"].get<double>();
         EXPECT_GT(subtreeMs, 0.0);
+        // Hints off: no hint pass, so none of the subtree passes' time is the hint pass's.
+        EXPECT_EQ(culled["chcrt"]["sum"]["hint_pass_ms"].get<double>(), 0.0);
         EXPECT_LE(subtreeMs, culled["chcrt"]["sum"]["phase1_ms"].get<double>() + culled["chcrt"]["sum"]["phase2_ms"].get<double>() +
                                  culled["chcrt"]["sum"]["phase3_ms"].get<double>() + 1.0);
         EXPECT_NEAR(culled["subtree_ms_per_step"].get<double>() * steps, subtreeMs / traces, 1e-6 * subtreeMs);
