@@ -68,6 +68,10 @@ uint32_t AdaptiveChoice::probeInterval(uint32_t arm) const {
 
 bool AdaptiveChoice::affordable(uint32_t arm, uint32_t set) const {
     if (arm == kPureArm) return true; // the ledger's reference: never beyond itself
+    // The configured culling, once measured, is probed when its interval says (it needs no cold trace): with the
+    // ledger, a few measurements slowed by another process, booked as excess, kept a culling that wins 2x out of a
+    // whole run, its estimate frozen at those values.
+    if (arm == 1 && measured(1)) return true;
     const double base = ledgerBase(set);
     // The expected excess over the pure pass (in pure traces) and the traces it takes: a measured arm, one trace at
     // its estimate; a further height, its cold trace and a measured one like the best measured culling arm's.
@@ -125,6 +129,9 @@ uint32_t AdaptiveChoice::choose(uint32_t set) const {
 
 void AdaptiveChoice::report(uint32_t arm, double ms, bool counted, uint32_t set) {
     Arm& ran = arms_[arm];
+    // The configured culling's traces up to its first measurement are its start-up, which every run that tries
+    // culling pays once (compiles, and with hints a cold trace per ray set), not a probe the ledger must budget.
+    const bool startUp = arm == 1 && !measured(1);
     if (arm == kPureArm) {
         if (counted && ran.runs >= kWarmUpTraces) {
             pureBySet_[set].add(ms);
@@ -134,11 +141,12 @@ void AdaptiveChoice::report(uint32_t arm, double ms, bool counted, uint32_t set)
         ran.relative.add(ms / baseline(set));
     }
     if (arm != kPureArm) ++cullingTraces_;
-    // The ledger books every trace against the pure pass's time on its set (once there is one).
+    // The ledger books every trace against the pure pass's time on its set (once there is one); the culling's
+    // start-up adds no excess.
     const double base = ledgerBase(set);
     if (base > 0.0) {
         pureEquivalentMs_ += base;
-        if (arm != kPureArm) excessMs_ += ms - base;
+        if (arm != kPureArm && !startUp) excessMs_ += ms - base;
     }
     ++ran.runs;
     ran.since = 0;

@@ -30,11 +30,18 @@
 // probes are mostly first traces — cold ones (1.2-1.6x of the pure pass, building another height's hierarchy) and
 // re-measurements — that no interval spaces out. Every trace of a culling arm, counted or not, books its time beyond
 // the pure pass's on its set (a winning culling books savings); exploring a further height and probing a losing
-// culling arm are allowed only while the booked excess, with the trace's expected excess, stays within the budget of
-// the pure pass's time for all traces so far. Exempt: the configured culling's first measurement (without it culling
-// would never start) and the second measurement of an arm measured once (one slowed trace must not keep a winning
-// culling out). (City and interior far primary rays, 32 traces per process: 0.94x and 0.92x of pure
-// BVH with further heights explored after 16 traces; docs/benchmarks.md, 2026-12-05.)
+// further height are allowed only while the booked excess, with the trace's expected excess, stays within the budget
+// of the pure pass's time for all traces so far. Exempt: the configured culling's first measurement (without it
+// culling would never start) and the second measurement of an arm measured once (one slowed trace must not keep a
+// winning culling out). (City and interior far primary rays, 32 traces per process: 0.94x and 0.92x of pure BVH with
+// further heights explored after 16 traces; docs/benchmarks.md, 2026-12-05.) The configured culling itself is left to
+// the ledger for neither: its start-up (its traces up to its first measurement, which a run pays once) books no
+// excess, and once measured it is probed when its interval says (it has no cold trace left). With both in the ledger,
+// a shadow kind's 16 ray sets, each with a first culled trace before it has hints, put it ~30 ms in excess before
+// culling was measured at all, and measurements slowed by another process (a culling at 0.5x of the pure pass counted
+// as 1.05-1.2x) then froze the estimate: no probe was affordable for the rest of a 512-trace run (interior near
+// shadow rays, 256², 16 spp: 0.99-1.00x of pure BVH in two processes of eight, `chcrt-noadapt` 2.1x; with the
+// start-up alone left out 0.92x and 1.19x in two of twelve; culling/README.md, "Adaptive choice").
 #include <array>
 #include <cstdint>
 #include <map>
