@@ -108,6 +108,15 @@ uint32_t AdaptiveChoice::choose(uint32_t set) const {
             return a;
         }
     }
+    // A probe that measured a win is followed by another measurement at once, until the arm takes over or a
+    // measurement says it would not: noise only adds time, so a win is credible, while the estimate (a median) still
+    // holds the values of a slowed period, which probes at the arm's interval would replace only one by one.
+    for (uint32_t a = 1; a < arms_.size(); ++a) {
+        if (a != winner && arms_[a].relative.count() >= 2 && affordable(a, set) &&
+            arms_[a].relative.latest() < (1.0 - kSwitchMargin) * relativeCost(winner)) {
+            return a;
+        }
+    }
     // Further arms only while culling comes close to the pure pass, and only once the ledger affords them: where
     // culling wins, as soon as its savings cover a cold trace; where it nearly ties, once the run is long enough.
     const double culling = bestCullingCost();

@@ -17,7 +17,8 @@
 // the configured culling (arm 1); the other culling arms only while some culling arm is within kExploreMargin of the
 // pure pass and the probe ledger (below) affords their first traces, so that neither a short run nor a view where
 // culling loses spends itself exploring. Afterwards the arm with the lowest median of its last five relative costs
-// runs (an arm measured once within kRemeasureBelow of it is measured again at once); a culling arm takes over once it
+// runs (an arm measured once within kRemeasureBelow of it is measured again at once, and so is an arm whose latest
+// probe measured a win, until it takes over or a measurement says it would not); a culling arm takes over once it
 // is kSwitchMargin below it on at least two measurements, the pure pass once it is below it at all; and each other measured
 // arm is re-measured after an interval that keeps the expected cost of all probes under `probeBudget` of the trace
 // time: an arm r times as slow as the best costs (r - 1) of a trace per probe, so with k losing arms it waits
@@ -59,6 +60,7 @@ public:
     // machine only ever adds, and with two values a median is their mean, which one slowed trace still dominates.
     double estimate() const;
     double lowest() const; // of the last five
+    double latest() const { return count_ == 0 ? 0.0 : ms_[(count_ - 1) % ms_.size()]; }
 
 private:
     std::array<double, 5> ms_{};

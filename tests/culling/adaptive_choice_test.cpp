@@ -91,6 +91,24 @@ TEST(AdaptiveChoice, OneSlowedCullingTraceDoesNotKeepAWinningCullingOut) {
     EXPECT_EQ(slow.next(), AdaptiveChoice::kPureArm);
 }
 
+TEST(AdaptiveChoice, AProbeThatWinsIsMeasuredAgainAtOnce) {
+    // Culling at 0.5x of the pure pass runs; a slowed period makes three of its traces 1.3x, and the pure pass takes
+    // over (the median of the last five says 1.3x). Once the period is over, the first probe (after the interval
+    // for 1.3x: 0.3 / 0.015 = 20 traces) measures 0.5x, and the arm is measured again at once until it takes over;
+    // probed at its interval instead, each probe replaced one slowed value, and culling ran again after ~60 traces.
+    AdaptiveChoice choice(2, 8, 0.015);
+    runArms(choice, 20, {10.0, 5.0});
+    ASSERT_EQ(choice.best(), 1u);
+    for (int i = 0; i < 3; ++i) {
+        const uint32_t arm = choice.next();
+        choice.report(arm, arm == 0 ? 10.0 : 13.0, true);
+    }
+    ASSERT_EQ(choice.best(), AdaptiveChoice::kPureArm);
+    int traces = 0;
+    while (choice.best() != 1u && traces < 200) traces += int(runArms(choice, 1, {10.0, 5.0}) > 0.0);
+    EXPECT_LE(traces, 24);
+}
+
 TEST(AdaptiveChoice, AWinnerIsConfirmedAtOnceAndTakesOverOnTwoMeasurements) {
     AdaptiveChoice choice(2, 8);
     runArms(choice, 7, {10.0, 5.0}); // pure four times, culling thrice (measured once)
