@@ -37,12 +37,9 @@
 // winning culling out). (City and interior far primary rays, 32 traces per process: 0.94x and 0.92x of pure BVH with
 // further heights explored after 16 traces; docs/benchmarks.md, 2026-12-05.) The configured culling itself is left to
 // the ledger for neither: its start-up (its traces up to its first measurement, which a run pays once) books no
-// excess, and once measured it is probed when its interval says (it has no cold trace left). With both in the ledger,
-// a shadow kind's 16 ray sets, each with a first culled trace before it has hints, put it ~30 ms in excess before
-// culling was measured at all, and measurements slowed by another process (a culling at 0.5x of the pure pass counted
-// as 1.05-1.2x) then froze the estimate: no probe was affordable for the rest of a 512-trace run (interior near
-// shadow rays, 256², 16 spp: 0.99-1.00x of pure BVH in two processes of eight, `chcrt-noadapt` 2.1x; with the
-// start-up alone left out 0.92x and 1.19x in two of twelve; culling/README.md, "Adaptive choice").
+// excess, and once measured it is probed when its interval says (it has no cold trace left); booked, a shadow kind's
+// 16 hint-less first traces and a few slowed measurements kept a culling that wins 2x out of whole runs
+// (culling/README.md, "Adaptive choice").
 #include <array>
 #include <cstdint>
 #include <map>
