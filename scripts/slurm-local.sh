@@ -81,12 +81,16 @@ EOF
 
 start_munge() {
   if pgrep -x munged >/dev/null; then return 0; fi
+  # The package's /etc/munge can be missing on a machine whose /etc was not restored with its packages; munged
+  # refuses a key directory that others can write, so it is made owner-only.
+  mkdir -p /etc/munge
+  chmod 700 /etc/munge
   if [[ ! -s /etc/munge/munge.key ]]; then
     if command -v mungekey >/dev/null; then mungekey --create --keyfile=/etc/munge/munge.key; else
       dd if=/dev/urandom of=/etc/munge/munge.key bs=1 count=1024 status=none
     fi
   fi
-  chown munge:munge /etc/munge/munge.key 2>/dev/null || true
+  chown munge:munge /etc/munge /etc/munge/munge.key 2>/dev/null || true
   chmod 400 /etc/munge/munge.key
   mkdir -p /run/munge /var/log/munge /var/lib/munge
   chown munge:munge /run/munge /var/log/munge /var/lib/munge 2>/dev/null || true
