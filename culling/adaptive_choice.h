@@ -27,6 +27,10 @@
 // to the lowest of the pure pass's last five times on its set: noise only adds, and a baseline raised by one slow
 // pure trace made culling that lost look like a win.
 //
+// Seeded ray sets: a culling trace of a set without hit hints is cold and not counted, so an arm that does not run
+// traces such a set only while fewer than kSeedSets sets of the kind have hints (RaySetHints, from the tracer); the
+// running arm traces the others.
+//
 // The probe ledger: the intervals above bound probes by estimates, but where culling nearly ties, a short run's
 // probes are mostly first traces — cold ones (1.2-1.6x of the pure pass, building another height's hierarchy) and
 // re-measurements — that no interval spaces out. Every trace of a culling arm, counted or not, books its time beyond
@@ -64,6 +68,12 @@ private:
     uint32_t count_ = 0;
 };
 
+// What the tracer knows of the hit hints of a trace's ray set (culling/README.md "Hit hints"; AdaptiveChoice::kSeedSets).
+struct RaySetHints {
+    bool set = true;     // the set has hints (or its kind uses none): a culling trace of it can be counted
+    uint32_t ofKind = 0; // sets of the kind that have hints
+};
+
 class AdaptiveChoice {
 public:
     static constexpr uint32_t kPureArm = 0;
@@ -95,12 +105,18 @@ public:
     // What the ledger expects the first (cold) trace of a culling arm not yet measured to cost relative to the pure
     // pass: cold traces measured 1.2-1.6x (docs/benchmarks.md, 2026-12-05 · 3652eba).
     static constexpr double kColdTraceCost = 1.5;
+    // Ray sets a culling arm that does not run traces while they have no hit hints (next's `hints`): such a trace is
+    // cold (not counted) and only seeds its set for a measurement a frame later, so only this many sets of the kind
+    // are seeded — the first kWarmUpTraces culling traces compile, and so does the first hint pass, whence one more —
+    // and the others run the pure pass until culling takes over. Seeding every set cost the castle's street view (20
+    // AO ray sets, one view, culling losing) a cold culling trace per set: 0.96x and 0.99x of pure BVH.
+    static constexpr uint32_t kSeedSets = kWarmUpTraces + 1;
 
     // `arms` >= 2: the pure pass and at least one culling configuration.
     explicit AdaptiveChoice(uint32_t arms = 2, uint32_t probeInterval = 8, double probeBudget = kAllowedProbeCost);
 
     // The arm the next trace, of ray set `set`, should use.
-    uint32_t next(uint32_t set = 0) const;
+    uint32_t next(uint32_t set = 0, RaySetHints hints = {}) const;
     // Report a trace of `arm` on ray set `set` (e.g. the sample index). `counted` false: not representative (a
     // culling trace that started from cold visibility fronts, a debug trace); the pure arm's first trace is never
     // counted.

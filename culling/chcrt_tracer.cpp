@@ -485,11 +485,28 @@ void ChcrtTracer::restoreHints(const HintSnapshot& snapshot) {
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
 }
 
+uint32_t ChcrtTracer::hintSetsAt(int width, int height) const {
+    const uint64_t bytesPerSet = 4 * uint64_t(width) * uint64_t(height) * kHintKinds;
+    return uint32_t(std::clamp<uint64_t>(options_.hintMemoryBytes / bytesPerSet, 1, UINT32_MAX));
+}
+
+RaySetHints ChcrtTracer::setHints(const TraceRequest& request, int width, int height) const {
+    RaySetHints hints;
+    if (!hintsAvailable() || (!request.anyHit && !options_.closestHitHints)) return hints;
+    const uint64_t kind = rayKind(request) << 32, own = hintKey(request, hintSetsAt(width, height));
+    hints.set = false;
+    for (auto it = hintStore_->lower_bound(kind); it != hintStore_->end() && (it->first >> 32) == (kind >> 32); ++it) {
+        if (textureExtent(it->second.texture.id()) != TextureExtent{width, height}) continue;
+        ++hints.ofKind;
+        hints.set = hints.set || it->first == own;
+    }
+    return hints;
+}
+
 GLuint ChcrtTracer::hintImageFor(const TraceRequest& request, int width, int height, bool& fresh) {
     fresh = false;
     if (!hintsAvailable() || (!request.anyHit && !options_.closestHitHints)) return 0;
-    const uint64_t bytesPerSet = 4 * uint64_t(width) * uint64_t(height) * kHintKinds;
-    hintSets_ = uint32_t(std::clamp<uint64_t>(options_.hintMemoryBytes / bytesPerSet, 1, UINT32_MAX));
+    hintSets_ = hintSetsAt(width, height);
     HintImage& image = (*hintStore_)[hintKey(request, hintSets_)];
     GlTexture& hint = image.texture;
     // Hints of slots replaced since are dropped by the hint pass (shaders/culling/hint_leaf.glsl), which compares
@@ -924,7 +941,7 @@ void ChcrtTracer::trace(const TraceRequest& request, const RayTextures& rays, Hi
     AdaptiveChoice& choice =
         adaptive_.try_emplace(adaptiveKey(request), arms, options_.adaptiveProbeInterval, options_.adaptiveProbeBudget)
             .first->second;
-    const uint32_t arm = canFallBack ? choice.next(uint32_t(request.sampleIndex)) : 1;
+    const uint32_t arm = canFallBack ? choice.next(uint32_t(request.sampleIndex), setHints(request, width, height)) : 1;
     const auto timed = [this](uint32_t ran, double ms) {
         return options_.adaptiveTiming ? options_.adaptiveTiming(ran, ms) : ms;
     };

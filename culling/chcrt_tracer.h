@@ -423,6 +423,11 @@ private:
     // since the image's epoch; an image 2^31 replacements old is emptied here instead (fresh again). 0 when the ray
     // set has none (hints off, or closest-hit rays without closestHitHints).
     GLuint hintImageFor(const TraceRequest& request, int width, int height, bool& fresh);
+    // Hint images per ray kind at the traced size (within ChcrtOptions::hintMemoryBytes; sample indices beyond share).
+    uint32_t hintSetsAt(int width, int height) const;
+    // For the adaptive choice: whether the request's ray set has hints of the traced size (true where its kind uses
+    // none), and how many sets of its kind have.
+    RaySetHints setHints(const TraceRequest& request, int width, int height) const;
     // The start of a BoundsOnly / BoundsGpu trace's hints (out of core: of a trace intersected by cells): binds the
     // ray set's hint image and runs the hint pass when it is due (options_.hintPass, hints from an earlier trace, the debug image allows it, and hintPassDue). Clears
     // `warm` for a trace that is no sample of culling's cost: its ray set had no hints yet, or it is this tracer's

@@ -228,6 +228,11 @@ TEST(AdaptiveChoice, TheLedgerKeepsProbesWhereCullingTiesWithinTheBudget) {
     EXPECT_DOUBLE_EQ(choice.pureEquivalentMs(), 10.0 * (4000 - 2)); // every trace but the pure pass's warm-up
 }
 
+// The RaySetHints the tracer reports for `set` when the sets marked in `hinted` have hints.
+RaySetHints hintsOf(const std::vector<bool>& hinted, uint32_t set) {
+    return {hinted[set], uint32_t(std::count(hinted.begin(), hinted.end(), true))};
+}
+
 // A shadow kind at 16 spp through 8 frames x 4 runs (the interior's near path): 512 traces of 16 ray sets, pure
 // passes of 5 ms, culling 2.5 ms (other heights 2.6 ms) on a set that has hints. Each set's first culled trace has
 // none (6.5 ms; the very first 17 ms, compiling) and is reported not counted; the first measured culling traces are
@@ -240,7 +245,7 @@ int runSlowedShadowKind(const std::vector<double>& slowed, double& total) {
     total = 0.0;
     for (int i = 0; i < 512; ++i) {
         const uint32_t set = uint32_t(i % 16);
-        const uint32_t arm = choice.next(set);
+        const uint32_t arm = choice.next(set, hintsOf(hinted, set));
         double ms = 5.0;
         bool counted = true;
         if (arm != AdaptiveChoice::kPureArm) {
@@ -262,16 +267,67 @@ int runSlowedShadowKind(const std::vector<double>& slowed, double& total) {
 
 TEST(AdaptiveChoice, SlowedFirstMeasurementsAfterACostlyStartDoNotKeepCullingOut) {
     // Two measurements slowed to 1.23x and 1.05x after the start-up (seen on the interior's near shadow rays): with
-    // the start-up booked in the ledger and the configured culling's probes left to it, no probe was affordable
-    // again and the pure pass ran the rest of the run (47 of 512 traces culled).
+    // every set seeded, the start-up booked in the ledger and the configured culling's probes left to it, no probe
+    // was affordable again and the pure pass ran the rest of the run (47 of 512 traces culled). With kSeedSets the
+    // start-up is three cold traces, and culling takes over again (465 culled).
     double total = 0.0;
     EXPECT_GE(runSlowedShadowKind({1.23, 1.05}, total), 512 * 3 / 4);
     EXPECT_LE(total, 0.65 * 5.0 * 512);
     // Eight slowed over two frames of a loaded machine (culling's estimate then stands above the pure pass's):
-    // culling takes over again within the run, which needs both the start-up left out of the ledger and the
-    // configured culling probed by its interval alone (each alone: 88 or 285 of 512 traces culled).
-    EXPECT_GE(runSlowedShadowKind({1.41, 0.85, 1.67, 1.0, 1.85, 1.2, 1.2, 1.2}, total), 512 * 5 / 8);
+    // culling takes over again within the run (317 of 512 traced; 358 with every set seeded at the start, whose
+    // probes need not wait for a seeded set), which needs both the start-up left out of the ledger and the
+    // configured culling probed by its interval alone (each alone: 105 or 88 culled).
+    EXPECT_GE(runSlowedShadowKind({1.41, 0.85, 1.67, 1.0, 1.85, 1.2, 1.2, 1.2}, total), 512 * 3 / 5);
     EXPECT_LE(total, 0.75 * 5.0 * 512);
+}
+
+// An AO kind of 20 ray sets over `views` traces of each set (the castle's street view, 8 runs after a warm-up):
+// pure passes of 10 ms, culling `culling` times that on a set that has hints, 1.6x on a set's first culled trace
+// (none yet; the very first 3x, compiling), reported not counted. `reportHints` false: the choice is not told which
+// sets have hints (every set may be seeded). Returns the culled traces and the cold ones; `total` the time.
+std::pair<int, int> runAoKind(double culling, int views, bool reportHints, double& total) {
+    AdaptiveChoice choice(4, 8);
+    std::vector<bool> hinted(20, false);
+    int culled = 0, cold = 0;
+    total = 0.0;
+    for (int i = 0; i < 20 * views; ++i) {
+        const uint32_t set = uint32_t(i % 20);
+        const uint32_t arm = choice.next(set, reportHints ? hintsOf(hinted, set) : RaySetHints{});
+        double ms = 10.0;
+        bool counted = true;
+        if (arm != AdaptiveChoice::kPureArm) {
+            ++culled;
+            if (!hinted[set]) {
+                ms = cold++ == 0 ? 30.0 : 16.0;
+                counted = false;
+                hinted[set] = true;
+            } else {
+                ms = culling * 10.0;
+            }
+        }
+        choice.report(arm, ms, counted, set);
+        total += ms;
+    }
+    return {culled, cold};
+}
+
+TEST(AdaptiveChoice, ALosingCullingSeedsFewRaySetsWithHints) {
+    // Culling at 1.1x: kSeedSets cold traces, then measurements and probes on the seeded sets only; the run costs
+    // the probe budget and the seeds over pure passes (2.9 % in all). Told nothing of hints, the choice seeds every
+    // set and costs 9.6 % more than pure passes.
+    double total = 0.0;
+    const auto [culled, cold] = runAoKind(1.1, 9, true, total);
+    EXPECT_EQ(cold, int(AdaptiveChoice::kSeedSets));
+    EXPECT_LE(total, 1.03 * 10.0 * 180 + 20.0 + 2 * 6.0);
+    EXPECT_LE(culled, 180 / 7); // the seeds, two measurements, then a probe of each culling arm per view
+    double unseeded = 0.0;
+    EXPECT_EQ(runAoKind(1.1, 9, false, unseeded).second, 20); // control: every set seeded
+    EXPECT_GT(unseeded, 1.05 * 10.0 * 180);
+    // Culling at 0.5x: measured in the third view, it takes over and seeds every other set then.
+    const auto [culledWinning, coldWinning] = runAoKind(0.5, 9, true, total);
+    EXPECT_EQ(coldWinning, 20);
+    EXPECT_GE(culledWinning, 180 - 20 - 17 - 8);
+    EXPECT_LE(total, 0.75 * 10.0 * 180);
 }
 
 TEST(AdaptiveChoice, CostsAreComparedOnTheSameRaySet) {

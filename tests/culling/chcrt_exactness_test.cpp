@@ -746,6 +746,44 @@ TEST_F(RenderTest, TheAdaptiveHeightsTracersShareTheirPassPrograms) {
     }
 }
 
+// The adaptive choice is told which shadow ray sets have hit hints: where culling loses, only AdaptiveChoice::kSeedSets
+// sets get a (cold) culled trace and its hints, the others are traced by the pure pass; where culling wins, every set
+// is culled. Eight sets over six views, on fixed times.
+TEST_F(RenderTest, ALosingCullingSeedsOnlyAFewRaySetsWithHints) {
+    RenderSettings settings;
+    settings.width = 64;
+    settings.height = 48;
+    Renderer& renderer = makeProceduralRenderer("city:60k", settings);
+    const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
+    FrameStats stats;
+    renderer.renderGBuffer(camera, stats);
+    for (const double cullingMs : {11.0, 9.0}) {
+        SCOPED_TRACE(cullingMs > 10.0 ? "culling loses" : "culling wins");
+        ChcrtOptions options = recommendedChcrtOptions(RendererTraits{.software = true});
+        ASSERT_TRUE(options.hitHints);
+        options.adaptiveTiming = [cullingMs](uint32_t arm, double) { return arm == 0 ? 10.0 : cullingMs; };
+        ChcrtTracer chcrt(bvh_, options);
+        renderer.useTracer(&chcrt);
+        int culled = 0;
+        for (int view = 0; view < 6; ++view) {
+            for (int sample = 0; sample < 8; ++sample) {
+                renderer.generateRayPass(camera, RayType::Shadow, sample, stats);
+                renderer.traceRayPass(camera, RayType::Shadow, sample, stats);
+                culled += chcrt.lastStats().fallbackTraces == 0;
+            }
+        }
+        renderer.useTracer(nullptr);
+        if (cullingMs > 10.0) {
+            EXPECT_EQ(chcrt.hintImageCount(), size_t(AdaptiveChoice::kSeedSets));
+            EXPECT_GT(culled, int(AdaptiveChoice::kSeedSets)) << "measured on the seeded sets";
+            EXPECT_LE(culled, 48 / 4);
+        } else {
+            EXPECT_EQ(chcrt.hintImageCount(), 8u);
+            EXPECT_GE(culled, 48 / 2);
+        }
+    }
+}
+
 // The GPU configuration's list decisions (bounds-gpu) of several termination heights link one program: it depends on
 // the pieces per cell, not on the hierarchy, so the adaptive choice's heights take it from their shared cache instead
 // of each linking it when their tracer is made (a GPU driver compiles at link time).
