@@ -91,9 +91,9 @@ uint32_t AdaptiveChoice::next(uint32_t set, RaySetHints hints) const {
     if (arm == kPureArm || (measured(arm) && arm == best())) return arm;
     // A trace that measures an arm counts only against the pure pass on the same set: without that baseline, the
     // running arm traces the set (the pure pass is never worse than a culling arm that still has to prove itself).
-    // Nor does a cold trace count: once kSeedSets sets have hints, an arm that does not run is measured on those
-    // (a probe that measured a win, allowed the cold sets, ran a cold trace on each set up to the next seeded one:
-    // the plant's near AO rays, 17 in a row).
+    // Nor does a cold trace count: once kSeedSets sets have hints, an arm that does not run is measured on those.
+    // This holds for a probe that measured a win too: let onto cold sets, its re-measurements ran a cold trace on
+    // each set up to the next seeded one (the plant's near AO rays, 17 in a row).
     if (baseline(set) <= 0.0) return best();
     if (!hints.set && hints.ofKind >= kSeedSets) return best();
     return arm;

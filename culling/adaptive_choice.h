@@ -68,7 +68,8 @@ private:
     uint32_t count_ = 0;
 };
 
-// What the tracer knows of the hit hints of a trace's ray set (culling/README.md "Hit hints"; AdaptiveChoice::kSeedSets).
+// What the tracer knows of the hit hints of a trace's ray set (culling/README.md "Hit hints";
+// AdaptiveChoice::kSeedSets).
 struct RaySetHints {
     bool set = true;     // the set has hints (or its kind uses none): a culling trace of it can be counted
     uint32_t ofKind = 0; // sets of the kind that have hints
@@ -107,9 +108,9 @@ public:
     static constexpr double kColdTraceCost = 1.5;
     // Ray sets a culling arm that does not run traces while they have no hit hints (next's `hints`): such a trace is
     // cold (not counted) and only seeds its set for a measurement a frame later, so only this many sets of the kind
-    // are seeded — the first kWarmUpTraces culling traces compile, and so does the first hint pass, whence one more —
-    // and the others run the pure pass until culling takes over. Seeding every set cost the castle's street view (20
-    // AO ray sets, one view, culling losing) a cold culling trace per set: 0.96x and 0.99x of pure BVH.
+    // are seeded (the first kWarmUpTraces culling traces compile, and so does the first hint pass: one more), and
+    // the running arm traces the others. Seeding every set cost the castle's street view (20 AO ray sets, one view,
+    // culling losing) a cold culling trace per set: 0.96x and 0.99x of pure BVH.
     static constexpr uint32_t kSeedSets = kWarmUpTraces + 1;
 
     // `arms` >= 2: the pure pass and at least one culling configuration.
