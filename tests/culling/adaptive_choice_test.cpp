@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -228,41 +229,53 @@ TEST(AdaptiveChoice, TheLedgerKeepsProbesWhereCullingTiesWithinTheBudget) {
     EXPECT_DOUBLE_EQ(choice.pureEquivalentMs(), 10.0 * (4000 - 2)); // every trace but the pure pass's warm-up
 }
 
-// The RaySetHints the tracer reports for `set` when the sets marked in `hinted` have hints.
-RaySetHints hintsOf(const std::vector<bool>& hinted, uint32_t set) {
-    return {hinted[set], uint32_t(std::count(hinted.begin(), hinted.end(), true))};
-}
-
-// A shadow kind at 16 spp through 8 frames x 4 runs (the interior's near path): 512 traces of 16 ray sets, pure
-// passes of 5 ms, culling 2.5 ms (other heights 2.6 ms) on a set that has hints. Each set's first culled trace has
-// none (6.5 ms; the very first 17 ms, compiling) and is reported not counted; the first measured culling traces are
-// slowed by another process to `slowed` times the pure pass. Returns the culled traces; `total` the time.
-int runSlowedShadowKind(const std::vector<double>& slowed, double& total) {
-    AdaptiveChoice choice(4, 8, 0.015);
-    std::vector<bool> hinted(16, false);
-    size_t measuredTraces = 0;
-    int culled = 0, coldTraces = 0;
-    total = 0.0;
-    for (int i = 0; i < 512; ++i) {
-        const uint32_t set = uint32_t(i % 16);
-        const uint32_t arm = choice.next(set, hintsOf(hinted, set));
-        double ms = 5.0;
+// A ray kind of `sets` ray sets traced in turn, as the tracer runs it: `traces` traces, pure passes of `pureMs`; a
+// culled trace of a set without hints yet is cold (`firstColdMs` the very first, compiling, then `coldMs`), reported
+// not counted, and gives the set hints; other culled traces take `culledMs(arm)`. `reportHints` false: the choice is
+// not told which sets have hints.
+struct KindRun {
+    int culled = 0, cold = 0;
+    double total = 0.0;
+};
+KindRun runKind(AdaptiveChoice& choice, uint32_t sets, int traces, double pureMs, double firstColdMs, double coldMs,
+                const std::function<double(uint32_t)>& culledMs, bool reportHints = true) {
+    std::vector<bool> hinted(sets, false);
+    KindRun run;
+    for (int i = 0; i < traces; ++i) {
+        const uint32_t set = uint32_t(i) % sets;
+        const RaySetHints hints{hinted[set], uint32_t(std::count(hinted.begin(), hinted.end(), true))};
+        const uint32_t arm = choice.next(set, reportHints ? hints : RaySetHints{});
+        double ms = pureMs;
         bool counted = true;
         if (arm != AdaptiveChoice::kPureArm) {
+            ++run.culled;
             if (!hinted[set]) {
-                ms = coldTraces++ == 0 ? 17.0 : 6.5;
+                ms = run.cold++ == 0 ? firstColdMs : coldMs;
                 counted = false;
                 hinted[set] = true;
             } else {
-                ms = measuredTraces < slowed.size() ? slowed[measuredTraces] * 5.0 : (arm == 1 ? 2.5 : 2.6);
-                ++measuredTraces;
+                ms = culledMs(arm);
             }
-            ++culled;
         }
         choice.report(arm, ms, counted, set);
-        total += ms;
+        run.total += ms;
     }
-    return culled;
+    return run;
+}
+
+// A shadow kind at 16 spp through 8 frames x 4 runs (the interior's near path): 512 traces of 16 ray sets, pure
+// passes of 5 ms, culling 2.5 ms (other heights 2.6 ms) on a set that has hints, a cold trace 6.5 ms (the very first
+// 17 ms); the first measured culling traces are slowed by another process to `slowed` times the pure pass. Returns the
+// culled traces; `total` the time.
+int runSlowedShadowKind(const std::vector<double>& slowed, double& total) {
+    AdaptiveChoice choice(4, 8, 0.015);
+    size_t measuredTraces = 0;
+    const KindRun run = runKind(choice, 16, 512, 5.0, 17.0, 6.5, [&](uint32_t arm) {
+        const size_t i = measuredTraces++;
+        return i < slowed.size() ? slowed[i] * 5.0 : (arm == 1 ? 2.5 : 2.6);
+    });
+    total = run.total;
+    return run.culled;
 }
 
 TEST(AdaptiveChoice, SlowedFirstMeasurementsAfterACostlyStartDoNotKeepCullingOut) {
@@ -282,33 +295,15 @@ TEST(AdaptiveChoice, SlowedFirstMeasurementsAfterACostlyStartDoNotKeepCullingOut
 }
 
 // An AO kind of 20 ray sets over `views` traces of each set (the castle's street view, 8 runs after a warm-up):
-// pure passes of 10 ms, culling `culling` times that on a set that has hints, 1.6x on a set's first culled trace
-// (none yet; the very first 3x, compiling), reported not counted. `reportHints` false: the choice is not told which
-// sets have hints (every set may be seeded). Returns the culled traces and the cold ones; `total` the time.
+// pure passes of 10 ms, culling `culling` times that on a set that has hints, 1.6x on a cold trace (the very first 3x,
+// compiling). `reportHints` false: the choice is not told which sets have hints (every set may be seeded). Returns the
+// culled traces and the cold ones; `total` the time.
 std::pair<int, int> runAoKind(double culling, int views, bool reportHints, double& total) {
     AdaptiveChoice choice(4, 8);
-    std::vector<bool> hinted(20, false);
-    int culled = 0, cold = 0;
-    total = 0.0;
-    for (int i = 0; i < 20 * views; ++i) {
-        const uint32_t set = uint32_t(i % 20);
-        const uint32_t arm = choice.next(set, reportHints ? hintsOf(hinted, set) : RaySetHints{});
-        double ms = 10.0;
-        bool counted = true;
-        if (arm != AdaptiveChoice::kPureArm) {
-            ++culled;
-            if (!hinted[set]) {
-                ms = cold++ == 0 ? 30.0 : 16.0;
-                counted = false;
-                hinted[set] = true;
-            } else {
-                ms = culling * 10.0;
-            }
-        }
-        choice.report(arm, ms, counted, set);
-        total += ms;
-    }
-    return {culled, cold};
+    const KindRun run = runKind(choice, 20, 20 * views, 10.0, 30.0, 16.0, [&](uint32_t) { return culling * 10.0; },
+                                reportHints);
+    total = run.total;
+    return {run.culled, run.cold};
 }
 
 TEST(AdaptiveChoice, ALosingCullingSeedsFewRaySetsWithHints) {
