@@ -339,7 +339,8 @@ TEST(AdaptiveChoice, CostsAreComparedOnTheSameRaySet) {
         EXPECT_EQ(choice.best(), AdaptiveChoice::kPureArm) << "trace " << i;
     }
     EXPECT_NEAR(choice.relativeCost(1), 1.2, 1e-9);
-    EXPECT_LE(culled, 400 / 9 + 3); // the start-up and two measurements, then only probes: every 8 traces (the floor; 0.2 / 0.03 = 7)
+    // The start-up and two measurements, then only probes: every 8 traces (the floor; 0.2 / 0.03 = 7).
+    EXPECT_LE(culled, 400 / 9 + 3);
 }
 
 TEST(AdaptiveChoice, CullingIsMeasuredOnlyOnSetsThePurePassWasMeasuredOn) {
