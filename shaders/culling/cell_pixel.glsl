@@ -32,6 +32,7 @@
 #define CHCRT_CELL_PASS_WRITES_ALL 0
 #endif
 #include "render/bvh_nodes.glsl"
+#include "culling/hint_leaf.glsl"
 
 layout(binding = CHCRT_UNIT_RAY_ORIGIN) uniform sampler2D rayOrigins;
 layout(binding = CHCRT_UNIT_RAY_DIRECTION) uniform sampler2D rayDirections;
@@ -68,7 +69,7 @@ bool visitLeafTracked(uint entry, uint node, uint first, uint count, vec3 origin
     if (best.triangleId != idBefore || best.t != tBefore) {
         changedLeaf = node;
 #ifdef CHCRT_CULLING_DEBUG_SUBTREES
-        changedBy = texelFetch(cellIds, int(entry)).x + 1u;
+        changedBy = entry == CHCRT_CELL_HINT_ENTRY ? 0u : texelFetch(cellIds, int(entry)).x + 1u; // a hint: no listed subtree
 #endif
     }
     return done;
@@ -76,7 +77,6 @@ bool visitLeafTracked(uint entry, uint node, uint first, uint count, vec3 origin
 #endif
 #include "culling/cell_list_traverse.glsl"
 #include "culling/debug_cost.glsl"
-#include "culling/hint_leaf.glsl"
 
 
 // Traces the ray of `pixel` through the list of `cellIndex` (its cell), continuing from the stored hit.
@@ -106,25 +106,21 @@ void traceCellPixel(ivec2 pixel, int cellIndex) {
     uint previousId = best.triangleId;
     float previousT = best.t;
     TraceCost cost = TraceCost(0u, 0u, 0u, 0u);
-#if CHCRT_CULLING_HINTS
     // Hit hints: the leaf of the ray's hit in the previous trace of its ray set first (once: not after the hint pass,
-    // nor in a later round of a ray that has a hit); a hit there finishes an any-hit ray and bounds a closest-hit
-    // ray's traversal from its start.
-#if CHCRT_CULLING_HINTS_VISITED
-    const bool visitHint = false; // the hint pass did (culling/hint_pass.h)
-#else
+    // nor in a later round of a ray that has a hit), as the first root of its list traversal; a hit there finishes an
+    // any-hit ray and bounds a closest-hit ray's traversal from its start.
+#if CHCRT_CULLING_HINTS && !CHCRT_CULLING_HINTS_VISITED
     uint hintLeaf = imageLoad(hintImage, pixel).x;
     bool visitHint = hintLeaf != CHCRT_NO_HIT_ID && stored.y == CHCRT_NO_HIT_ID;
-    if (visitHint) {
-        visitHintLeaf(hintLeaf, originTmin.xyz, directionTmax.xyz, originTmin.w, best, cost);
-        changedLeaf = hintLeaf;
+    if (!visitHint) {
+        hintLeaf = CHCRT_NO_HIT_ID;
     }
+#else
+    const bool visitHint = false; // no hints, or the hint pass visited them (culling/hint_pass.h)
+    const uint hintLeaf = CHCRT_NO_HIT_ID;
 #endif
-#if TRACE_ANY_HIT
-    if (best.triangleId == CHCRT_NO_HIT_ID)
-#endif
-#endif
-    traverseCellList(header.x, header.x + header.y, originTmin.xyz, directionTmax.xyz, originTmin.w, best, cost);
+    traverseCellList(hintLeaf, header.x, header.x + header.y, originTmin.xyz, directionTmax.xyz, originTmin.w, best,
+                     cost);
     if (cost.iterations >= CHCRT_TRACE_ITERATION_CAP) {
         atomicCounterIncrement(cappedRays);
     }

@@ -3,6 +3,8 @@
 // project's hit rule — so that a hit found here is one pure BVH traversal finds too (a triangle hit just outside its
 // leaf's box by float rounding is not taken from a hint). Needs render/bvh_nodes.glsl. Returns true when the ray
 // met the box (the leaf counts as visited).
+#define CHCRT_CELL_HINT_ENTRY 0xFFFFFFFFu // the list entry the cell passes give a ray's hinted leaf: none of the list
+
 #ifndef CHCRT_CULLING_HINT_SLOTS
 #define CHCRT_CULLING_HINT_SLOTS 0
 #endif
@@ -23,19 +25,9 @@ bool hintSlotReplaced(uint node) {
 }
 #endif
 
-// The visit of a leaf whose box and triangle range the layout has read: the box against the ray up to
-// pruneLimit(best t), then the triangles with the hit rule — one rule for both layouts.
-bool visitLeafInBox(vec3 lower, vec3 upper, uint first, uint count, vec3 origin, vec3 direction, float tmin,
-                    inout TraceHit best, inout TraceCost cost) {
-    vec2 entryExit = intersectRayAabb(origin, safeInverseDirection(direction), lower, upper);
-    if (!rayHitsAabb(entryExit, tmin, pruneLimit(best.t))) {
-        return false;
-    }
-    ++cost.leaves;
-    intersectLeaf(first, count, origin, direction, tmin, best, cost);
-    return true;
-}
-
+// Enters the hinted leaf as the traversal enters a root (render/bvh_nodes.glsl, enterRoot): its box against the ray
+// up to pruneLimit(bestT), and its triangle range. False for a node that is not a leaf (hint images hold leaves; a
+// test writes arbitrary nodes, whose subtrees a traversal stack sized for termination subtrees could not hold).
 #if CHCRT_COMPACT_SUBTREES
 // Out of core, compact layout: the node's subtree root — the frame its box and triangles decode in — is the first node
 // of its slot. The leaf's box is read as the traversal reads it: from its own texel, decoded in that frame, or the
@@ -43,25 +35,36 @@ bool visitLeafInBox(vec3 lower, vec3 upper, uint first, uint count, vec3 origin,
 #if !CHCRT_CULLING_HINT_SLOTS
 #error "compact hints need the cache's slots (CHCRT_CULLING_HINT_SLOTS)"
 #endif
-bool visitHintLeaf(uint leaf, vec3 origin, vec3 direction, float tmin, inout TraceHit best, inout TraceCost cost) {
+bool enterHintLeaf(uint leaf, vec3 origin, vec3 invDir, float tmin, float bestT, out uint first, out uint count,
+                   out float entry) {
     uint root = leaf - leaf % hintSlotNodes;
-    uvec4 root0 = texelFetch(bvhNodes, int(root));
-    uvec4 root1 = texelFetch(bvhNodes, int(root) + 1);
-    setNodeFrame(root, root0, root1);
     if (leaf == root) {
-        return visitLeafInBox(uintBitsToFloat(root0.xyz), uintBitsToFloat(root1.xyz), compactFirst(root0.w),
-                              compactCount(root0.w), origin, direction, tmin, best, cost);
+        return enterRoot(root, origin, invDir, tmin, bestT, first, count, entry) && count != 0u;
     }
+    setNodeFrame(root);
     uvec4 node = texelFetch(bvhNodes, int(leaf));
-    return visitLeafInBox(compactLower(node), compactUpper(node), compactFirst(node.w), compactCount(node.w), origin,
-                          direction, tmin, best, cost);
+    first = compactFirst(node.w);
+    count = compactCount(node.w);
+    vec2 entryExit = intersectRayAabb(origin, invDir, compactLower(node), compactUpper(node));
+    entry = entryExit.x;
+    return rayHitsAabb(entryExit, tmin, pruneLimit(bestT)) && count != 0u;
 }
 #else
-bool visitHintLeaf(uint leaf, vec3 origin, vec3 direction, float tmin, inout TraceHit best, inout TraceCost cost) {
-    int texel = int(leaf) * CHCRT_BVH_TEXELS_PER_NODE;
-    vec4 leaf0 = texelFetch(bvhNodes, texel);
-    vec4 leaf1 = texelFetch(bvhNodes, texel + 1);
-    return visitLeafInBox(leaf0.xyz, leaf1.xyz, floatBitsToUint(leaf0.w), floatBitsToUint(leaf1.w), origin, direction,
-                          tmin, best, cost);
+bool enterHintLeaf(uint leaf, vec3 origin, vec3 invDir, float tmin, float bestT, out uint first, out uint count,
+                   out float entry) {
+    return enterRoot(leaf, origin, invDir, tmin, bestT, first, count, entry) && count != 0u;
 }
 #endif
+
+// The hint pass's visit (culling/hint_pass.glsl): the leaf entered as above, then its triangles with the hit rule.
+// The cell passes visit hints inside their list traversal instead (culling/cell_list_traverse.glsl).
+bool visitHintLeaf(uint leaf, vec3 origin, vec3 direction, float tmin, inout TraceHit best, inout TraceCost cost) {
+    uint first, count;
+    float entry;
+    if (!enterHintLeaf(leaf, origin, safeInverseDirection(direction), tmin, best.t, first, count, entry)) {
+        return false;
+    }
+    ++cost.leaves;
+    intersectLeaf(first, count, origin, direction, tmin, best, cost);
+    return true;
+}
