@@ -69,7 +69,8 @@ bool visitLeafTracked(uint entry, uint node, uint first, uint count, vec3 origin
     if (best.triangleId != idBefore || best.t != tBefore) {
         changedLeaf = node;
 #ifdef CHCRT_CULLING_DEBUG_SUBTREES
-        changedBy = entry == CHCRT_CELL_HINT_ENTRY ? 0u : texelFetch(cellIds, int(entry)).x + 1u; // a hint: no listed subtree
+        // A hit in the hinted leaf was found by no listed subtree (0 in the image).
+        changedBy = entry == CHCRT_CELL_HINT_ENTRY ? 0u : texelFetch(cellIds, int(entry)).x + 1u;
 #endif
     }
     return done;

@@ -1,8 +1,8 @@
 // CHC+RT hit hints (culling/README.md "Hit hints"): a ray visits the BVH leaf its ray set's previous trace hit, as
 // the traversal visits a leaf — the leaf's box against the ray up to pruneLimit(best t), then its triangles with the
 // project's hit rule — so that a hit found here is one pure BVH traversal finds too (a triangle hit just outside its
-// leaf's box by float rounding is not taken from a hint). Needs render/bvh_nodes.glsl. Returns true when the ray
-// met the box (the leaf counts as visited).
+// leaf's box by float rounding is not taken from a hint). The cell passes enter the leaf as the first root of their
+// list traversal (enterHintLeaf), the hint pass visits it on its own (visitHintLeaf). Needs render/bvh_nodes.glsl.
 #define CHCRT_CELL_HINT_ENTRY 0xFFFFFFFFu // the list entry the cell passes give a ray's hinted leaf: none of the list
 
 #ifndef CHCRT_CULLING_HINT_SLOTS
@@ -56,8 +56,9 @@ bool enterHintLeaf(uint leaf, vec3 origin, vec3 invDir, float tmin, float bestT,
 }
 #endif
 
-// The hint pass's visit (culling/hint_pass.glsl): the leaf entered as above, then its triangles with the hit rule.
-// The cell passes visit hints inside their list traversal instead (culling/cell_list_traverse.glsl).
+// The hint pass's visit (culling/hint_pass.glsl): the leaf entered as above, then its triangles with the hit rule;
+// true when the ray met the leaf's box (the leaf counts as visited). The cell passes visit hints inside their list
+// traversal instead (culling/cell_list_traverse.glsl).
 bool visitHintLeaf(uint leaf, vec3 origin, vec3 direction, float tmin, inout TraceHit best, inout TraceCost cost) {
     uint first, count;
     float entry;
