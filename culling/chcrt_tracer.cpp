@@ -492,7 +492,7 @@ uint32_t ChcrtTracer::hintSetsAt(int width, int height) const {
 
 RaySetHints ChcrtTracer::setHints(const TraceRequest& request, int width, int height) const {
     RaySetHints hints;
-    if (!hintsAvailable() || (!request.anyHit && !options_.closestHitHints)) return hints;
+    if (!usesHints(request)) return hints;
     const uint64_t kind = rayKind(request) << 32, own = hintKey(request, hintSetsAt(width, height));
     hints.set = false;
     for (auto it = hintStore_->lower_bound(kind); it != hintStore_->end() && (it->first >> 32) == (kind >> 32); ++it) {
@@ -505,7 +505,7 @@ RaySetHints ChcrtTracer::setHints(const TraceRequest& request, int width, int he
 
 GLuint ChcrtTracer::hintImageFor(const TraceRequest& request, int width, int height, bool& fresh) {
     fresh = false;
-    if (!hintsAvailable() || (!request.anyHit && !options_.closestHitHints)) return 0;
+    if (!usesHints(request)) return 0;
     hintSets_ = hintSetsAt(width, height);
     HintImage& image = (*hintStore_)[hintKey(request, hintSets_)];
     GlTexture& hint = image.texture;

@@ -416,6 +416,10 @@ private:
     // Whether traces use hit hints: hitHints with bounds-decided cell lists on the in-core BVH, or out of core with
     // rounds intersected by cells from a source whose nodes hints may name (closest-hit ray sets also closestHitHints).
     bool hintsAvailable() const;
+    // Whether the request's ray set has a hint image: hints available, and any-hit rays or closestHitHints.
+    bool usesHints(const TraceRequest& request) const {
+        return hintsAvailable() && (request.anyHit || options_.closestHitHints);
+    }
     // CHCRT_CULLING_HINT_SLOTS: 1 where hints name nodes of cache slots (out of core; shaders/culling/hint_leaf.glsl).
     ShaderDefine hintSlotsDefine() const { return {"CHCRT_CULLING_HINT_SLOTS", source_->hintSlotNodes() != 0 ? "1" : "0"}; }
     // The hint image of the request's ray set (R32UI of the traced size, CHCRT_CULLING_IMAGE_HINT), made on first
