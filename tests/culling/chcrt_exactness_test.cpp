@@ -447,6 +447,64 @@ TEST_F(RenderTest, ArbitraryHitHintsKeepHitsExact) {
     }
 }
 
+// A hint that names an inner node is not entered (shaders/culling/hint_leaf.glsl, enterHintLeaf): the cell pass takes
+// a ray's hinted leaf as the first root of its list traversal, whose stack holds a termination subtree, not the BVH
+// under an inner node near the root. With every shadow ray's hint the BVH root, each pixel's steps (the cost debug
+// image, hint visits included) equal those with no hints at all, in the cell pass and in the hint pass; entering the
+// root would traverse the whole BVH first.
+TEST_F(RenderTest, HintsNamingInnerNodesAreNotEntered) {
+    RenderSettings settings;
+    settings.width = 96;
+    settings.height = 72;
+    Renderer& renderer = makeProceduralRenderer("city:60k", settings);
+    ASSERT_GT(bvh_.nodes.size(), 1u); // node 0, the root, is an inner node
+    const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
+    FrameStats stats;
+    renderer.renderGBuffer(camera, stats);
+    renderer.generateRayPass(camera, RayType::Shadow, 0, stats);
+    renderer.useTracer(nullptr);
+    renderer.traceRayPass(camera, RayType::Shadow, 0, stats);
+    const std::vector<Hit> reference = renderer.readHits(0);
+    TraceRequest request;
+    request.rayType = RayType::Shadow;
+    request.anyHit = true;
+    for (bool hintPass : {false, true}) {
+        ChcrtOptions options;
+        options.partition.maxSubtreeHeight = 8;
+        options.pairs.minTileSize = 16;
+        options.adaptive = false;
+        options.queries = ChcrtQueries::BoundsOnly;
+        options.hitHints = true;
+        options.hintPass = hintPass;
+        options.hintPassMaxLeft = 1.0; // the pass runs however many rays its hints leave
+        ChcrtTracer chcrt(bvh_, options);
+        chcrt.setDebugImage(ChcrtDebugImage::Cost);
+        renderer.useTracer(&chcrt);
+        renderer.traceRayPass(camera, RayType::Shadow, 0, stats); // makes the ray set's hint image
+        const GLuint texture = chcrt.hintTexture(request);
+        ASSERT_NE(texture, 0u);
+        std::vector<std::vector<uint32_t>> costs;
+        for (uint32_t hint : {uint32_t(CHCRT_NO_HIT_ID), 0u}) {
+            const std::vector<uint32_t> hints(size_t(settings.width) * size_t(settings.height), hint);
+            glTextureSubImage2D(texture, 0, 0, 0, settings.width, settings.height, GL_RED_INTEGER, GL_UNSIGNED_INT,
+                                hints.data());
+            chcrt.clearDebugImage();
+            renderer.traceRayPass(camera, RayType::Shadow, 0, stats);
+            const std::vector<Hit> culled = renderer.readHits(0);
+            size_t differing = 0;
+            for (size_t i = 0; i < reference.size(); ++i) differing += !sameHit(reference[i], culled[i], true);
+            EXPECT_EQ(differing, 0u) << "hint " << hint << ", hint pass " << hintPass;
+            costs.push_back(chcrt.readDebugImage());
+        }
+        renderer.useTracer(nullptr);
+        EXPECT_EQ(chcrt.totalStats().hintPasses > 0, hintPass);
+        ASSERT_EQ(costs[0].size(), costs[1].size());
+        size_t differingCost = 0;
+        for (size_t i = 0; i < costs[0].size(); ++i) differingCost += costs[0][i] != costs[1][i];
+        EXPECT_EQ(differingCost, 0u) << "hint pass " << hintPass;
+    }
+}
+
 // The hint pass's rule (ChcrtOptions::hintPassMaxLeft): a ray set's first trace has no hints and skips the pass; from
 // two passes in a row that left too many rays on, the kind skips it, retrying every hintPassRetryInterval traces. With
 // a share of 0 every pass leaves too many, with 1 none does; the hits stay pure BVH's either way.
