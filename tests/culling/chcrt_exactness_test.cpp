@@ -392,6 +392,19 @@ TEST_F(RenderTest, RayBoundsShrunkBelowTheRoundingPadLoseHitsThatTheComparisonDe
     EXPECT_GT(differing[RayType::Primary], 0u);
 }
 
+// Always culling with bounds-decided lists and hit hints, visited in the cell pass or (hintPass) in the hint pass: the
+// configuration of the hint tests below.
+ChcrtOptions hintedCullingOptions(bool hintPass) {
+    ChcrtOptions options;
+    options.partition.maxSubtreeHeight = 8;
+    options.pairs.minTileSize = 16;
+    options.adaptive = false;
+    options.queries = ChcrtQueries::BoundsOnly;
+    options.hitHints = true;
+    options.hintPass = hintPass;
+    return options;
+}
+
 TEST_F(RenderTest, ArbitraryHitHintsKeepHitsExact) {
     // A hint only says where to look first: whatever leaf or inner node it names, the hits stay pure BVH's. The hint
     // images of shadow, AO and (closest-hit hints) primary rays are overwritten with random nodes (leaves and inner
@@ -401,13 +414,7 @@ TEST_F(RenderTest, ArbitraryHitHintsKeepHitsExact) {
     settings.height = 72;
     Renderer& renderer = makeProceduralRenderer("city:60k", settings);
     for (bool hintPass : {false, true}) {
-        ChcrtOptions options;
-        options.partition.maxSubtreeHeight = 8;
-        options.pairs.minTileSize = 16;
-        options.adaptive = false;
-        options.queries = ChcrtQueries::BoundsOnly;
-        options.hitHints = true;
-        options.hintPass = hintPass;
+        ChcrtOptions options = hintedCullingOptions(hintPass);
         options.closestHitHints = true;
         ChcrtTracer chcrt(bvh_, options);
         const CameraPath path = proceduralNearPath(spec_);
@@ -469,13 +476,7 @@ TEST_F(RenderTest, HintsNamingInnerNodesAreNotEntered) {
     request.rayType = RayType::Shadow;
     request.anyHit = true;
     for (bool hintPass : {false, true}) {
-        ChcrtOptions options;
-        options.partition.maxSubtreeHeight = 8;
-        options.pairs.minTileSize = 16;
-        options.adaptive = false;
-        options.queries = ChcrtQueries::BoundsOnly;
-        options.hitHints = true;
-        options.hintPass = hintPass;
+        ChcrtOptions options = hintedCullingOptions(hintPass);
         options.hintPassMaxLeft = 1.0; // the pass runs however many rays its hints leave
         ChcrtTracer chcrt(bvh_, options);
         chcrt.setDebugImage(ChcrtDebugImage::Cost);
