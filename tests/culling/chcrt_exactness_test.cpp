@@ -506,6 +506,53 @@ TEST_F(RenderTest, HintsNamingInnerNodesAreNotEntered) {
     }
 }
 
+// The subtree debug image gives 0 to a hit found in the ray's hinted leaf (CHCRT_CELL_HINT_ENTRY: no listed subtree
+// found it) and 1 + the subtree id to every other hit. The same shadow rays traced twice: the first trace has no hints,
+// so every hit has a subtree; the second starts each occluded ray at the leaf of its first hit, where an any-hit ray
+// ends — exactly the pixels with a hint show 0.
+TEST_F(RenderTest, HitsFoundInTheHintedLeafShowNoSubtree) {
+    RenderSettings settings;
+    settings.width = 96;
+    settings.height = 72;
+    Renderer& renderer = makeProceduralRenderer("city:60k", settings);
+    const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
+    FrameStats stats;
+    renderer.renderGBuffer(camera, stats);
+    renderer.generateRayPass(camera, RayType::Shadow, 0, stats);
+    ChcrtTracer chcrt(bvh_, hintedCullingOptions(false));
+    chcrt.setDebugImage(ChcrtDebugImage::Subtrees);
+    renderer.useTracer(&chcrt);
+    TraceRequest request;
+    request.rayType = RayType::Shadow;
+    request.anyHit = true;
+    const size_t pixels = size_t(settings.width) * size_t(settings.height);
+    std::vector<uint32_t> hints(pixels, CHCRT_NO_HIT_ID);
+    for (int trace = 0; trace < 2; ++trace) {
+        chcrt.clearDebugImage();
+        renderer.traceRayPass(camera, RayType::Shadow, 0, stats);
+        const std::vector<Hit> hits = renderer.readHits(0);
+        const std::vector<uint32_t> subtrees = chcrt.readDebugImage();
+        ASSERT_EQ(subtrees.size(), pixels);
+        size_t hitPixels = 0, hinted = 0;
+        for (size_t i = 0; i < pixels; ++i) {
+            const bool hit = hits[i].triangleId != CHCRT_NO_HIT_ID;
+            const bool hasHint = hints[i] != CHCRT_NO_HIT_ID;
+            hitPixels += hit;
+            hinted += hasHint;
+            EXPECT_TRUE(hit || !hasHint) << "trace " << trace << ", pixel " << i; // a hint's leaf still occludes
+            EXPECT_EQ(subtrees[i] != 0, hit && !hasHint) << "trace " << trace << ", pixel " << i;
+            EXPECT_LE(subtrees[i], chcrt.hierarchy().subtrees.size());
+        }
+        ASSERT_GT(hitPixels, 0u);
+        EXPECT_EQ(hinted > 0, trace == 1);
+        const GLuint texture = chcrt.hintTexture(request);
+        ASSERT_NE(texture, 0u);
+        glGetTextureImage(texture, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, GLsizei(pixels * sizeof(uint32_t)),
+                          hints.data());
+    }
+    renderer.useTracer(nullptr);
+}
+
 // The hint pass's rule (ChcrtOptions::hintPassMaxLeft): a ray set's first trace has no hints and skips the pass; from
 // two passes in a row that left too many rays on, the kind skips it, retrying every hintPassRetryInterval traces. With
 // a share of 0 every pass leaves too many, with 1 none does; the hits stay pure BVH's either way.
