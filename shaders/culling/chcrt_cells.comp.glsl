@@ -5,6 +5,7 @@
 // (tmax <= tmin, NaN counting as inactive as in every tracer) and, for any-hit rays, finished ones return at once.
 // Host defines: cell_pixel.glsl's and CHCRT_CELL_SIZE (the cell edge in pixels = the work group's edge).
 #include "culling/cell_pixel.glsl"
+#include "render/group_pixels.glsl"
 
 layout(local_size_x = CHCRT_CELL_SIZE, local_size_y = CHCRT_CELL_SIZE) in;
 
@@ -14,7 +15,8 @@ uniform ivec2 raySize; // pixels of the ray set
 
 void main() {
     int cellIndex = int(texelFetch(drawCells, int(gl_WorkGroupID.x)).x);
-    ivec2 pixel = ivec2(cellIndex % cellsX, cellIndex / cellsX) * cellSize + ivec2(gl_LocalInvocationID.xy);
+    ivec2 pixel = ivec2(cellIndex % cellsX, cellIndex / cellsX) * cellSize +
+                  groupPixel(gl_LocalInvocationIndex, uint(CHCRT_CELL_SIZE));
     if (any(greaterThanEqual(pixel, raySize))) {
         return;
     }

@@ -6,6 +6,7 @@
 // Why a compute stage: data-centre GPUs run fragment work on few graphics-capable units (docs/architecture.md).
 // Host defines: those of render/trace_ray.glsl.
 #include "render/trace_ray.glsl"
+#include "render/group_pixels.glsl"
 
 layout(local_size_x = CHCRT_TRACE_GROUP_SIZE, local_size_y = CHCRT_TRACE_GROUP_SIZE) in;
 
@@ -16,7 +17,8 @@ uniform ivec2 regionOrigin; // the traced pixels: the scissor box when the sciss
 uniform ivec2 regionSize;
 
 void main() {
-    ivec2 offset = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 offset = ivec2(gl_WorkGroupID.xy) * CHCRT_TRACE_GROUP_SIZE +
+                   groupPixel(gl_LocalInvocationIndex, uint(CHCRT_TRACE_GROUP_SIZE));
     if (any(greaterThanEqual(offset, regionSize))) {
         return;
     }
