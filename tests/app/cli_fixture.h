@@ -22,6 +22,20 @@ struct Result {
     std::string output; // stdout and stderr
 };
 
+// Runs build/bin/chcrt with `arguments` in `dir`; `environment`: assignments put before the binary ("PATH=/x").
+inline Result runChcrt(const fs::path& dir, const std::string& arguments, const std::string& environment = "") {
+    const std::string command = "cd '" + dir.string() + "' && " + (environment.empty() ? "" : "env " + environment + " ") +
+                                "'" CHCRT_BINARY "' " + arguments + " 2>&1";
+    Result result;
+    FILE* pipe = ::popen(command.c_str(), "r");
+    if (!pipe) return result;
+    std::array<char, 4096> buffer;
+    while (size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) result.output.append(buffer.data(), n);
+    const int status = ::pclose(pipe);
+    result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return result;
+}
+
 class CliTest : public ::testing::Test {
 protected:
     void SetUp() override {
@@ -33,18 +47,8 @@ protected:
     }
     void TearDown() override { fs::remove_all(dir_); }
 
-    // `environment`: assignments put before the binary ("PATH=/x").
     Result run(const std::string& arguments, const std::string& environment = "") const {
-        const std::string command = "cd '" + dir_.string() + "' && " + (environment.empty() ? "" : "env " + environment + " ") +
-                                    "'" CHCRT_BINARY "' " + arguments + " 2>&1";
-        Result result;
-        FILE* pipe = ::popen(command.c_str(), "r");
-        if (!pipe) return result;
-        std::array<char, 4096> buffer;
-        while (size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) result.output.append(buffer.data(), n);
-        const int status = ::pclose(pipe);
-        result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        return result;
+        return runChcrt(dir_, arguments, environment);
     }
 
     void write(const std::string& name, const std::string& text) const { std::ofstream(dir_ / name) << text; }

@@ -25,12 +25,6 @@ std::vector<glm::uvec4> readCostTarget(const Renderer& renderer) {
 
 bool isActive(const Ray& ray) { return ray.tmax > ray.tmin; } // as the shaders test it
 
-bool sameHit(const Hit& a, const Hit& b, bool anyHit) {
-    const bool hitA = a.triangleId != CHCRT_NO_HIT_ID, hitB = b.triangleId != CHCRT_NO_HIT_ID;
-    if (anyHit) return hitA == hitB;
-    return a.triangleId == b.triangleId && std::memcmp(&a.t, &b.t, sizeof(float)) == 0;
-}
-
 class ChcrtCostImageTest : public RenderTest {};
 
 TEST_F(ChcrtCostImageTest, SingleSubtreeCostEqualsPureBvhCostPerPixel) {

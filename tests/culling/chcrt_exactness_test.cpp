@@ -96,17 +96,9 @@ std::vector<uint32_t> readHints(GLuint texture, int width, int height) {
     return values;
 }
 
-bool sameHit(const Hit& a, const Hit& b, bool anyHit) {
-    const bool hitA = a.triangleId != CHCRT_NO_HIT_ID, hitB = b.triangleId != CHCRT_NO_HIT_ID;
-    if (anyHit) return hitA == hitB;
-    return a.triangleId == b.triangleId && std::memcmp(&a.t, &b.t, sizeof(float)) == 0;
-}
-
 TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
     const ExactnessCase c = GetParam();
-    RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer(c.scene, settings);
     int frame = 0;
     const ChcrtOptions options = optionsOf(c, frame);
@@ -122,21 +114,11 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
         for (RayType type : {RayType::Primary, RayType::Shadow, RayType::Ao, RayType::Diffuse}) {
             for (int sample = 0; sample < 2; ++sample) {
                 renderer.generateRayPass(camera, type, sample, stats);
-                renderer.useTracer(nullptr);
-                renderer.traceRayPass(camera, type, sample, stats);
-                const std::vector<Hit> reference = renderer.readHits(0);
-                renderer.useTracer(&chcrt);
-                renderer.traceRayPass(camera, type, sample, stats);
+                const OracleComparison traced = traceAgainstPureBvh(renderer, chcrt, camera, type, sample, stats);
                 kinds[toString(type)].push_back(traceKind(chcrt.lastStats()));
-                const std::vector<Hit> culled = renderer.readHits(0);
-                ASSERT_EQ(reference.size(), culled.size());
-                size_t differing = 0;
-                for (size_t i = 0; i < reference.size(); ++i) {
-                    if (!sameHit(reference[i], culled[i], isAnyHit(type))) ++differing;
-                    hits += reference[i].triangleId != CHCRT_NO_HIT_ID;
-                }
-                compared += reference.size();
-                EXPECT_EQ(differing, 0u) << c.scene << " frame " << frame * 2 << " " << toString(type) << " sample "
+                for (const Hit& hit : traced.reference) hits += hit.triangleId != CHCRT_NO_HIT_ID;
+                compared += traced.reference.size();
+                EXPECT_EQ(traced.differing, 0u) << c.scene << " frame " << frame * 2 << " " << toString(type) << " sample "
                                          << sample;
             }
         }
@@ -320,9 +302,7 @@ TEST_P(ChcrtExactnessTest, ShadedFrameEqualsPureBvhFrame) {
 TEST_F(RenderTest, AggressiveCullingLosesHitsThatTheComparisonDetects) {
     // §7 aggressive variant: pairs with few passing rays are culled, so some hits are lost. This also shows that
     // the exactness comparison above can fail.
-    RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer("city:60k", settings);
     ChcrtOptions options;
     options.partition.maxSubtreeHeight = 8;
@@ -334,31 +314,24 @@ TEST_F(RenderTest, AggressiveCullingLosesHitsThatTheComparisonDetects) {
     FrameStats stats;
     renderer.renderGBuffer(camera, stats);
     renderer.generateRayPass(camera, RayType::Primary, 0, stats);
-    renderer.useTracer(nullptr);
-    renderer.traceRayPass(camera, RayType::Primary, 0, stats);
-    const std::vector<Hit> reference = renderer.readHits(0);
-    renderer.useTracer(&aggressive);
-    renderer.traceRayPass(camera, RayType::Primary, 0, stats);
-    const std::vector<Hit> culled = renderer.readHits(0);
-    size_t differing = 0;
-    for (size_t i = 0; i < reference.size(); ++i) {
-        differing += !sameHit(reference[i], culled[i], false);
+    const OracleComparison traced = traceAgainstPureBvh(renderer, aggressive, camera, RayType::Primary, 0, stats);
+    for (size_t i = 0; i < traced.reference.size(); ++i) {
         // Culling only removes candidates: a differing pixel is a miss or a farther hit, never a nearer one.
-        if (reference[i].triangleId != CHCRT_NO_HIT_ID && culled[i].triangleId != CHCRT_NO_HIT_ID) {
-            EXPECT_GE(culled[i].t, reference[i].t);
+        const Hit& reference = traced.reference[i];
+        const Hit& culled = traced.traced[i];
+        if (reference.triangleId != CHCRT_NO_HIT_ID && culled.triangleId != CHCRT_NO_HIT_ID) {
+            EXPECT_GE(culled.t, reference.t);
         }
     }
-    EXPECT_GT(differing, 0u);
-    EXPECT_LT(differing, reference.size() / 2);
+    EXPECT_GT(traced.differing, 0u);
+    EXPECT_LT(traced.differing, traced.reference.size() / 2);
     EXPECT_EQ(aggressive.name(), "chcrt-aggressive");
 }
 
 TEST_F(RenderTest, RayBoundsShrunkBelowTheRoundingPadLoseHitsThatTheComparisonDetects) {
     // Negative control of the bounds-only exactness cases: boxes that are too small by a fraction of the
     // coordinates' magnitude (instead of padded by it) must change hits, so the comparison above can fail.
-    RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer("city:60k", settings);
     ChcrtOptions options;
     options.partition.maxSubtreeHeight = 8;
@@ -375,15 +348,7 @@ TEST_F(RenderTest, RayBoundsShrunkBelowTheRoundingPadLoseHitsThatTheComparisonDe
         renderer.renderGBuffer(camera, stats);
         for (RayType type : {RayType::Primary, RayType::Shadow, RayType::Ao}) {
             renderer.generateRayPass(camera, type, 0, stats);
-            renderer.useTracer(nullptr);
-            renderer.traceRayPass(camera, type, 0, stats);
-            const std::vector<Hit> reference = renderer.readHits(0);
-            renderer.useTracer(&shrunk);
-            renderer.traceRayPass(camera, type, 0, stats);
-            const std::vector<Hit> culled = renderer.readHits(0);
-            for (size_t i = 0; i < reference.size(); ++i) {
-                differing[type] += !sameHit(reference[i], culled[i], isAnyHit(type));
-            }
+            differing[type] += traceAgainstPureBvh(renderer, shrunk, camera, type, 0, stats).differing;
         }
     }
     EXPECT_GT(differing[RayType::Shadow] + differing[RayType::Ao], 0u);
@@ -409,9 +374,7 @@ TEST_F(RenderTest, ArbitraryHitHintsKeepHitsExact) {
     // A hint only says where to look first: whatever leaf or inner node it names, the hits stay pure BVH's. The hint
     // images of shadow, AO and (closest-hit hints) primary rays are overwritten with random nodes (leaves and inner
     // nodes alike) before each trace, with the hints visited in the cell pass and in the hint pass.
-    RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer("city:60k", settings);
     for (bool hintPass : {false, true}) {
         ChcrtOptions options = hintedCullingOptions(hintPass);
@@ -443,9 +406,7 @@ TEST_F(RenderTest, ArbitraryHitHintsKeepHitsExact) {
                 renderer.useTracer(&chcrt);
                 renderer.traceRayPass(camera, type, 0, stats);
                 const std::vector<Hit> culled = renderer.readHits(0);
-                for (size_t i = 0; i < reference.size(); ++i) {
-                    differing += !sameHit(reference[i], culled[i], isAnyHit(type));
-                }
+                differing += countDifferingHits(reference, culled, isAnyHit(type));
             }
         }
         EXPECT_EQ(traced, 6u) << "hint pass " << hintPass; // the three ray sets, from their second trace on
@@ -460,9 +421,7 @@ TEST_F(RenderTest, ArbitraryHitHintsKeepHitsExact) {
 // image, hint visits included) equal those with no hints at all, in the cell pass and in the hint pass; entering the
 // root would traverse the whole BVH first.
 TEST_F(RenderTest, HintsNamingInnerNodesAreNotEntered) {
-    RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer("city:60k", settings);
     ASSERT_GT(bvh_.nodes.size(), 1u); // node 0, the root, is an inner node
     const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
@@ -492,8 +451,7 @@ TEST_F(RenderTest, HintsNamingInnerNodesAreNotEntered) {
             chcrt.clearDebugImage();
             renderer.traceRayPass(camera, RayType::Shadow, 0, stats);
             const std::vector<Hit> culled = renderer.readHits(0);
-            size_t differing = 0;
-            for (size_t i = 0; i < reference.size(); ++i) differing += !sameHit(reference[i], culled[i], true);
+            const size_t differing = countDifferingHits(reference, culled, true);
             EXPECT_EQ(differing, 0u) << "hint " << hint << ", hint pass " << hintPass;
             costs.push_back(chcrt.readDebugImage());
         }
@@ -511,9 +469,7 @@ TEST_F(RenderTest, HintsNamingInnerNodesAreNotEntered) {
 // so every hit has a subtree; the second starts each occluded ray at the leaf of its first hit, where an any-hit ray
 // ends — exactly the pixels with a hint show 0.
 TEST_F(RenderTest, HitsFoundInTheHintedLeafShowNoSubtree) {
-    RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer("city:60k", settings);
     const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
     FrameStats stats;
@@ -557,9 +513,7 @@ TEST_F(RenderTest, HitsFoundInTheHintedLeafShowNoSubtree) {
 // two passes in a row that left too many rays on, the kind skips it, retrying every hintPassRetryInterval traces. With
 // a share of 0 every pass leaves too many, with 1 none does; the hits stay pure BVH's either way.
 TEST_F(RenderTest, HintPassStopsWhereItLeavesTooManyRaysAndRetries) {
-    RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer("city:60k", settings);
     const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
     FrameStats stats;
@@ -585,7 +539,7 @@ TEST_F(RenderTest, HintPassStopsWhereItLeavesTooManyRaysAndRetries) {
             renderer.traceRayPass(camera, RayType::Shadow, 0, stats);
             passes.push_back(chcrt.lastStats().hintPasses);
             const std::vector<Hit> culled = renderer.readHits(0);
-            for (size_t i = 0; i < reference.size(); ++i) differing += !sameHit(reference[i], culled[i], true);
+            differing += countDifferingHits(reference, culled, true);
         }
         const std::vector<uint64_t> expected =
             // No hints in the first trace; the first pass over them does not count; two passes that left too many
@@ -600,9 +554,7 @@ TEST_F(RenderTest, HintPassStopsWhereItLeavesTooManyRaysAndRetries) {
 // tracing sample 1 must leave sample 0's hints as sample 0's trace wrote them (one image per ray kind would hold
 // sample 1's hits), and each sample's hints name leaves only where its own rays hit.
 TEST_F(RenderTest, EachShadowSampleKeepsItsOwnHints) {
-    RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer("city:60k", settings);
     const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
     ChcrtOptions options;
@@ -648,9 +600,7 @@ TEST_F(RenderTest, EachShadowSampleKeepsItsOwnHints) {
 // Hint images stay within ChcrtOptions::hintMemoryBytes: with room for two sets per ray kind, four shadow and four AO
 // samples keep four images (samples 0 and 2, 1 and 3 share), with room for more eight; the hits stay pure BVH's.
 TEST_F(RenderTest, HintImagesStayWithinTheirMemory) {
-    RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer("city:60k", settings);
     const CameraPath path = proceduralNearPath(spec_);
     const uint64_t bytesPerSet = 4ull * 96 * 72 * 4; // 4 bytes per ray, a quarter of the budget per ray kind
@@ -671,13 +621,7 @@ TEST_F(RenderTest, HintImagesStayWithinTheirMemory) {
             for (RayType type : {RayType::Shadow, RayType::Ao}) {
                 for (int sample = 0; sample < 4; ++sample) {
                     renderer.generateRayPass(camera, type, sample, stats);
-                    renderer.useTracer(nullptr);
-                    renderer.traceRayPass(camera, type, sample, stats);
-                    const std::vector<Hit> reference = renderer.readHits(0);
-                    renderer.useTracer(&chcrt);
-                    renderer.traceRayPass(camera, type, sample, stats);
-                    const std::vector<Hit> culled = renderer.readHits(0);
-                    for (size_t i = 0; i < reference.size(); ++i) differing += !sameHit(reference[i], culled[i], true);
+                    differing += traceAgainstPureBvh(renderer, chcrt, camera, type, sample, stats).differing;
                 }
             }
         }
@@ -689,9 +633,7 @@ TEST_F(RenderTest, HintImagesStayWithinTheirMemory) {
 // bench --steps traces a pass again from the hints the timed trace started from (ChcrtTracer::saveHints/restoreHints):
 // a restore gives back every saved ray set's hints as they were, and removes the hints of ray sets made since.
 TEST_F(RenderTest, RestoredHintsAreTheSavedOnes) {
-    RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer("city:60k", settings);
     const CameraPath path = proceduralNearPath(spec_);
     ChcrtOptions options;
@@ -729,9 +671,7 @@ TEST_F(RenderTest, RestoredHintsAreTheSavedOnes) {
 
 TEST_F(RenderTest, GpuCellListsWithRayBoundsShrunkBelowTheRoundingPadLoseHits) {
     // Negative control of the bounds-gpu cases: the GPU's lists from boxes that are too small must change hits.
-    RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer("city:60k", settings);
     ChcrtOptions options;
     options.partition.maxSubtreeHeight = 8;
@@ -747,15 +687,7 @@ TEST_F(RenderTest, GpuCellListsWithRayBoundsShrunkBelowTheRoundingPadLoseHits) {
         renderer.renderGBuffer(camera, stats);
         for (RayType type : {RayType::Primary, RayType::Shadow, RayType::Ao}) {
             renderer.generateRayPass(camera, type, 0, stats);
-            renderer.useTracer(nullptr);
-            renderer.traceRayPass(camera, type, 0, stats);
-            const std::vector<Hit> reference = renderer.readHits(0);
-            renderer.useTracer(&shrunk);
-            renderer.traceRayPass(camera, type, 0, stats);
-            const std::vector<Hit> culled = renderer.readHits(0);
-            for (size_t i = 0; i < reference.size(); ++i) {
-                differing[type] += !sameHit(reference[i], culled[i], isAnyHit(type));
-            }
+            differing[type] += traceAgainstPureBvh(renderer, shrunk, camera, type, 0, stats).differing;
         }
     }
     EXPECT_GT(differing[RayType::Primary] + differing[RayType::Shadow] + differing[RayType::Ao], 0u);
@@ -766,9 +698,7 @@ TEST_F(RenderTest, GpuCellListsWithRayBoundsShrunkBelowTheRoundingPadLoseHits) {
 // passes on software rasterisers, bounds-gpu with compute cell passes on GPUs), culling forced, find pure BVH's hits
 // over consecutive frames, hints included; here both run on the test's renderer.
 TEST_F(RenderTest, RecommendedConfigurationsOfSoftwareAndHardwareRenderersEqualPureBvh) {
-    RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer("city:60k", settings);
     const CameraPath path = proceduralNearPath(spec_);
     for (bool software : {true, false}) {
@@ -783,15 +713,9 @@ TEST_F(RenderTest, RecommendedConfigurationsOfSoftwareAndHardwareRenderersEqualP
             renderer.renderGBuffer(camera, stats);
             for (RayType type : {RayType::Primary, RayType::Shadow, RayType::Ao, RayType::Diffuse}) {
                 renderer.generateRayPass(camera, type, 0, stats);
-                renderer.useTracer(nullptr);
-                renderer.traceRayPass(camera, type, 0, stats);
-                const std::vector<Hit> reference = renderer.readHits(0);
-                renderer.useTracer(&chcrt);
-                renderer.traceRayPass(camera, type, 0, stats);
-                const std::vector<Hit> culled = renderer.readHits(0);
-                ASSERT_EQ(reference.size(), culled.size());
-                for (size_t i = 0; i < reference.size(); ++i) differing += !sameHit(reference[i], culled[i], isAnyHit(type));
-                compared += reference.size();
+                const OracleComparison traced = traceAgainstPureBvh(renderer, chcrt, camera, type, 0, stats);
+                differing += traced.differing;
+                compared += traced.reference.size();
             }
         }
         renderer.useTracer(nullptr);
@@ -917,9 +841,7 @@ TEST_F(RenderTest, GpuCellListsOfSeveralHeightsLinkOneProgram) {
 // (framebuffers over the active-ray masks and hit depths, hint images, visibility states) must follow, so that the
 // hits after a change to another size and back are pure BVH's.
 TEST_F(RenderTest, TracesAfterTheRendererChangedSizeEqualPureBvh) {
-    RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer("city:60k", settings);
     const CameraPath path = proceduralNearPath(spec_);
     ChcrtOptions options = recommendedChcrtOptions(RendererTraits{.software = true});
@@ -937,15 +859,9 @@ TEST_F(RenderTest, TracesAfterTheRendererChangedSizeEqualPureBvh) {
             renderer.renderGBuffer(camera, stats);
             for (RayType type : {RayType::Primary, RayType::Shadow, RayType::Ao}) {
                 renderer.generateRayPass(camera, type, 0, stats);
-                renderer.useTracer(nullptr);
-                renderer.traceRayPass(camera, type, 0, stats);
-                const std::vector<Hit> reference = renderer.readHits(0);
-                renderer.useTracer(&chcrt);
-                renderer.traceRayPass(camera, type, 0, stats);
-                const std::vector<Hit> culled = renderer.readHits(0);
-                ASSERT_EQ(reference.size(), culled.size());
-                for (size_t i = 0; i < reference.size(); ++i) differing += !sameHit(reference[i], culled[i], isAnyHit(type));
-                compared += reference.size();
+                const OracleComparison traced = traceAgainstPureBvh(renderer, chcrt, camera, type, 0, stats);
+                differing += traced.differing;
+                compared += traced.reference.size();
             }
         }
         EXPECT_EQ(differing, 0u) << "after the change to " << s.width << "x" << s.height;
@@ -961,9 +877,7 @@ TEST_F(RenderTest, TracesAfterTheRendererChangedSizeEqualPureBvh) {
 // Before each culled trace the hit image is filled with a hit that no ray has, so a pixel the trace did not write
 // differs from pure BVH's: views into the scene, and one from outside it looking away (every list empty).
 TEST_F(RenderTest, PrimaryCellPassesWriteEveryRaysHitIntoAnUnclearedImage) {
-    RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer("city:60k", settings);
     const CameraPath path = proceduralNearPath(spec_);
     const Aabb bounds = scene_.bounds();
@@ -988,12 +902,12 @@ TEST_F(RenderTest, PrimaryCellPassesWriteEveryRaysHitIntoAnUnclearedImage) {
             const std::vector<Hit> reference = renderer.readHits(0);
             glClearTexImage(hitTexture, 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, stale.data());
             const std::vector<Hit> filled = renderer.readHits(0);
-            for (size_t i = 0; i < reference.size(); ++i) staleDetected += !sameHit(reference[i], filled[i], false);
+            staleDetected += countDifferingHits(reference, filled, false);
             renderer.useTracer(&chcrt);
             renderer.traceRayPass(camera, RayType::Primary, 0, stats);
             const std::vector<Hit> culled = renderer.readHits(0);
             ASSERT_EQ(reference.size(), culled.size());
-            for (size_t i = 0; i < reference.size(); ++i) differing += !sameHit(reference[i], culled[i], false);
+            differing += countDifferingHits(reference, culled, false);
         }
         renderer.useTracer(nullptr);
         EXPECT_EQ(staleDetected, cameras.size() * 96u * 72u) << "the stale hit must differ from every pixel's hit";
@@ -1028,8 +942,7 @@ TEST_F(RenderTest, AHitComputedBeforeItsLeafsBoxDoesNotDependOnTheVisitingOrder)
     const std::vector<Hit> culled = renderer.readHits(0);
     renderer.useTracer(nullptr);
     ASSERT_EQ(reference.size(), culled.size());
-    size_t differing = 0;
-    for (size_t i = 0; i < reference.size(); ++i) differing += !sameHit(reference[i], culled[i], false);
+    const size_t differing = countDifferingHits(reference, culled, false);
     EXPECT_EQ(differing, 0u);
     const size_t pixel = 114u * 256u + 83u;
     EXPECT_EQ(reference[pixel].triangleId, 567924u); // the case is still there: the nearer triangle in double precision
@@ -1082,118 +995,111 @@ std::string caseName(const ::testing::TestParamInfo<ExactnessCase>& info) {
 
 // Subtree height 8, well below the BVH depth at 60k triangles, so that object-space splits happen; tiles small enough for
 // several screen-space levels at 96×72.
-INSTANTIATE_TEST_SUITE_P(ProceduralScenes, ChcrtExactnessTest,
-                         ::testing::Values(ExactnessCase{"city:60k", 8, 16}, ExactnessCase{"interior:60k", 8, 16},
-                                           ExactnessCase{"plant:60k", 8, 16}, ExactnessCase{"city:60k", 24, 32},
-                                           // §5.1 options off, and multi-queries of 8 pairs
-                                           ExactnessCase{"city:60k", 8, 16, false, 1, false, false},
-                                           // §5.2 leaf cache on (off by default)
-                                           ExactnessCase{"plant:60k", 24, 32, true, 4, false, true},
-                                           ExactnessCase{"interior:60k", 8, 16, true, 8, false, true},
-                                           ExactnessCase{"city:60k", 8, 16, true, 4, false, true},
-                                           // adaptive fallback on: culled and pure traces mix per ray set
-                                           ExactnessCase{"plant:60k", 8, 16, true, 4, true},
-                                           // no ray extent culling (on by default)
-                                           ExactnessCase{"city:60k", 8, 16, true, 4, false, false, false},
-                                           // batches traversed subtree by subtree (merged by default)
-                                           ExactnessCase{"plant:60k", 8, 16, true, 4, false, false, true, false},
-                                           ExactnessCase{"city:60k", 8, 16, true, 4, false, false, true, false},
-                                           // batched queries (the GL query's test, a round's pairs in one
-                                           // dispatch): heights, tiles of 4 pixels, loose bounds, the adaptive
-                                           // choice, no ray extent culling
-                                           ExactnessCase{"city:60k", 8, 16, true, 4, false, false, true, true,
-                                                         ChcrtQueries::Batched},
-                                           ExactnessCase{"interior:60k", 12, 4, false, 1, false, false, true, true,
-                                                         ChcrtQueries::Batched},
-                                           ExactnessCase{"plant:60k", 8, 16, true, 4, true, false, false, true,
-                                                         ChcrtQueries::Batched},
-                                           // pairs decided by the ray bounds grid, cell lists: several heights,
-                                           // tiles smaller than a cell, cells from 4 to 16 pixels, 1 to 8 pieces
-                                           ExactnessCase{"city:60k", 8, 16, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsOnly},
-                                           ExactnessCase{"interior:60k", 8, 16, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsOnly},
-                                           ExactnessCase{"plant:60k", 8, 16, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsOnly},
-                                           ExactnessCase{"city:60k", 24, 32, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsOnly, 16, 1},
-                                           ExactnessCase{"plant:60k", 12, 4, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsOnly, 8, 8},
-                                           ExactnessCase{"interior:60k", 6, 16, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsOnly, 4, 2},
-                                           ExactnessCase{"city:60k", 8, 16, true, 4, true, false, true, true,
-                                                         ChcrtQueries::BoundsOnly},
-                                           // the previous visible front first (two rounds, two reductions)
-                                           ExactnessCase{"interior:60k", 8, 16, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsOnly, 8, 4, true},
-                                           ExactnessCase{"city:60k", 12, 4, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsOnly, 4, 8, true},
-                                           // the adaptive choice among the pure pass and three heights
-                                           ExactnessCase{"city:60k", 12, 16, true, 4, true, false, true, true,
-                                                         ChcrtQueries::BoundsOnly, 8, 4, false, {6, 10}},
-                                           // cells with more than 3 (or 12) subtrees traverse the whole BVH
-                                           ExactnessCase{"city:60k", 12, 16, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsOnly, 8, 4, false, {}, 3},
-                                           ExactnessCase{"plant:60k", 8, 16, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsOnly, 4, 4, false, {}, 12},
-                                           // hit hints: any-hit rays visit the leaf of their previous hit first
-                                           ExactnessCase{"city:60k", 8, 16, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsOnly, 8, 4, false, {}, 0, true},
-                                           ExactnessCase{"interior:60k", 12, 16, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsOnly, 8, 4, false, {}, 12, true},
-                                           ExactnessCase{"plant:60k", 12, 16, true, 4, true, false, true, true,
-                                                         ChcrtQueries::BoundsOnly, 8, 4, false, {10}, 64, true},
-                                           // cell lists decided on the GPU: heights, cells, pieces, list limits
-                                           // (3: cells over it traverse the whole tree), hints, the adaptive choice
-                                           ExactnessCase{"city:60k", 8, 16, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsGpu},
-                                           ExactnessCase{"interior:60k", 12, 16, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsGpu, 4, 8, false, {}, 3, true},
-                                           ExactnessCase{"plant:60k", 6, 16, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsGpu, 16, 1, false, {}, 12},
-                                           ExactnessCase{"city:60k", 12, 16, true, 4, true, false, true, true,
-                                                         ChcrtQueries::BoundsGpu, 8, 4, false, {10}, 64, true},
-                                           // the cell passes as compute dispatches (CPU and GPU lists, hints, cells of
-                                           // 4 and 16 pixels, the whole tree over a list limit)
-                                           ExactnessCase{"city:60k", 8, 16, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsOnly, 8, 4, false, {}, 0, true, true},
-                                           ExactnessCase{"plant:60k", 12, 16, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsGpu, 4, 4, false, {}, 12, true, true},
-                                           ExactnessCase{"interior:60k", 8, 16, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsGpu, 16, 2, false, {}, 0, false, true},
-                                           // without a list limit the GPU's longest lists still go to the whole tree
-                                           ExactnessCase{"interior:60k", 8, 16, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsGpu, 16, 2},
-                                           // the hint pass (fragment and compute), the rays left traced compacted:
-                                           // cells of 4 to 16 pixels, a list limit, the adaptive choice
-                                           ExactnessCase{"city:60k", 8, 16, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsOnly, 8, 4, false, {}, 0, true, false,
-                                                         true},
-                                           ExactnessCase{"interior:60k", 12, 16, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsOnly, 4, 4, false, {}, 12, true, true,
-                                                         true},
-                                           ExactnessCase{"plant:60k", 12, 16, true, 4, true, false, true, true,
-                                                         ChcrtQueries::BoundsOnly, 16, 4, false, {10}, 64, true, false,
-                                                         true},
-                                           // closest-hit rays with hints too: in the cell pass (bounds-only), after
-                                           // the hint pass (bounds-only, compute; bounds-gpu, the adaptive choice)
-                                           ExactnessCase{"city:60k", 8, 16, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsOnly, 8, 4, false, {}, 0, true, false,
-                                                         false, true},
-                                           ExactnessCase{"interior:60k", 12, 16, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsOnly, 4, 4, false, {}, 12, true, true,
-                                                         true, true},
-                                           ExactnessCase{"plant:60k", 8, 16, true, 4, true, false, true, true,
-                                                         ChcrtQueries::BoundsGpu, 8, 4, false, {10}, 64, true, false,
-                                                         true, true},
-                                           // the hint pass before lists decided on the GPU (compute, as on GPUs, and
-                                           // fragment)
-                                           ExactnessCase{"city:60k", 8, 16, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsGpu, 8, 4, false, {}, 0, true, true, true},
-                                           ExactnessCase{"interior:60k", 12, 16, true, 4, false, false, true, true,
-                                                         ChcrtQueries::BoundsGpu, 4, 8, false, {}, 3, true, false,
-                                                         true}),
-                         caseName);
+const ExactnessCase kExactnessCases[] = {
+    {.scene = "city:60k", .maxSubtreeHeight = 8, .minTileSize = 16},
+    {.scene = "interior:60k", .maxSubtreeHeight = 8, .minTileSize = 16},
+    {.scene = "plant:60k", .maxSubtreeHeight = 8, .minTileSize = 16},
+    {.scene = "city:60k", .maxSubtreeHeight = 24, .minTileSize = 32},
+    // §5.1 options off (tighter bounds, multi-queries)
+    {.scene = "city:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .tighterBounds = false, .multiQueryPairs = 1},
+    // §5.2 leaf cache on (off by default), once with multi-queries of 8 pairs
+    {.scene = "plant:60k", .maxSubtreeHeight = 24, .minTileSize = 32, .leafCache = true},
+    {.scene = "interior:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .multiQueryPairs = 8, .leafCache = true},
+    {.scene = "city:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .leafCache = true},
+    // adaptive fallback on: culled and pure traces mix per ray set
+    {.scene = "plant:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .adaptive = true},
+    // no ray extent culling (on by default)
+    {.scene = "city:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .rayExtent = false},
+    // batches traversed subtree by subtree (merged by default)
+    {.scene = "plant:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .mergedBatch = false},
+    {.scene = "city:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .mergedBatch = false},
+    // batched queries (the GL query's test, a round's pairs in one dispatch): heights, tiles of 4 pixels, loose bounds,
+    // the adaptive choice, no ray extent culling
+    {.scene = "city:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .queries = ChcrtQueries::Batched},
+    {.scene = "interior:60k", .maxSubtreeHeight = 12, .minTileSize = 4, .tighterBounds = false, .multiQueryPairs = 1,
+     .queries = ChcrtQueries::Batched},
+    {.scene = "plant:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .adaptive = true, .rayExtent = false,
+     .queries = ChcrtQueries::Batched},
+    // pairs decided by the ray bounds grid, cell lists: several heights, tiles smaller than a cell, cells from 4 to 16
+    // pixels, 1 to 8 pieces
+    {.scene = "city:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .queries = ChcrtQueries::BoundsOnly},
+    {.scene = "interior:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .queries = ChcrtQueries::BoundsOnly},
+    {.scene = "plant:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .queries = ChcrtQueries::BoundsOnly},
+    {.scene = "city:60k", .maxSubtreeHeight = 24, .minTileSize = 32, .queries = ChcrtQueries::BoundsOnly,
+     .boundsCell = 16, .boundsPieces = 1},
+    {.scene = "plant:60k", .maxSubtreeHeight = 12, .minTileSize = 4, .queries = ChcrtQueries::BoundsOnly,
+     .boundsPieces = 8},
+    {.scene = "interior:60k", .maxSubtreeHeight = 6, .minTileSize = 16, .queries = ChcrtQueries::BoundsOnly,
+     .boundsCell = 4, .boundsPieces = 2},
+    {.scene = "city:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .adaptive = true,
+     .queries = ChcrtQueries::BoundsOnly},
+    // the previous visible front first (two rounds, two reductions)
+    {.scene = "interior:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .queries = ChcrtQueries::BoundsOnly,
+     .boundsPreviousFront = true},
+    {.scene = "city:60k", .maxSubtreeHeight = 12, .minTileSize = 4, .queries = ChcrtQueries::BoundsOnly,
+     .boundsCell = 4, .boundsPieces = 8, .boundsPreviousFront = true},
+    // the adaptive choice among the pure pass and three heights
+    {.scene = "city:60k", .maxSubtreeHeight = 12, .minTileSize = 16, .adaptive = true,
+     .queries = ChcrtQueries::BoundsOnly, .adaptiveHeights = {6, 10}},
+    // cells with more than 3 (or 12) subtrees traverse the whole BVH
+    {.scene = "city:60k", .maxSubtreeHeight = 12, .minTileSize = 16, .queries = ChcrtQueries::BoundsOnly,
+     .cellListLimit = 3},
+    {.scene = "plant:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .queries = ChcrtQueries::BoundsOnly,
+     .boundsCell = 4, .cellListLimit = 12},
+    // hit hints: any-hit rays visit the leaf of their previous hit first
+    {.scene = "city:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .queries = ChcrtQueries::BoundsOnly,
+     .hitHints = true},
+    {.scene = "interior:60k", .maxSubtreeHeight = 12, .minTileSize = 16, .queries = ChcrtQueries::BoundsOnly,
+     .cellListLimit = 12, .hitHints = true},
+    {.scene = "plant:60k", .maxSubtreeHeight = 12, .minTileSize = 16, .adaptive = true,
+     .queries = ChcrtQueries::BoundsOnly, .adaptiveHeights = {10}, .cellListLimit = 64, .hitHints = true},
+    // cell lists decided on the GPU: heights, cells, pieces, list limits (3: cells over it traverse the whole tree),
+    // hints, the adaptive choice
+    {.scene = "city:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .queries = ChcrtQueries::BoundsGpu},
+    {.scene = "interior:60k", .maxSubtreeHeight = 12, .minTileSize = 16, .queries = ChcrtQueries::BoundsGpu,
+     .boundsCell = 4, .boundsPieces = 8, .cellListLimit = 3, .hitHints = true},
+    {.scene = "plant:60k", .maxSubtreeHeight = 6, .minTileSize = 16, .queries = ChcrtQueries::BoundsGpu,
+     .boundsCell = 16, .boundsPieces = 1, .cellListLimit = 12},
+    {.scene = "city:60k", .maxSubtreeHeight = 12, .minTileSize = 16, .adaptive = true,
+     .queries = ChcrtQueries::BoundsGpu, .adaptiveHeights = {10}, .cellListLimit = 64, .hitHints = true},
+    // the cell passes as compute dispatches (CPU and GPU lists, hints, cells of 4 and 16 pixels, the whole tree over a
+    // list limit)
+    {.scene = "city:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .queries = ChcrtQueries::BoundsOnly,
+     .hitHints = true, .computeCellPass = true},
+    {.scene = "plant:60k", .maxSubtreeHeight = 12, .minTileSize = 16, .queries = ChcrtQueries::BoundsGpu,
+     .boundsCell = 4, .cellListLimit = 12, .hitHints = true, .computeCellPass = true},
+    {.scene = "interior:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .queries = ChcrtQueries::BoundsGpu,
+     .boundsCell = 16, .boundsPieces = 2, .computeCellPass = true},
+    // without a list limit the GPU's longest lists still go to the whole tree
+    {.scene = "interior:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .queries = ChcrtQueries::BoundsGpu,
+     .boundsCell = 16, .boundsPieces = 2},
+    // the hint pass (fragment and compute), the rays left traced compacted: cells of 4 to 16 pixels, a list limit, the
+    // adaptive choice
+    {.scene = "city:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .queries = ChcrtQueries::BoundsOnly,
+     .hitHints = true, .hintPass = true},
+    {.scene = "interior:60k", .maxSubtreeHeight = 12, .minTileSize = 16, .queries = ChcrtQueries::BoundsOnly,
+     .boundsCell = 4, .cellListLimit = 12, .hitHints = true, .computeCellPass = true, .hintPass = true},
+    {.scene = "plant:60k", .maxSubtreeHeight = 12, .minTileSize = 16, .adaptive = true,
+     .queries = ChcrtQueries::BoundsOnly, .boundsCell = 16, .adaptiveHeights = {10}, .cellListLimit = 64,
+     .hitHints = true, .hintPass = true},
+    // closest-hit rays with hints too: in the cell pass (bounds-only), after the hint pass (bounds-only, compute;
+    // bounds-gpu, the adaptive choice)
+    {.scene = "city:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .queries = ChcrtQueries::BoundsOnly,
+     .hitHints = true, .closestHitHints = true},
+    {.scene = "interior:60k", .maxSubtreeHeight = 12, .minTileSize = 16, .queries = ChcrtQueries::BoundsOnly,
+     .boundsCell = 4, .cellListLimit = 12, .hitHints = true, .computeCellPass = true, .hintPass = true,
+     .closestHitHints = true},
+    {.scene = "plant:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .adaptive = true,
+     .queries = ChcrtQueries::BoundsGpu, .adaptiveHeights = {10}, .cellListLimit = 64, .hitHints = true,
+     .hintPass = true, .closestHitHints = true},
+    // the hint pass before lists decided on the GPU (compute, as on GPUs, and fragment)
+    {.scene = "city:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .queries = ChcrtQueries::BoundsGpu,
+     .hitHints = true, .computeCellPass = true, .hintPass = true},
+    {.scene = "interior:60k", .maxSubtreeHeight = 12, .minTileSize = 16, .queries = ChcrtQueries::BoundsGpu,
+     .boundsCell = 4, .boundsPieces = 8, .cellListLimit = 3, .hitHints = true, .hintPass = true},
+};
+
+INSTANTIATE_TEST_SUITE_P(ProceduralScenes, ChcrtExactnessTest, ::testing::ValuesIn(kExactnessCases), caseName);
 
 } // namespace
 } // namespace chcrt::test

@@ -7,7 +7,6 @@
 #include "culling/chcrt_tracer.h"
 #include "renderer/core/error.h"
 
-#include <cstring>
 
 namespace chcrt::test {
 namespace {
@@ -47,19 +46,7 @@ protected:
             FrameStats stats;
             renderer.renderGBuffer(camera, stats);
             renderer.generateRayPass(camera, type, 0, stats);
-            renderer.useTracer(nullptr);
-            renderer.traceRayPass(camera, type, 0, stats);
-            const std::vector<Hit> reference = renderer.readHits(0);
-            renderer.useTracer(&tracer);
-            renderer.traceRayPass(camera, type, 0, stats);
-            const std::vector<Hit> culled = renderer.readHits(0);
-            for (size_t i = 0; i < reference.size(); ++i) {
-                const bool same = isAnyHit(type) ? (reference[i].triangleId == CHCRT_NO_HIT_ID) ==
-                                                       (culled[i].triangleId == CHCRT_NO_HIT_ID)
-                                                 : reference[i].triangleId == culled[i].triangleId &&
-                                                       std::memcmp(&reference[i].t, &culled[i].t, sizeof(float)) == 0;
-                differing += !same;
-            }
+            differing += traceAgainstPureBvh(renderer, tracer, camera, type, 0, stats).differing;
         }
         renderer.useTracer(nullptr);
         return differing;

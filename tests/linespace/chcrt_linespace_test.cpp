@@ -39,9 +39,7 @@ protected:
 bool hitOf(const Hit& h) { return h.triangleId != CHCRT_NO_HIT_ID; }
 
 TEST_F(ChcrtLineSpaceTest, ExactSkippingInSubtreesGivesPureBvhHits) {
-    RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer("city:30k", settings);
     ChcrtTracer chcrt(bvh_, lineSpaceOptions(ls::LineSpaceMode::Exact, ls::LineSpaceMode::Exact), "chcrt+ls-exact");
     ASSERT_LT(spaces_.stats.binaryFilled, spaces_.stats.binaryShafts);
@@ -53,23 +51,16 @@ TEST_F(ChcrtLineSpaceTest, ExactSkippingInSubtreesGivesPureBvhHits) {
         renderer.renderGBuffer(camera, stats);
         for (RayType type : {RayType::Primary, RayType::Shadow, RayType::Ao, RayType::Diffuse}) {
             renderer.generateRayPass(camera, type, 0, stats);
+            const OracleComparison traced = traceAgainstPureBvh(renderer, chcrt, camera, type, 0, stats);
             renderer.useTracer(nullptr);
-            renderer.traceRayPass(camera, type, 0, stats);
-            const std::vector<Hit> reference = renderer.readHits(0);
-            renderer.useTracer(&chcrt);
-            renderer.traceRayPass(camera, type, 0, stats);
-            const std::vector<Hit> culled = renderer.readHits(0);
-            renderer.useTracer(nullptr);
-            ASSERT_EQ(reference.size(), culled.size());
-            for (size_t i = 0; i < reference.size(); ++i) {
-                const bool same = isAnyHit(type) ? hitOf(reference[i]) == hitOf(culled[i])
-                                                 : reference[i].triangleId == culled[i].triangleId &&
-                                                       std::memcmp(&reference[i].t, &culled[i].t, sizeof(float)) == 0;
-                ASSERT_TRUE(same) << toString(type) << " frame " << frame * 2 << " pixel " << i << ": id "
-                                  << culled[i].triangleId << " vs " << reference[i].triangleId;
-                hits += hitOf(reference[i]);
+            ASSERT_EQ(traced.reference.size(), traced.traced.size());
+            for (size_t i = 0; i < traced.reference.size(); ++i) {
+                ASSERT_TRUE(sameHit(traced.reference[i], traced.traced[i], isAnyHit(type)))
+                    << toString(type) << " frame " << frame * 2 << " pixel " << i << ": id "
+                    << traced.traced[i].triangleId << " vs " << traced.reference[i].triangleId;
+                hits += hitOf(traced.reference[i]);
             }
-            compared += reference.size();
+            compared += traced.reference.size();
         }
         EXPECT_EQ(stats.cappedRays, 0u);
     }
@@ -78,9 +69,7 @@ TEST_F(ChcrtLineSpaceTest, ExactSkippingInSubtreesGivesPureBvhHits) {
 }
 
 TEST_F(ChcrtLineSpaceTest, ShadowTerminationInSubtreesOnlyAddsOcclusion) {
-    RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer("city:30k", settings);
     ChcrtTracer chcrt(bvh_, lineSpaceOptions(ls::LineSpaceMode::Exact, ls::LineSpaceMode::Shadow), "chcrt+ls");
     const Camera camera = proceduralNearPath(spec_).cameraAtFrame(2);

@@ -50,17 +50,9 @@ protected:
     ls::LineSpaces spaces_;
 };
 
-bool sameHit(const Hit& a, const Hit& b, bool anyHit) {
-    const bool hitA = a.triangleId != CHCRT_NO_HIT_ID, hitB = b.triangleId != CHCRT_NO_HIT_ID;
-    if (anyHit) return hitA == hitB;
-    return a.triangleId == b.triangleId && std::memcmp(&a.t, &b.t, sizeof(float)) == 0;
-}
-
 TEST_P(LineSpaceTraceTest, ExactSkippingGivesPureBvhHits) {
     const TraceCase c = GetParam();
-    RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer(c.scene, settings);
     ls::LineSpaceTracer tracer("bvh+ls-exact", buildGpu(c, false), ls::LineSpaceModes::allExact(), 30.0f);
     ASSERT_LT(spaces_.stats.binaryFilled, spaces_.stats.binaryShafts) << "no empty shaft: nothing to test";
@@ -121,9 +113,7 @@ TEST_P(LineSpaceTraceTest, ExactSkippingGivesTheSameShadedFrame) {
 
 TEST_P(LineSpaceTraceTest, ApproximateModesKeepTheirGuarantees) {
     const TraceCase c = GetParam();
-    RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer(c.scene, settings);
     ls::LineSpaceModes modes; // bvh+ls defaults, with AO candidates (off by default) tested too
     modes.ao = ls::LineSpaceMode::CandidateExactStart;
@@ -172,9 +162,7 @@ class LineSpaceLeafTestVariantTest : public LineSpaceTraceTest {};
 
 TEST_P(LineSpaceLeafTestVariantTest, CandidatePassesWithoutTheUnreachableLeafTestGiveTheSameHits) {
     const TraceCase c = GetParam();
-    RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer(c.scene, settings);
     // A shallow cut, so that no Line Space node is a leaf; the case's own depth must have leaf spaces for the
     // variant to matter there (checked below).

@@ -70,9 +70,7 @@ bool occluded(const Hit& hit) { return hit.triangleId != CHCRT_NO_HIT_ID; }
 
 TEST_P(NTreeTraceTest, WithoutTerminationItIsExact) {
     const NTreeCase c = GetParam();
-    RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer(c.scene, settings);
     ls::NTreeShadowOptions exact;
     exact.shadowLevel = c.depth; // no level terminates
@@ -98,9 +96,7 @@ TEST_P(NTreeTraceTest, WithoutTerminationItIsExact) {
 
 TEST_P(NTreeTraceTest, ShaftTerminationOnlyAddsOcclusion) {
     const NTreeCase c = GetParam();
-    RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer(c.scene, settings);
     auto gpu = buildGpu(c);
     ls::NTreeShadowOptions paperLevel;

@@ -1,6 +1,7 @@
 // `--out-of-core` from the command line (issue #5 part 2): verify is exact with a GPU cache ~15x smaller than
 // the scene, bench reports the Table 3 statistics, a scene that is not loaded in core renders and benchmarks
 // without a pure-BVH reference, and bad combinations are one-line errors with exit code 2.
+#include "tests/app/cli_fixture.h"
 #include "tests/outofcore/outofcore_test_util.h"
 
 #include <gtest/gtest.h>
@@ -8,28 +9,13 @@
 
 #include <cstdio>
 #include <fstream>
-#include <sys/wait.h>
 
 namespace chcrt {
 namespace {
 
-struct CliRun {
-    int exitCode = -1;
-    std::string output;
-};
+using CliRun = clitest::Result;
 
-CliRun chcrt(const std::filesystem::path& dir, const std::string& arguments) {
-    const std::string command = "cd '" + dir.string() + "' && '" CHCRT_BINARY "' " + arguments + " 2>&1";
-    CliRun run;
-    FILE* pipe = ::popen(command.c_str(), "r");
-    if (!pipe) return run;
-    char buffer[4096];
-    size_t got = 0;
-    while ((got = std::fread(buffer, 1, sizeof(buffer), pipe)) > 0) run.output.append(buffer, got);
-    const int status = ::pclose(pipe);
-    run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return run;
-}
+CliRun chcrt(const std::filesystem::path& dir, const std::string& arguments) { return clitest::runChcrt(dir, arguments); }
 
 size_t lineCount(const std::string& text) { return size_t(std::count(text.begin(), text.end(), '\n')); }
 

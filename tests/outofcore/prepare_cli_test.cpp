@@ -1,33 +1,19 @@
 // `chcrt prepare` and `--scene file.chs` from the command line: success output, exit codes and one-line errors
 // for bad input, no output file left behind on failure.
+#include "tests/app/cli_fixture.h"
 #include "tests/outofcore/outofcore_test_util.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstdio>
-#include <sys/wait.h>
 
 namespace chcrt {
 namespace {
 
-struct CliRun {
-    int exitCode = -1;
-    std::string output;
-};
+using CliRun = clitest::Result;
 
-CliRun chcrt(const std::filesystem::path& dir, const std::string& arguments) {
-    const std::string command = "cd '" + dir.string() + "' && '" CHCRT_BINARY "' " + arguments + " 2>&1";
-    CliRun run;
-    FILE* pipe = ::popen(command.c_str(), "r");
-    if (!pipe) return run;
-    char buffer[4096];
-    size_t got = 0;
-    while ((got = std::fread(buffer, 1, sizeof(buffer), pipe)) > 0) run.output.append(buffer, got);
-    const int status = ::pclose(pipe);
-    run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return run;
-}
+CliRun chcrt(const std::filesystem::path& dir, const std::string& arguments) { return clitest::runChcrt(dir, arguments); }
 
 TEST(PrepareCli, PreparesAndInfoReadsTheFile) {
     test::ScratchDir dir;

@@ -32,9 +32,7 @@ TEST_F(PreparedRenderTest, HitsFromPreparedFileEqualHitsFromSpec) {
     const auto file = dir.file("city.chs");
     const outofcore::PrepareReport report = test::prepareSmall("city:20k", file, 1000);
     ASSERT_GT(report.subtrees, 10u);
-    RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    const RenderSettings settings = test::smallTraceSettings();
     Renderer& fromSpec = makeProceduralRenderer("city:20k", settings);
     const CameraPath path = proceduralNearPath(spec_);
     const std::vector<std::vector<Hit>> expected = traceAll(fromSpec, path);

@@ -1,6 +1,8 @@
 #pragma once
 // Shared set-up of the GL render tests: one headless EGL context per test process (ctest runs each test in its
 // own process), scene + BVH + Renderer construction, and small read-back helpers.
+#include "tests/render/hit_oracle.h"
+
 #include "renderer/bvh/bvh.h"
 #include "renderer/gl/context.h"
 #include "renderer/render/renderer.h"

@@ -158,9 +158,7 @@ TEST_F(RenderTest, FramesWithTracedPrimaryVisibilityAreDeterministic) {
 // CHC+RT's conservative culling never changes a hit (§4.5), so the G-buffer it produces as primary visibility
 // must be the pure-BVH traced one, bit for bit, over consecutive frames (its visibility fronts carry over).
 TEST_F(RenderTest, ChcrtTracedGBufferEqualsPureBvhTracedGBuffer) {
-    RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    RenderSettings settings = smallTraceSettings();
     settings.primaryVisibility = PrimaryVisibility::Traced;
     Renderer& renderer = makeProceduralRenderer("city:20k", settings);
     ChcrtTracer chcrt(bvh_);

@@ -19,9 +19,7 @@ class TracerOracleTest : public RenderTest, public ::testing::WithParamInterface
 
 TEST_P(TracerOracleTest, GlslHitsEqualEmbreeAndCpuHits) {
     const OracleCase c = GetParam();
-    RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    RenderSettings settings = smallTraceSettings();
     settings.rotationDegrees = 360.0f; // decorrelated rays cover more of the scene
     Renderer& renderer = makeProceduralRenderer(c.scene, settings);
     const EmbreeTracer embree(scene_);
