@@ -6,8 +6,10 @@
 #include "linespace/linespace_build.h"
 #include "linespace/ntree.h"
 #include "renderer/bvh/bvh.h"
+#include "tests/fuzz/fuzz_input.h"
 
 #include <filesystem>
+#include <string>
 #include <vector>
 
 namespace chcrt::fuzz {
@@ -25,5 +27,22 @@ std::vector<uint8_t> cacheFileWithPayload(const ls::CacheFileHeader& expected, c
 
 // The header at the start of a cache file (from a cache written once by the harness).
 ls::CacheFileHeader readCacheHeader(const std::filesystem::path& file);
+
+// One input of a cache reader's harness: `data` is the payload of a cache file with extension `extension`
+// (".lscache"), written behind the header of a valid cache of the fixed scene — which `saveValid(path)` writes once —
+// and read back by `load(path)`; only input errors are expected.
+template <typename SaveValid, typename Load>
+int fuzzCacheReader(const uint8_t* data, size_t size, const std::string& extension, SaveValid saveValid, Load load) {
+    const CpuTimeLimit limit;
+    static const ls::CacheFileHeader expected = [&] {
+        const std::filesystem::path file = scratchDirectory() / ("valid" + extension);
+        saveValid(file);
+        return readCacheHeader(file);
+    }();
+    const std::vector<uint8_t> bytes = cacheFileWithPayload(expected, data, size);
+    const std::filesystem::path file = writeScratchFile(bytes.data(), bytes.size(), extension);
+    expectOnlyInputErrors([&] { load(file); });
+    return 0;
+}
 
 } // namespace chcrt::fuzz
