@@ -4,12 +4,12 @@
 // effects; identity where exactness holds) and on the statistics the viewer writes and checks.
 #include "app/viewer/residency_view.h"
 #include "renderer/core/image_io.h"
+#include "tests/app/cli_fixture.h"
 
 #include <nlohmann/json.hpp>
 
 #include <gtest/gtest.h>
 
-#include <array>
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -94,10 +94,7 @@ std::string& serverError() {
     return e;
 }
 
-struct Result {
-    int exitCode = -1;
-    std::string output;
-};
+using Result = clitest::Result;
 
 class ViewerTest : public ::testing::Test {
 protected:
@@ -119,16 +116,7 @@ protected:
     // `environment`: extra VAR=value assignments for the command.
     Result run(const std::string& arguments, bool withDisplay = true, const std::string& environment = "") const {
         const std::string display = withDisplay ? "DISPLAY=" + server().display() : "DISPLAY=";
-        const std::string command = "cd '" + dir_.string() + "' && " + display + " " + environment + " '" CHCRT_BINARY
-                                    "' " + arguments + " 2>&1";
-        Result result;
-        FILE* pipe = ::popen(command.c_str(), "r");
-        if (!pipe) return result;
-        std::array<char, 4096> buffer;
-        while (size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) result.output.append(buffer.data(), n);
-        const int status = ::pclose(pipe);
-        result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        return result;
+        return clitest::runChcrt(dir_, arguments, display + " " + environment);
     }
     // Runs a script on the small city at 128×72 (render scale 1).
     Result view(const std::string& script, const std::string& extra = "", const char* renderScale = "1",
