@@ -931,22 +931,17 @@ TEST_F(RenderTest, AHitComputedBeforeItsLeafsBoxDoesNotDependOnTheVisitingOrder)
     FrameStats stats;
     renderer.renderGBuffer(camera, stats);
     renderer.generateRayPass(camera, RayType::Primary, 0, stats);
-    renderer.useTracer(nullptr);
-    renderer.traceRayPass(camera, RayType::Primary, 0, stats);
-    const std::vector<Hit> reference = renderer.readHits(0);
     ChcrtOptions options = recommendedChcrtOptions(RendererTraits{.software = true});
     options.adaptive = false;
     ChcrtTracer chcrt(bvh_, options);
-    renderer.useTracer(&chcrt);
-    renderer.traceRayPass(camera, RayType::Primary, 0, stats);
-    const std::vector<Hit> culled = renderer.readHits(0);
+    const OracleComparison traced = traceAgainstPureBvh(renderer, chcrt, camera, RayType::Primary, 0, stats);
     renderer.useTracer(nullptr);
-    ASSERT_EQ(reference.size(), culled.size());
-    const size_t differing = countDifferingHits(reference, culled, false);
-    EXPECT_EQ(differing, 0u);
+    ASSERT_EQ(traced.reference.size(), traced.traced.size());
+    EXPECT_EQ(traced.differing, 0u);
     const size_t pixel = 114u * 256u + 83u;
-    EXPECT_EQ(reference[pixel].triangleId, 567924u); // the case is still there: the nearer triangle in double precision
-    EXPECT_EQ(culled[pixel].triangleId, 567924u);
+    // The case is still there: the nearer triangle in double precision.
+    EXPECT_EQ(traced.reference[pixel].triangleId, 567924u);
+    EXPECT_EQ(traced.traced[pixel].triangleId, 567924u);
 }
 
 TEST_F(RenderTest, WithoutTemporalCoherenceEveryTraceStartsFromTheRootPair) {

@@ -76,13 +76,10 @@ TEST_F(ChcrtLineSpaceTest, ShadowTerminationInSubtreesOnlyAddsOcclusion) {
     FrameStats stats;
     renderer.renderGBuffer(camera, stats);
     renderer.generateRayPass(camera, RayType::Shadow, 0, stats);
+    const OracleComparison traced = traceAgainstPureBvh(renderer, chcrt, camera, RayType::Shadow, 0, stats);
     renderer.useTracer(nullptr);
-    renderer.traceRayPass(camera, RayType::Shadow, 0, stats);
-    const std::vector<Hit> reference = renderer.readHits(0);
-    renderer.useTracer(&chcrt);
-    renderer.traceRayPass(camera, RayType::Shadow, 0, stats);
-    const std::vector<Hit> hits = renderer.readHits(0);
-    renderer.useTracer(nullptr);
+    const std::vector<Hit>& reference = traced.reference;
+    const std::vector<Hit>& hits = traced.traced;
     uint64_t occludedPure = 0, occludedLs = 0, terminated = 0;
     for (size_t i = 0; i < hits.size(); ++i) {
         ASSERT_TRUE(!hitOf(reference[i]) || hitOf(hits[i])) << "lost an occluder at pixel " << i;

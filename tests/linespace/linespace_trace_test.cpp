@@ -124,13 +124,10 @@ TEST_P(LineSpaceTraceTest, ApproximateModesKeepTheirGuarantees) {
     uint64_t occludedPure = 0, occludedLs = 0, candidateHits = 0;
     for (RayType type : {RayType::Shadow, RayType::Ao, RayType::Diffuse}) {
         renderer.generateRayPass(camera, type, 0, stats);
+        const OracleComparison traced = traceAgainstPureBvh(renderer, tracer, camera, type, 0, stats);
         renderer.useTracer(nullptr);
-        renderer.traceRayPass(camera, type, 0, stats);
-        const std::vector<Hit> reference = renderer.readHits(0);
-        renderer.useTracer(&tracer);
-        renderer.traceRayPass(camera, type, 0, stats);
-        const std::vector<Hit> hits = renderer.readHits(0);
-        renderer.useTracer(nullptr);
+        const std::vector<Hit>& reference = traced.reference;
+        const std::vector<Hit>& hits = traced.traced;
         const std::vector<Ray> rays = renderer.readRays(0);
         for (size_t i = 0; i < hits.size(); ++i) {
             if (!(rays[i].tmax > rays[i].tmin)) continue;
