@@ -498,6 +498,11 @@ std::vector<Parameter> describeChcrt() {
                  "(compacted)")
             .checkbox("hint pass")
             .onOff(FIELD(chcrt.hintPass)),
+        Describe(Area::Chcrt, "--chcrt-shared-shadow-lists", "chcrtSharedShadowLists",
+                 "CHC+RT bounds-only: the shadow ray sets of one G-buffer share one ray bounds grid (surface points "
+                 "swept to the light) and one set of cell lists")
+            .checkbox("shared shadow lists")
+            .onOff(FIELD(chcrt.shareShadowLists)),
         Describe(Area::Chcrt, "--chcrt-hint-pass-max-left", "chcrtHintPassMaxLeft",
                  "CHC+RT with the hint pass: a ray kind whose passes leave more than this share of the pixels to "
                  "trace twice in a row stops the pass, retrying every 16 traces")

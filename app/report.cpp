@@ -225,6 +225,8 @@ nlohmann::json chcrtStatsJson(const ChcrtStats& s, double frames) {
                            {"cells_whole_tree", s.cellsWholeTree},
                            {"hint_passes", s.hintPasses},
                            {"hint_rays_left", s.hintRaysLeft},
+                           {"shared_lists_made", s.sharedListsMade},
+                           {"shared_lists_reused", s.sharedListsReused},
                            {"bounds_ms", s.boundsMs},
                            {"decide_ms", s.decideMs},
                            {"cell_list_ms", s.cellListMs},

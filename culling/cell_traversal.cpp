@@ -13,6 +13,7 @@ void CellTraversal::begin(int cellsX, int cellsY, int cellSize) {
     cellsY_ = cellsY;
     cellSize_ = cellSize;
     entries_.clear();
+    kept_ = -1; // the kept lists were for another grid, or are to be replaced
 }
 
 const ShaderProgram& CellTraversal::program(bool anyHit, const std::string& debugDefine, bool compacted,
@@ -81,6 +82,28 @@ uint32_t CellTraversal::draw(bool anyHit, const std::string& debugDefine, int wi
     return withWork;
 }
 
+uint32_t CellTraversal::keep() {
+    const bool any = !entries_.empty();
+    keptWithWork_ = any ? uploadLists("") : 0;
+    kept_ = any ? next_ ^ 1 : -1; // uploadLists filled buffers_[next_] and moved on
+    return keptWithWork_;
+}
+
+uint32_t CellTraversal::drawKept(bool anyHit, int width, int height, GLuint maskFramebuffer) {
+    if (kept_ < 0) return 0;
+    bindLists(buffers_[kept_], false);
+    drawMaskAndCells(anyHit, "", width, height, maskFramebuffer, false,
+                     [&](const ShaderProgram& p) { drawPoints(p, width, height); });
+    return keptWithWork_;
+}
+
+uint32_t CellTraversal::drawKeptCompacted(bool anyHit) {
+    if (kept_ < 0) return 0; // no cell has work: every listed ray keeps its miss
+    bindLists(buffers_[kept_], false);
+    dispatchCompacted(anyHit, "", cellsX_, cellSize_);
+    return keptWithWork_;
+}
+
 uint32_t CellTraversal::drawCompacted(bool anyHit, const std::string& debugDefine) {
     if (entries_.empty()) return 0; // no cell has work: every listed ray keeps its miss
     const uint32_t withWork = uploadLists(debugDefine);
@@ -138,19 +161,23 @@ uint32_t CellTraversal::uploadLists(const std::string& debugDefine, bool everyCe
         ids_[i + 1] = sorted_[i].subtree;
     }
     Buffers& b = buffers_[next_];
+    if (kept_ == next_) kept_ = -1; // replaced
     next_ ^= 1;
     upload(b.headers, headers_.data(), headers_.size() * 4, GL_RG32UI);
     upload(b.roots, roots_.data(), roots_.size() * 4, GL_RG32UI);
     const bool withIds = debugDefine == "CHCRT_CULLING_DEBUG_SUBTREES";
     if (withIds) upload(b.ids, ids_.data(), ids_.size() * 4, GL_R32UI);
-
     upload(b.drawCells, drawCells_.data(), drawCells_.size() * 4, GL_R32UI);
+    bindLists(b, withIds);
+    entries_.clear();
+    return withWork;
+}
+
+void CellTraversal::bindLists(const Buffers& b, bool withIds) const {
     glBindTextureUnit(CHCRT_UNIT_CULLING_CELL_HEADERS, b.headers.texture.id());
     glBindTextureUnit(CHCRT_UNIT_CULLING_CELL_ROOTS, b.roots.texture.id());
     glBindTextureUnit(CHCRT_UNIT_CULLING_DRAW_CELLS, b.drawCells.texture.id());
     if (withIds) glBindTextureUnit(CHCRT_UNIT_CULLING_CELL_IDS, b.ids.texture.id());
-    entries_.clear();
-    return withWork;
 }
 
 void CellTraversal::drawIndirect(bool anyHit, const std::string& debugDefine, int width, int height, int cellsX,

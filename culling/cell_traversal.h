@@ -76,6 +76,13 @@ public:
     // The same over lists decided on the GPU (gpu_cell_lists.h, bound already), the compaction buffer bound as the
     // dispatch-indirect buffer.
     void dispatchCompacted(bool anyHit, const std::string& debugDefine, int cellsX, int cellSize);
+    // Lists for several ray sets (the shadow ray sets of a frame, TraceRequest::lightSweep): keep() sorts and uploads
+    // the lists added since begin() and returns the cells with work; drawKept / drawKeptCompacted traverse them (as
+    // draw / drawCompacted without a mask to write) as often as asked, until the next keep, draw or drawCompacted.
+    // No debug image (the subtree ids are not kept).
+    uint32_t keep();
+    uint32_t drawKept(bool anyHit, int width, int height, GLuint maskFramebuffer);
+    uint32_t drawKeptCompacted(bool anyHit);
     // The same for lists decided on the GPU (gpu_cell_lists.h): the list texture units and the indirect draw of the
     // cells with work are bound already; cellsX / cellSize describe the grid.
     void drawIndirect(bool anyHit, const std::string& debugDefine, int width, int height, int cellsX, int cellSize,
@@ -94,6 +101,7 @@ private:
     // Sorts the entries into per-cell lists, uploads and binds them (texture units CHCRT_UNIT_CULLING_CELL_*);
     // `everyCell`: every cell is drawn, not only those with work. Returns the cells with work.
     uint32_t uploadLists(const std::string& debugDefine, bool everyCell = false);
+    void bindLists(const Buffers& buffers, bool withIds) const;
     void drawPoints(const ShaderProgram& program, int width, int height) const;
     // The mask (when asked for) and the traversal of the cells `issue` draws, into `maskFramebuffer`; compute passes
     // need no mask (finished and inactive rays return at once) and no framebuffer.
@@ -115,6 +123,8 @@ private:
     std::vector<uint32_t> counts_, headers_, roots_, ids_, drawCells_; // drawCells_: the cells drawn
     Buffers buffers_[2]; // alternate per draw, so an upload never waits for the previous draw
     int next_ = 0;
+    int kept_ = -1;              // the buffers keep() filled, -1 = none (or replaced since)
+    uint32_t keptWithWork_ = 0;  // their cells with work
     uint32_t wholeTreeRoot_ = 0, listLimit_ = 0, wholeTreeCells_ = 0;
     bool hintsVisited_ = false;
 };

@@ -100,6 +100,7 @@ ChcrtOptions recommendedChcrtOptions(const RendererTraits& renderer) {
     options.cellListLimit = 64;
     options.hitHints = true;
     options.hintPass = true;
+    options.shareShadowLists = true;
     // The renderer's part (chcrt_tracer.h says why): lists decided on the GPU and traced in compute dispatches on
     // GPUs, decided on the CPU and traced in fragment passes on software rasterisers.
     options.queries = renderer.software ? ChcrtQueries::BoundsOnly : ChcrtQueries::BoundsGpu;
@@ -232,6 +233,8 @@ ChcrtStats& ChcrtStats::operator+=(const ChcrtStats& o) {
     cellsWholeTree += o.cellsWholeTree;
     hintPasses += o.hintPasses;
     hintRaysLeft += o.hintRaysLeft;
+    sharedListsMade += o.sharedListsMade;
+    sharedListsReused += o.sharedListsReused;
     boundsCulledPieces += o.boundsCulledPieces;
     boundsCulledFrustum += o.boundsCulledFrustum;
     boundsReached += o.boundsReached;
@@ -305,29 +308,37 @@ std::vector<ShaderDefine> ChcrtTracer::subtreeDefines(bool anyHit) const {
     return defines;
 }
 
+std::unique_ptr<CellTraversal> ChcrtTracer::makeCellTraversal() {
+    // Cells over the list limit traverse the whole BVH: a stack as deep as the pure tracer's.
+    // (The GPU's lists send a cell over CHCRT_CULLING_GPU_LIST_MAX subtrees there whatever the limit.)
+    const bool wholeTree = bvh_ != nullptr && (options_.cellListLimit > 0 || options_.queries == ChcrtQueries::BoundsGpu);
+    const bool hints = hintsAvailable();
+    auto cells = std::make_unique<CellTraversal>([this, wholeTree, hints](bool anyHit) {
+        std::vector<ShaderDefine> defines = subtreeDefines(anyHit);
+        for (ShaderDefine& d : defines) {
+            if (wholeTree && d.name == "CHCRT_SUBTREE_STACK") d.value = std::to_string(CHCRT_MAX_BVH_DEPTH);
+        }
+        defines.push_back({"CHCRT_CULLING_HINTS", hints && (anyHit || options_.closestHitHints) ? "1" : "0"});
+        defines.push_back(hintSlotsDefine());
+        return defines;
+    }, options_.computeCellPass ? options_.bounds.cellSize : 0, programCache_);
+    if (wholeTree) cells->setWholeTree(0u, options_.cellListLimit);
+    return cells;
+}
+
 void ChcrtTracer::compilePrograms() {
     const bool bounded = decidesByBounds(options_.queries);
     if ((options_.rayExtentCulling || bounded || intersectsByCells()) && !rayExtent_) {
         rayExtent_ = std::make_unique<RayBoundsGrid>(options_.bounds, programCache_);
     }
     if ((bounded || intersectsByCells()) && !cells_) {
-        // Cells over the list limit traverse the whole BVH: a stack as deep as the pure tracer's.
-        // (The GPU's lists send a cell over CHCRT_CULLING_GPU_LIST_MAX subtrees there whatever the limit.)
-        const bool wholeTree =
-            bvh_ != nullptr && (options_.cellListLimit > 0 || options_.queries == ChcrtQueries::BoundsGpu);
         const bool hints = hintsAvailable();
-        cells_ = std::make_unique<CellTraversal>([this, wholeTree, hints](bool anyHit) {
-            std::vector<ShaderDefine> defines = subtreeDefines(anyHit);
-            for (ShaderDefine& d : defines) {
-                if (wholeTree && d.name == "CHCRT_SUBTREE_STACK") d.value = std::to_string(CHCRT_MAX_BVH_DEPTH);
-            }
-            defines.push_back({"CHCRT_CULLING_HINTS", hints && (anyHit || options_.closestHitHints) ? "1" : "0"});
-            defines.push_back(hintSlotsDefine());
-            return defines;
-        }, options_.computeCellPass ? options_.bounds.cellSize : 0, programCache_);
-        if (wholeTree) cells_->setWholeTree(0u, options_.cellListLimit);
+        cells_ = makeCellTraversal();
         const bool hintPass = hints && options_.hintPass;
         cells_->compile(hintPass);
+        if (options_.shareShadowLists && bvh_ != nullptr && options_.queries == ChcrtQueries::BoundsOnly) {
+            sharedCells_ = makeCellTraversal(); // the same programs (one cache)
+        }
         if (hintPass) {
             hintPass_ = std::make_unique<HintPass>(options_.computeCellPass, options_.bounds.cellSize,
                                                    std::vector<ShaderDefine>{hintSlotsDefine(),
@@ -339,6 +350,9 @@ void ChcrtTracer::compilePrograms() {
     if (options_.queries == ChcrtQueries::Batched && !batched_) batched_ = std::make_unique<BatchedQueries>();
     if (options_.queries == ChcrtQueries::BoundsGpu && !gpuLists_) {
         gpuLists_ = std::make_unique<GpuCellLists>(hierarchy_, options_.bounds.pieces, programCache_);
+        if (options_.shareShadowLists) {
+            sharedGpuLists_ = std::make_unique<GpuCellLists>(hierarchy_, options_.bounds.pieces, programCache_);
+        }
     }
     for (int anyHit = 0; anyHit < 2; ++anyHit) {
         const std::vector<ShaderDefine> defines = subtreeDefines(anyHit != 0);
@@ -990,7 +1004,10 @@ bool ChcrtTracer::traceOwn(const TraceRequest& request, const RayTextures& rays,
     if (rayExtent_) rayExtent_->resetDecisions();
     bool warm = false;
     switch (options_.queries) {
-    case ChcrtQueries::BoundsOnly: warm = traceBounded(request, rays, hits, width, height); break;
+    case ChcrtQueries::BoundsOnly:
+        warm = sharesLightSweep(request) ? traceSharedLists(request, rays, hits, width, height)
+                                         : traceBounded(request, rays, hits, width, height);
+        break;
     case ChcrtQueries::BoundsGpu: warm = traceBoundedGpu(request, rays, hits, width, height); break;
     default: warm = traceCulled(request, rays, hits, width, height); break;
     }

@@ -27,6 +27,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -94,6 +95,11 @@ struct ChcrtOptions {
     // shadow, AO, bounce shadow and closest-hit rays). Sample indices beyond what it holds share images (ray kind,
     // sample index modulo the sets that fit): 1 GiB keeps every set apart up to 32 samples at 1920×1080, 8 at 3840×2160.
     uint64_t hintMemoryBytes = uint64_t(1) << 30;
+    // BoundsOnly and BoundsGpu in core: shadow ray sets from one G-buffer to the light (TraceRequest::lightSweep: the
+    // renderer's shadow rays) share one ray bounds grid — every cell's surface points swept to the light's box —, its
+    // decisions and its cell lists, made by the first such set and traced by the rest (culling/README.md "Shared
+    // shadow lists"). Same hits; off: every set reduces, decides and lists its own rays.
+    bool shareShadowLists = false;
     // BoundsOnly and BoundsGpu: trace the cell lists in compute dispatches (a work group per cell) instead of fragment
     // passes; for GPUs whose fragment work runs on few units (docs/architecture.md). Same hits.
     bool computeCellPass = false;
@@ -190,6 +196,8 @@ struct ChcrtStats {
     uint64_t cellsWholeTree = 0;       // BoundsOnly: cells over cellListLimit that traversed the whole BVH
     uint64_t hintPasses = 0;           // hintPass: traces that ran the hint pass
     uint64_t hintRaysLeft = 0;         // hintPass: active rays their hint did not finish (the compacted dispatches)
+    uint64_t sharedListsMade = 0;      // shareShadowLists: traces that made their light sweep's grid and lists
+    uint64_t sharedListsReused = 0;    // shareShadowLists: traces that traced lists an earlier ray set made
     // The ray bounds grid's tests of cells against boxes (on the CPU in BoundsOnly and Gl with ray extent culling, in
     // the cell-list compute pass in BoundsGpu): culled by the pieces (tested first), culled by the frustum where
     // pieces reached, reached.
@@ -273,6 +281,7 @@ public:
     // Forgets every ray set's visibility fronts and adaptive measurements.
     void resetVisibility() {
         states_.clear();
+        sharedKey_.reset();
         adaptive_.clear();
         for (auto& arm : heightArms_) if (arm) arm->resetVisibility();
     }
@@ -403,6 +412,16 @@ private:
     // Whether boundFromCamera applies to the request: the renderer's primary rays of the traced size.
     bool cameraBoundable(const TraceRequest& request, int width, int height) const;
     bool decideByBounds(int32_t pair, VisibilityState& state, std::vector<Scheduled>& out);
+    // Whether the request's ray set shares the lists of its light sweep (options_.shareShadowLists), and the trace
+    // that does so: the shared lists, made first when the sweep is new (chcrt_tracer_bounds.cpp).
+    bool sharesLightSweep(const TraceRequest& request) const;
+    bool traceSharedLists(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width,
+                          int height);
+    // Appends the resident scheduled subtrees to the lists of the cellsX × cellsY cells whose rays may reach them
+    // (by the grid's cells; every cell of their tiles without any); `lastSubtree`: scratch.
+    void addToCellLists(CellTraversal& cells, int cellsX, int cellsY, const std::vector<Scheduled>& resident,
+                        std::vector<uint32_t>& lastSubtree) const;
+    std::unique_ptr<CellTraversal> makeCellTraversal();
     // Intersects scheduled subtrees from cell lists (cell_traversal.h), one draw per residency round; `compacted`:
     // a dispatch over the rays the hint pass left (hint_pass.h) instead of a pass over every cell with work.
     void intersectCells(std::vector<Scheduled>& work, bool anyHit, const RayTextures& rays, HitTargets& hits,
@@ -502,6 +521,19 @@ private:
     std::shared_ptr<ProgramCache> programCache_ = std::make_shared<ProgramCache>();
     std::unique_ptr<RayBoundsGrid> rayExtent_;    // with options_.rayExtentCulling or BoundsOnly, updated per trace
     std::unique_ptr<CellTraversal> cells_;        // BoundsOnly's and BoundsGpu's intersection rounds
+    // shareShadowLists: the lists of the light sweep last decided (kept for the ray sets that share them; BoundsOnly),
+    // and what they are for: the sweep, the eye (the origins' offsets), the traced size; their entries (statistics).
+    std::unique_ptr<CellTraversal> sharedCells_;
+    struct SharedListsKey {
+        uint64_t generation = 0;
+        glm::vec3 lightMin{0.0f}, lightMax{0.0f}, eye{0.0f};
+        int width = 0, height = 0;
+        bool operator==(const SharedListsKey&) const = default;
+    };
+    SharedListsKey sharedListsKey(const TraceRequest& request, int width, int height) const;
+    std::optional<SharedListsKey> sharedKey_;
+    std::unique_ptr<GpuCellLists> sharedGpuLists_; // BoundsGpu: the shared lists, decided on the GPU
+    uint64_t sharedEntries_ = 0;
     std::unique_ptr<GpuCellLists> gpuLists_;      // BoundsGpu's cell lists
     std::unique_ptr<HintPass> hintPass_;          // options_.hintPass with hints available
     std::vector<GLuint> queryPool_;

@@ -97,23 +97,46 @@ bool ChcrtTracer::traceBoundedGpu(const TraceRequest& request, const RayTextures
     const CullingHierarchy::Node& root = hierarchy_.nodes[0];
     // After the hint pass the reduction reads its hits; only any-hit rays can leave cells empty (their marks).
     const bool compacted = hintPass && anyHit;
-    const GLuint hitImage = hintPass ? hits.hit.id() : 0, marks = compacted ? hintPass_->cellMarks() : 0;
-    if (debugKind_ == ChcrtDebugImage::Bounds) { // the bounds image needs the grid on the CPU
-        rayExtent_->update(rays.origin.id(), rays.direction.id(), hitImage, anyHit, width, height, root.boxMin,
-                           root.boxMax, marks);
-    } else {
-        rayExtent_->reduce(rays.origin.id(), rays.direction.id(), hitImage, anyHit, width, height, root.boxMin,
-                           root.boxMax, marks);
-    }
-    if (hitImage != 0) glBindImageTexture(CHCRT_CULLING_IMAGE_HIT, hitImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32UI);
-    ++last_.boundsUpdates;
-    last_.boundsMs += millisecondsSince(boundsStart);
-    const auto listStart = Clock::now();
     const int cell = rayExtent_->options().cellSize;
     const int cellsX = (width + cell - 1) / cell, cellsY = (height + cell - 1) / cell;
-    gpuLists_->build(rayExtent_->buffer(), cellsX, cellsY, options_.cellListLimit, options_.bounds.relativePad,
-                     options_.bounds.frustum);
-    last_.cellListMs += millisecondsSince(listStart);
+    // A shadow ray set of a light sweep traces the lists of the sweep (made by its first set; chcrt_tracer.h).
+    const bool shared = sharesLightSweep(request);
+    GpuCellLists& lists = shared ? *sharedGpuLists_ : *gpuLists_;
+    if (shared && sharedKey_ == sharedListsKey(request, width, height)) {
+        lists.bind();
+        ++last_.sharedListsReused;
+    } else if (shared) {
+        sharedKey_.reset();
+        const TraceRequest::LightSweep& sweep = *request.lightSweep;
+        rayExtent_->reduceLightSweep(rays.origin.id(), rays.direction.id(), width, height, root.boxMin, root.boxMax,
+                                     sweep.lightMin, sweep.lightMax);
+        ++last_.boundsUpdates;
+        last_.boundsMs += millisecondsSince(boundsStart);
+        const auto listStart = Clock::now();
+        lists.build(rayExtent_->buffer(), cellsX, cellsY, options_.cellListLimit, options_.bounds.relativePad,
+                    options_.bounds.frustum);
+        last_.cellListMs += millisecondsSince(listStart);
+        sharedKey_ = sharedListsKey(request, width, height);
+        ++last_.sharedListsMade;
+    } else {
+        const GLuint hitImage = hintPass ? hits.hit.id() : 0, marks = compacted ? hintPass_->cellMarks() : 0;
+        if (debugKind_ == ChcrtDebugImage::Bounds) { // the bounds image needs the grid on the CPU
+            rayExtent_->update(rays.origin.id(), rays.direction.id(), hitImage, anyHit, width, height, root.boxMin,
+                               root.boxMax, marks);
+        } else {
+            rayExtent_->reduce(rays.origin.id(), rays.direction.id(), hitImage, anyHit, width, height, root.boxMin,
+                               root.boxMax, marks);
+        }
+        if (hitImage != 0) {
+            glBindImageTexture(CHCRT_CULLING_IMAGE_HIT, hitImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32UI);
+        }
+        ++last_.boundsUpdates;
+        last_.boundsMs += millisecondsSince(boundsStart);
+        const auto listStart = Clock::now();
+        lists.build(rayExtent_->buffer(), cellsX, cellsY, options_.cellListLimit, options_.bounds.relativePad,
+                    options_.bounds.frustum);
+        last_.cellListMs += millisecondsSince(listStart);
+    }
     last_.phase1Ms = millisecondsSince(start);
 
     start = Clock::now();
@@ -130,7 +153,7 @@ bool ChcrtTracer::traceBoundedGpu(const TraceRequest& request, const RayTextures
     endPassTimer();
     ++last_.shaderCalls;
     finishTrace(width, height);
-    const GpuCellLists::Counters counters = gpuLists_->counters();
+    const GpuCellLists::Counters counters = lists.counters();
     last_.cellsDrawn = counters.cellsDrawn;
     last_.cellEntries = counters.entries;
     last_.cellsWholeTree = counters.wholeTreeCells;
@@ -194,30 +217,12 @@ void ChcrtTracer::intersectCells(std::vector<Scheduled>& work, bool anyHit, cons
     const GLuint maskFramebuffer = writeMask ? framebufferFor(hits) : maskFramebufferFor(rays.active.id());
     const int cell = rayExtent_->options().cellSize;
     const int cellsX = (width + cell - 1) / cell, cellsY = (height + cell - 1) / cell;
-    std::vector<uint32_t> lastSubtree(size_t(cellsX) * size_t(cellsY), CullingHierarchy::kNone);
+    std::vector<uint32_t> lastSubtree;
     const std::string debugDefine = debugDefineOfKind();
     residentRounds(work, [&](const std::vector<Scheduled>& resident) {
         const auto listStart = Clock::now();
         cells_->begin(cellsX, cellsY, cell);
-        std::fill(lastSubtree.begin(), lastSubtree.end(), CullingHierarchy::kNone);
-        for (const Scheduled& s : resident) {
-            // The boxes the traversal tests first: the subtree root's children (§5.1 tighter bounds).
-            const CullingHierarchy::Node& node = hierarchy_.nodes[hierarchy_.subtrees[s.subtree].node];
-            const int boxes = int(node.tightCount);
-            const int x0 = std::clamp(s.tile.x / cell, 0, cellsX), y0 = std::clamp(s.tile.y / cell, 0, cellsY);
-            const int x1 = std::clamp((s.tile.x + s.tile.width + cell - 1) / cell, 0, cellsX);
-            const int y1 = std::clamp((s.tile.y + s.tile.height + cell - 1) / cell, 0, cellsY);
-            for (int cy = y0; cy < y1; ++cy) {
-                for (int cx = x0; cx < x1; ++cx) {
-                    const size_t c = size_t(cy) * size_t(cellsX) + size_t(cx);
-                    if (lastSubtree[c] == s.subtree) continue; // two tiles of one subtree sharing a cell
-                    if (!rayExtent_->cellMayReach(cx, cy, node.tightMin, node.tightMax, boxes)) continue;
-                    lastSubtree[c] = s.subtree;
-                    cells_->add(uint32_t(c), s.gpuRoot, s.subtree,
-                                rayExtent_->entryLowerBound(cx, cy, node.boxMin, node.boxMax));
-                }
-            }
-        }
+        addToCellLists(*cells_, cellsX, cellsY, resident, lastSubtree);
         last_.cellEntries += cells_->entryCount();
         last_.subtreesScheduled += resident.size();
         beginPassTimer();
@@ -231,6 +236,123 @@ void ChcrtTracer::intersectCells(std::vector<Scheduled>& work, bool anyHit, cons
         ++last_.shaderCalls;
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT); // the next round continues from these hits
     });
+}
+
+void ChcrtTracer::addToCellLists(CellTraversal& cells, int cellsX, int cellsY, const std::vector<Scheduled>& resident,
+                                 std::vector<uint32_t>& lastSubtree) const {
+    const int cell = rayExtent_->options().cellSize;
+    lastSubtree.assign(size_t(cellsX) * size_t(cellsY), CullingHierarchy::kNone);
+    for (const Scheduled& s : resident) {
+        // The boxes the traversal tests first: the subtree root's children (§5.1 tighter bounds).
+        const CullingHierarchy::Node& node = hierarchy_.nodes[hierarchy_.subtrees[s.subtree].node];
+        const int boxes = int(node.tightCount);
+        const int x0 = std::clamp(s.tile.x / cell, 0, cellsX), y0 = std::clamp(s.tile.y / cell, 0, cellsY);
+        const int x1 = std::clamp((s.tile.x + s.tile.width + cell - 1) / cell, 0, cellsX);
+        const int y1 = std::clamp((s.tile.y + s.tile.height + cell - 1) / cell, 0, cellsY);
+        for (int cy = y0; cy < y1; ++cy) {
+            for (int cx = x0; cx < x1; ++cx) {
+                const size_t c = size_t(cy) * size_t(cellsX) + size_t(cx);
+                if (lastSubtree[c] == s.subtree) continue; // two tiles of one subtree sharing a cell
+                if (!rayExtent_->cellMayReach(cx, cy, node.tightMin, node.tightMax, boxes)) continue;
+                lastSubtree[c] = s.subtree;
+                cells.add(uint32_t(c), s.gpuRoot, s.subtree,
+                          rayExtent_->entryLowerBound(cx, cy, node.boxMin, node.boxMax));
+            }
+        }
+    }
+}
+
+bool ChcrtTracer::sharesLightSweep(const TraceRequest& request) const {
+    return (sharedCells_ || sharedGpuLists_) && request.lightSweep && request.anyHit && !options_.boundsPreviousFront &&
+           debugKind_ == ChcrtDebugImage::None;
+}
+
+ChcrtTracer::SharedListsKey ChcrtTracer::sharedListsKey(const TraceRequest& request, int width, int height) const {
+    const TraceRequest::LightSweep& sweep = *request.lightSweep;
+    return {sweep.generation, sweep.lightMin, sweep.lightMax, request.camera.eye, width, height};
+}
+
+bool ChcrtTracer::traceSharedLists(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width,
+                                   int height) {
+    // One grid, one set of decisions and one set of cell lists for every shadow ray set of the light sweep: its rays
+    // run from the same surface points to the light, so cells around each cell's points swept to the light's box hold
+    // every set's segments (ray_bounds.comp.glsl, CHCRT_BOUNDS_LIGHT_SWEEP), and the lists they decide hold every
+    // subtree any of those rays may hit. Exact as the per-set lists are; they are longer (they do not know which rays
+    // a set's hits finished, nor which rays are inactive in it), and what they save is a reduction and its read-back,
+    // the decisions and the lists' sorting and upload per set (culling/README.md "Shared shadow lists").
+    bool warm = tracesRun_ > 1;
+    auto start = Clock::now();
+    beginTrace(rays, hits, width, height, false);
+    const bool hintPass = startHints(request, rays, width, height, warm);
+    const TraceRequest::LightSweep& sweep = *request.lightSweep;
+    const SharedListsKey key = sharedListsKey(request, width, height);
+    // Where the hint pass finished every ray (views whose shadow rays all end at their previous occluders, e.g. the
+    // interior's far path) there is nothing to list or trace: a read of its count (waiting for it, as the per-set
+    // reduction's read-back would) saves making the lists for no ray (interior far, 256², 16 spp: 0.69× → see
+    // culling/README.md "Shared shadow lists").
+    const bool nothingLeft = hintPass && hintPass_->raysLeft() == 0;
+    if (nothingLeft) {
+        finishTrace(width, height);
+        finishHintPass(request, width, height);
+        last_.phase1Ms = millisecondsSince(start);
+        return warm;
+    }
+    if (sharedKey_ != key) {
+        sharedKey_.reset();
+        const auto boundsStart = Clock::now();
+        const CullingHierarchy::Node& root = hierarchy_.nodes[0];
+        rayExtent_->updateLightSweep(rays.origin.id(), rays.direction.id(), width, height, root.boxMin, root.boxMax,
+                                     sweep.lightMin, sweep.lightMax);
+        mode_ = Mode::None;
+        ++last_.boundsUpdates;
+        last_.boundsMs += millisecondsSince(boundsStart);
+        // Every pair from the root pair (no previous front: boundsPreviousFront is off).
+        const auto decideStart = Clock::now();
+        VisibilityState& state = stateFor(request, width, height);
+        std::vector<int32_t> visibleLeaves, invisibleLeaves;
+        state.collectLeaves(visibleLeaves, invisibleLeaves);
+        std::vector<Scheduled> work;
+        for (int32_t p : invisibleLeaves) decideByBounds(p, state, work);
+        last_.decideMs += millisecondsSince(decideStart);
+        const auto listStart = Clock::now();
+        std::sort(work.begin(), work.end(), [](const Scheduled& a, const Scheduled& b) {
+            return a.distance != b.distance ? a.distance < b.distance : a.subtree < b.subtree;
+        });
+        sharedCells_->begin(rayExtent_->cellsX(), rayExtent_->cellsY(), rayExtent_->options().cellSize);
+        std::vector<uint32_t> lastSubtree;
+        residentRounds(work, [&](const std::vector<Scheduled>& resident) { // in core: one round, all resident
+            addToCellLists(*sharedCells_, rayExtent_->cellsX(), rayExtent_->cellsY(), resident, lastSubtree);
+            last_.subtreesScheduled += resident.size();
+        });
+        sharedEntries_ = sharedCells_->entryCount();
+        sharedCells_->keep();
+        last_.cellListMs += millisecondsSince(listStart);
+        last_.pairsPulledUp = uint64_t(state.pullUpInvisibility());
+        sharedKey_ = key;
+        ++last_.sharedListsMade;
+    } else {
+        ++last_.sharedListsReused;
+    }
+    last_.phase1Ms = millisecondsSince(start);
+
+    start = Clock::now();
+    mode_ = Mode::None;
+    sharedCells_->setHintsVisited(hintPass);
+    beginPassTimer();
+    if (hintPass) {
+        hintPass_->bindDispatch(); // the rays it left, compacted
+        last_.cellsDrawn += sharedCells_->drawKeptCompacted(true);
+    } else {
+        last_.cellsDrawn += sharedCells_->drawKept(true, width, height, maskFramebufferFor(rays.active.id()));
+    }
+    endPassTimer();
+    ++last_.shaderCalls;
+    last_.cellEntries += sharedEntries_;
+    last_.cellsWholeTree += sharedCells_->wholeTreeCells();
+    finishTrace(width, height);
+    if (hintPass) finishHintPass(request, width, height);
+    last_.phase3Ms = millisecondsSince(start);
+    return warm;
 }
 
 bool ChcrtTracer::traceBounded(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width,

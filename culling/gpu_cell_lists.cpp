@@ -87,6 +87,10 @@ void GpuCellLists::build(GLuint boundsBuffer, int cellsX, int cellsY, uint32_t l
     glDispatchCompute(GLuint((cells + 63) / 64), 1, 1);
     // The cell pass reads the lists through texture buffers and its cell count from the indirect command.
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    bind();
+}
+
+void GpuCellLists::bind() const {
     glBindTextureUnit(CHCRT_UNIT_CULLING_CELL_HEADERS, headers_.texture.id());
     glBindTextureUnit(CHCRT_UNIT_CULLING_CELL_ROOTS, roots_.texture.id());
     glBindTextureUnit(CHCRT_UNIT_CULLING_CELL_IDS, ids_.texture.id());

@@ -31,6 +31,8 @@ public:
     // CHCRT_UNIT_CULLING_CELL_*) and the draw buffer bound to GL_DRAW_INDIRECT_BUFFER and GL_DISPATCH_INDIRECT_BUFFER
     // (the dispatch command at CHCRT_CULLING_GPU_DISPATCH_OFFSET).
     void build(GLuint boundsBuffer, int cellsX, int cellsY, uint32_t listLimit, float relativePad, bool frustum);
+    // Binds the lists of the last build again as build leaves them (for another ray set that shares them).
+    void bind() const;
 
     struct Counters {
         uint32_t cellsDrawn = 0, entries = 0, wholeTreeCells = 0, nodesTested = 0;

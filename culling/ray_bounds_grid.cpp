@@ -33,6 +33,10 @@ RayBoundsGrid::RayBoundsGrid(const RayBoundsOptions& options, std::shared_ptr<Pr
 void RayBoundsGrid::update(GLuint origins, GLuint directions, GLuint hitImage, bool anyHit, int width, int height,
                            glm::vec3 sceneMin, glm::vec3 sceneMax, GLuint cellMarks) {
     reduce(origins, directions, hitImage, anyHit, width, height, sceneMin, sceneMax, cellMarks);
+    readBack(width, height);
+}
+
+void RayBoundsGrid::readBack(int width, int height) {
     const int cell = options_.cellSize;
     const size_t values = size_t((width + cell - 1) / cell) * size_t((height + cell - 1) / cell) *
                           size_t(CHCRT_CULLING_BOUNDS_STRIDE(options_.pieces));
@@ -41,27 +45,39 @@ void RayBoundsGrid::update(GLuint origins, GLuint directions, GLuint hitImage, b
     setCells(width, height, readBack_);
 }
 
-void RayBoundsGrid::reduce(GLuint origins, GLuint directions, GLuint hitImage, bool anyHit, int width, int height,
-                           glm::vec3 sceneMin, glm::vec3 sceneMax, GLuint cellMarks) {
-    const int variant = hitImage == 0 ? 0 : (anyHit ? 2 : 1);
-    const ShaderProgram*& slot = variants_[variant][cellMarks != 0 ? 1 : 0];
+const ShaderProgram& RayBoundsGrid::reduction(int variant, bool cellMarks) {
+    const ShaderProgram*& slot = variants_[variant][cellMarks ? 1 : 0];
     if (!slot) {
         slot = &programs_->get({{GL_COMPUTE_SHADER, "culling/ray_bounds.comp.glsl"}},
-                               {{"CHCRT_BOUNDS_WITH_HITS", variant != 0 ? "1" : "0"},
+                               {{"CHCRT_BOUNDS_WITH_HITS", variant == 1 || variant == 2 ? "1" : "0"},
                                 {"TRACE_ANY_HIT", variant == 2 ? "1" : "0"},
-                                {"CHCRT_BOUNDS_CELL_MARKS", cellMarks != 0 ? "1" : "0"},
+                                {"CHCRT_BOUNDS_LIGHT_SWEEP", variant == 3 ? "1" : "0"},
+                                {"CHCRT_BOUNDS_CELL_MARKS", cellMarks ? "1" : "0"},
                                 {"CHCRT_BOUNDS_PIECES", std::to_string(options_.pieces)},
                                 {"CHCRT_BOUNDS_CELL", std::to_string(options_.cellSize)}});
     }
-    const ShaderProgram& program = *slot;
-    const int cell = options_.cellSize, pieces = options_.pieces;
-    const int cellsX = (width + cell - 1) / cell, cellsY = (height + cell - 1) / cell;
-    const size_t values = size_t(cellsX) * size_t(cellsY) * size_t(CHCRT_CULLING_BOUNDS_STRIDE(pieces));
+    return *slot;
+}
+
+size_t RayBoundsGrid::prepareBuffer(int width, int height) {
+    const int cell = options_.cellSize;
+    const size_t values = size_t((width + cell - 1) / cell) * size_t((height + cell - 1) / cell) *
+                          size_t(CHCRT_CULLING_BOUNDS_STRIDE(options_.pieces));
     const size_t bytes = values * sizeof(glm::vec4);
     if (bytes > bufferBytes_) {
         buffer_ = createBuffer(bytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
         bufferBytes_ = bytes;
     }
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, CHCRT_CULLING_BOUNDS_BUFFER, buffer_.id());
+    return bytes;
+}
+
+void RayBoundsGrid::reduce(GLuint origins, GLuint directions, GLuint hitImage, bool anyHit, int width, int height,
+                           glm::vec3 sceneMin, glm::vec3 sceneMax, GLuint cellMarks) {
+    const ShaderProgram& program = reduction(hitImage == 0 ? 0 : (anyHit ? 2 : 1), cellMarks != 0);
+    const int cell = options_.cellSize;
+    const int cellsX = (width + cell - 1) / cell, cellsY = (height + cell - 1) / cell;
+    const size_t bytes = prepareBuffer(width, height);
     program.use();
     program.set("raySize", glm::ivec2(width, height));
     program.set("sceneMin", sceneMin);
@@ -69,7 +85,6 @@ void RayBoundsGrid::reduce(GLuint origins, GLuint directions, GLuint hitImage, b
     glBindTextureUnit(CHCRT_UNIT_RAY_ORIGIN, origins);
     glBindTextureUnit(CHCRT_UNIT_RAY_DIRECTION, directions);
     if (hitImage != 0) glBindImageTexture(CHCRT_CULLING_IMAGE_HIT, hitImage, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32UI);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, CHCRT_CULLING_BOUNDS_BUFFER, buffer_.id());
     if (cellMarks != 0) {
         // An invocation per marked cell, from the command the hint pass counted; every other cell is empty (0).
         const float empty = float(CHCRT_CULLING_CELL_EMPTY);
@@ -80,6 +95,34 @@ void RayBoundsGrid::reduce(GLuint origins, GLuint directions, GLuint hitImage, b
     } else {
         glDispatchCompute(GLuint((cellsX + 7) / 8), GLuint((cellsY + 7) / 8), 1); // an invocation per cell
     }
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
+void RayBoundsGrid::updateLightSweep(GLuint origins, GLuint directions, int width, int height, glm::vec3 sceneMin,
+                                     glm::vec3 sceneMax, glm::vec3 lightMin, glm::vec3 lightMax) {
+    reduceLightSweep(origins, directions, width, height, sceneMin, sceneMax, lightMin, lightMax);
+    readBack(width, height);
+}
+
+void RayBoundsGrid::reduceLightSweep(GLuint origins, GLuint directions, int width, int height, glm::vec3 sceneMin,
+                                     glm::vec3 sceneMax, glm::vec3 lightMin, glm::vec3 lightMax) {
+    const ShaderProgram& program = reduction(3, false);
+    const int cell = options_.cellSize;
+    const int cellsX = (width + cell - 1) / cell, cellsY = (height + cell - 1) / cell;
+    prepareBuffer(width, height);
+    // The ray generator's points on the light (corner + u·edge + v·edge, in float) may lie outside the exact box by
+    // their rounding: pad it as the cells' boxes are padded.
+    const glm::vec3 magnitude = glm::max(glm::abs(lightMin), glm::abs(lightMax));
+    const glm::vec3 pad(std::max({1.0f, magnitude.x, magnitude.y, magnitude.z}) * options_.relativePad);
+    program.use();
+    program.set("raySize", glm::ivec2(width, height));
+    program.set("sceneMin", sceneMin);
+    program.set("sceneMax", sceneMax);
+    program.set("lightMin", lightMin - pad);
+    program.set("lightMax", lightMax + pad);
+    glBindTextureUnit(CHCRT_UNIT_RAY_ORIGIN, origins);
+    glBindTextureUnit(CHCRT_UNIT_RAY_DIRECTION, directions);
+    glDispatchCompute(GLuint((cellsX + 7) / 8), GLuint((cellsY + 7) / 8), 1);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
 }
 

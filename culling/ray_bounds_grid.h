@@ -68,6 +68,14 @@ public:
     void reduce(GLuint origins, GLuint directions, GLuint hitImage, bool anyHit, int width, int height,
                 glm::vec3 sceneMin, glm::vec3 sceneMax, GLuint cellMarks = 0);
     GLuint buffer() const { return buffer_.id(); }
+    // The cells of every shadow ray set that starts at the ray set's surface points and ends in the box (lightMin,
+    // lightMax) (TraceRequest::lightSweep): boxes around the segments from each cell's origin box to the light's box,
+    // over the cell's active rays and the inactive ones that kept their origin (shared/render_layout.h). Reads them
+    // back like update(); reduceLightSweep reduces them into buffer() alone, like reduce().
+    void updateLightSweep(GLuint origins, GLuint directions, int width, int height, glm::vec3 sceneMin,
+                          glm::vec3 sceneMax, glm::vec3 lightMin, glm::vec3 lightMax);
+    void reduceLightSweep(GLuint origins, GLuint directions, int width, int height, glm::vec3 sceneMin,
+                          glm::vec3 sceneMax, glm::vec3 lightMin, glm::vec3 lightMax);
     // The cells of a camera's primary rays before any hit, bounded from the camera (camera_ray_bounds.h): boxes that
     // hold those update() would reduce from the rays, with nothing read from the GPU.
     void setCameraCells(const PrimaryRayBasis& basis, glm::vec3 sceneMin, glm::vec3 sceneMax);
@@ -120,6 +128,11 @@ public:
     void setCells(int width, int height, const std::vector<glm::vec4>& buffer);
 
 private:
+    // The reduction's program: `variant` 0 without hits, 1 with closest hits, 2 with any hits, 3 swept to a light.
+    const ShaderProgram& reduction(int variant, bool cellMarks);
+    // The buffer sized for a width × height ray set; returns its bytes.
+    size_t prepareBuffer(int width, int height);
+    void readBack(int width, int height);
     bool overlaps(const CellBoxes& cell, const glm::vec3* lower, const glm::vec3* upper, int count) const;
     bool piecesOverlap(const CellBoxes& cell, const glm::vec3& lower, const glm::vec3& upper) const;
     bool frustumOverlaps(const CellBoxes& cell, const glm::vec3& lower, const glm::vec3& upper) const;
@@ -127,8 +140,8 @@ private:
 
     RayBoundsOptions options_;
     std::shared_ptr<ProgramCache> programs_;
-    // Of programs_: [without hits, with hits (closest hit), with hits (any hit)][cell marks]
-    const ShaderProgram* variants_[3][2] = {};
+    // Of programs_: [without hits, with hits (closest hit), with hits (any hit), swept to a light][cell marks]
+    const ShaderProgram* variants_[4][2] = {};
     GlBuffer buffer_;
     size_t bufferBytes_ = 0;
     int cellsX_ = 0, cellsY_ = 0;

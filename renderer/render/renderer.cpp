@@ -106,8 +106,10 @@ void Renderer::setSettings(const RenderSettings& settings) {
     if (!targets_ || settings.width != settings_.width || settings.height != settings_.height) {
         targets_ = std::make_unique<FrameTargets>(settings.width, settings.height);
         cameraRays_.fill(std::nullopt); // new ray textures hold no rays yet
+        lightSweeps_.fill(std::nullopt);
     }
     settings_ = settings;
+    ++originGeneration_; // the origin offset may have changed
 }
 
 FrameStats Renderer::renderFrame(const Camera& camera) {
@@ -172,6 +174,7 @@ void Renderer::warmUp(const Camera& camera) {
 }
 
 void Renderer::renderGBuffer(const Camera& camera, FrameStats& stats) {
+    ++originGeneration_;
     if (settings_.primaryVisibility == PrimaryVisibility::Traced) {
         traceGBuffer(camera, stats);
     } else {
@@ -290,6 +293,19 @@ void Renderer::generateRays(const Camera& camera, int rayProgram, int sampleInde
     program.set("cameraUp", basis.up);
     program.set("viewportSize", glm::vec2(t.width, t.height));
     cameraRays_[size_t(raySet)] = rayProgram == CHCRT_RAY_PRIMARY ? std::optional(basis) : std::nullopt;
+    if (basis.eye != originEye_) { // the origins' offsets scale with the distance to the eye
+        originEye_ = basis.eye;
+        ++originGeneration_;
+    }
+    lightSweeps_[size_t(raySet)] = std::nullopt;
+    if (rayProgram == CHCRT_RAY_SHADOW) {
+        const glm::vec3 corners[4] = {light_.corner, light_.corner + light_.edgeU, light_.corner + light_.edgeV,
+                                      light_.corner + light_.edgeU + light_.edgeV};
+        TraceRequest::LightSweep& sweep = lightSweeps_[size_t(raySet)].emplace();
+        sweep.generation = originGeneration_;
+        sweep.lightMin = glm::min(glm::min(corners[0], corners[1]), glm::min(corners[2], corners[3]));
+        sweep.lightMax = glm::max(glm::max(corners[0], corners[1]), glm::max(corners[2], corners[3]));
+    }
     setLightUniforms(program, light_);
 
     glBindFramebuffer(GL_FRAMEBUFFER, t.rays[raySet].framebuffer.id());
@@ -325,6 +341,7 @@ void Renderer::trace(const Camera& camera, RayType type, bool bounceShadow, int 
     request.sampleIndex = sampleIndex;
     request.camera = camera;
     if (type == RayType::Primary && !bounceShadow) request.cameraRays = cameraRays_[size_t(raySet)];
+    if (type == RayType::Shadow && !bounceShadow) request.lightSweep = lightSweeps_[size_t(raySet)];
     sceneGpu_->bindForTracing();
     glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, CHCRT_ATOMIC_BINDING_CAPPED_RAYS, cappedRayCounter_.id());
     glFinish();

@@ -130,6 +130,11 @@ private:
     GLuint pixelGeometricNormals_ = 0; // from the last out-of-core resolve
     // Per ray set: the basis of the primary rays it holds (generateRays), for TraceRequest::cameraRays.
     std::array<std::optional<PrimaryRayBasis>, std::extent_v<decltype(FrameTargets::rays)>> cameraRays_;
+    // Per ray set: the light sweep of the shadow rays it holds (generateRays), for TraceRequest::lightSweep; and the
+    // generation of the surface points they start from, advanced by every G-buffer, settings change and camera move.
+    std::array<std::optional<TraceRequest::LightSweep>, std::extent_v<decltype(FrameTargets::rays)>> lightSweeps_;
+    uint64_t originGeneration_ = 0;
+    glm::vec3 originEye_{0.0f}; // the eye the ray generator offset the points for last
     ShaderProgram accumulateShadow_, accumulateAo_, accumulateDiffuse_;
     ShaderProgram composeProgram_;
     GlBuffer cappedRayCounter_;

@@ -23,6 +23,15 @@ struct TraceRequest {
     // Set by the renderer when the ray set holds exactly the primary rays this basis generates (no other ray set):
     // a tracer may bound them from it instead of reading them.
     std::optional<PrimaryRayBasis> cameraRays;
+    // Set by the renderer for shadow rays from its G-buffer to its area light. Every such ray set with the same
+    // `generation` starts at the same surface points — an inactive ray keeps its origin, with an all-zero direction
+    // texel (shared/render_layout.h) — and ends inside the light's box, whatever its sample: a tracer may bound all
+    // of them at once (CHC+RT shares one ray bounds grid and one set of cell lists among them).
+    struct LightSweep {
+        uint64_t generation = 0; // changes whenever the surface points may have changed
+        glm::vec3 lightMin{0.0f}, lightMax{0.0f};
+    };
+    std::optional<LightSweep> lightSweep;
 };
 
 struct TraceStats {

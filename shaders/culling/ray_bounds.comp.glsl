@@ -9,9 +9,15 @@
 // (rayIntervalMayHit in shared/culling_layout.h). One invocation per cell, looping over its pixels: a reduction in
 // shared memory with barriers (one invocation per pixel) measured 40x slower on llvmpipe, whose work groups switch
 // coroutines at every barrier.
+// With CHCRT_BOUNDS_LIGHT_SWEEP the cells hold every shadow ray set of a frame at once (TraceRequest::lightSweep): the
+// rays of any set run from the same surface points (each set's inactive rays keep theirs, shared/render_layout.h) to
+// points of the light's box L, so the cell's boxes are those of the segments from its origin box O to L — point j of
+// the pieces is the box (1 - s_j)·O + s_j·L, s_j = j/P — and its ray interval the directions of L - O normalised,
+// segments [0, the largest distance from O to L].
 // Host defines: CHCRT_BOUNDS_WITH_HITS (0 | 1), TRACE_ANY_HIT (0 | 1), CHCRT_BOUNDS_CELL (1..32, a power of two),
 // CHCRT_BOUNDS_PIECES (1 .. CHCRT_CULLING_BOUNDS_MAX_PIECES), CHCRT_BOUNDS_CELL_MARKS (0 | 1: only the cells the hint
-// pass marked, an invocation per listed cell from an indirect dispatch; the host cleared the others to empty).
+// pass marked, an invocation per listed cell from an indirect dispatch; the host cleared the others to empty),
+// CHCRT_BOUNDS_LIGHT_SWEEP (0 | 1; not with hits or marks).
 // Over the marked cells alone, because an 8-wide SIMD group loops over all its cells' pixels when one of them has a
 // ray left: after city shadow rays' hint passes ~12 % of the cells are marked, and the whole-grid reduction took
 // 0.55 ms per ray set on llvmpipe.
@@ -46,6 +52,10 @@ layout(std430, binding = CHCRT_CULLING_COMPACT_CELLS) readonly buffer CellMarks 
 uniform ivec2 raySize; // the ray set's size in pixels
 uniform vec3 sceneMin;
 uniform vec3 sceneMax;
+#if CHCRT_BOUNDS_LIGHT_SWEEP
+uniform vec3 lightMin; // the light's box, padded by the host for the rounding of the points sampled on it
+uniform vec3 lightMax;
+#endif
 
 float maxComponent(vec3 v) {
     return max(max(v.x, v.y), v.z);
@@ -90,6 +100,21 @@ void main() {
             ivec2 pixel = ivec2(x, y);
             vec4 originTmin = texelFetch(rayOrigins, pixel, 0);
             vec4 directionTmax = texelFetch(rayDirections, pixel, 0);
+#if CHCRT_BOUNDS_LIGHT_SWEEP
+            // Every surface point: active rays and inactive ones that kept their origin (an all-zero direction).
+            if (!(directionTmax.w > originTmin.w) && directionTmax != vec4(0.0f)) {
+                continue; // no surface point (or a NaN bound: inactive in every tracer)
+            }
+            if (any(isnan(originTmin)) || any(isinf(originTmin)) || any(isnan(directionTmax)) ||
+                any(isinf(directionTmax))) {
+                state = CHCRT_CULLING_CELL_UNBOUNDED;
+                continue;
+            }
+            lower[0] = min(lower[0], originTmin.xyz);
+            upper[0] = max(upper[0], originTmin.xyz);
+            state = max(state, CHCRT_CULLING_CELL_BOUNDED);
+            continue;
+#endif
             if (!(directionTmax.w > originTmin.w)) {
                 continue; // inactive
             }
@@ -135,6 +160,36 @@ void main() {
             state = max(state, CHCRT_CULLING_CELL_BOUNDED);
         }
     }
+#if CHCRT_BOUNDS_LIGHT_SWEEP
+    if (state == CHCRT_CULLING_CELL_BOUNDED) {
+        vec3 originLower = lower[0], originUpper = upper[0];
+        for (int j = 0; j <= CHCRT_BOUNDS_PIECES; ++j) {
+            float s = float(j) / float(CHCRT_BOUNDS_PIECES); // both weights >= 0: the box's corners map to corners
+            lower[j + 1] = (1.0f - s) * originLower + s * lightMin;
+            upper[j + 1] = (1.0f - s) * originUpper + s * lightMax;
+        }
+        // Directions: v / |v| for v in the box V = L - O; |v| lies between V's distance from 0 and its farthest
+        // corner, and each component's bound divides by the end of that range that makes it widest.
+        vec3 vLower = lightMin - originUpper, vUpper = lightMax - originLower;
+        float nearest = length(max(max(vLower, -vUpper), vec3(0.0f)));
+        float farthest = length(max(abs(vLower), abs(vUpper)));
+        directionLength = 1.0f;
+        segmentStart = 0.0f;
+        segmentEnd = farthest;
+        extent = maxComponent(max(abs(originLower), abs(originUpper))) + farthest;
+        if (nearest > 0.0f) {
+            // Widened for the rounding of these divisions and of the ray generator's (a few ulps each).
+            const float rounding = 1.0e-5f;
+            directionLower = mix(vLower / nearest, vLower / farthest, greaterThanEqual(vLower, vec3(0.0f))) - rounding;
+            directionUpper = mix(vUpper / farthest, vUpper / nearest, greaterThanEqual(vUpper, vec3(0.0f))) + rounding;
+            directionLower = max(directionLower, vec3(-1.0f - rounding));
+            directionUpper = min(directionUpper, vec3(1.0f + rounding));
+        } else { // the light's box reaches the origins: any direction
+            directionLower = vec3(-1.0f - 1.0e-5f);
+            directionUpper = vec3(1.0f + 1.0e-5f);
+        }
+    }
+#endif
     int base = (cell.y * cellCount.x + cell.x) * CHCRT_CULLING_BOUNDS_STRIDE(CHCRT_BOUNDS_PIECES);
     cellBounds[base] = vec4(state, extent, directionLength, 0.0f);
     for (int j = 0; j < POINTS; ++j) {

@@ -44,6 +44,14 @@ void emitInactive() {
     outDirection = vec4(0.0f, 0.0f, 1.0f, 0.0f);
 }
 
+// An inactive shadow ray that keeps its surface point (shared/render_layout.h): another shadow ray set of the frame
+// may have an active ray there, and a tracer that bounds every set of the frame at once needs all the points
+// (TraceRequest::lightSweep).
+void emitInactiveAt(vec3 origin) {
+    outOrigin = vec4(origin, 0.0f);
+    outDirection = vec4(0.0f);
+}
+
 // Offset a surface point along its (oriented) geometric normal so the ray does not hit its own triangle;
 // scaled with the distance to the camera because rasterised positions carry interpolation error of that order.
 vec3 offsetOrigin(vec3 position, vec3 geometricNormal, float viewDistance) {
@@ -61,7 +69,7 @@ void emitShadowRay(vec3 origin, vec3 geometricNormal, uvec2 pixel, vec2 lightSam
     float distance = length(toLight);
     vec3 direction = toLight / distance;
     if (dot(direction, geometricNormal) <= 0.0f || dot(direction, cross(lightEdgeU, lightEdgeV)) >= 0.0f) {
-        emitInactive(); // light below the surface, or the point is behind the one-sided light: no contribution
+        emitInactiveAt(origin); // light below the surface, or the point is behind the one-sided light: no contribution
         return;
     }
     outOrigin = vec4(origin, 0.0f);

@@ -41,6 +41,7 @@ struct ExactnessCase {
     bool computeCellPass = false; // cell lists traced in compute dispatches instead of fragment passes
     bool hintPass = false;      // hints visited in a pass of their own, the rays left traced compacted
     bool closestHitHints = false; // closest-hit ray sets (primary, diffuse) keep hints too
+    bool shareShadowLists = false; // BoundsOnly: a frame's shadow ray sets share one swept grid and its lists
 };
 
 class ChcrtExactnessTest : public RenderTest, public ::testing::WithParamInterface<ExactnessCase> {};
@@ -75,6 +76,7 @@ ChcrtOptions optionsOf(const ExactnessCase& c, const int& frame) {
     options.computeCellPass = c.computeCellPass;
     options.hintPass = c.hintPass;
     options.closestHitHints = c.closestHitHints;
+    options.shareShadowLists = c.shareShadowLists;
     if (c.adaptive) {
         options.adaptiveTiming = fixedAdaptiveTiming(frame);
         options.adaptiveProbeInterval = 1;
@@ -207,6 +209,18 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
                 EXPECT_LT(total.cellsWholeTree, total.cellsDrawn);
             } else {
                 EXPECT_EQ(total.cellsWholeTree, 0u);
+            }
+            // Shared shadow lists: the first shadow set of a frame made them, the second traced them. (The
+            // adaptive choice may give either to the pure pass or another height.)
+            if (c.shareShadowLists) {
+                EXPECT_GT(total.sharedListsMade, 0u);
+                EXPECT_GT(total.sharedListsReused, 0u);
+                if (!c.adaptive) {
+                    EXPECT_EQ(total.sharedListsMade, 6u);
+                    EXPECT_EQ(total.sharedListsReused, 6u);
+                }
+            } else {
+                EXPECT_EQ(total.sharedListsMade + total.sharedListsReused, 0u);
             }
         } else if (c.queries == ChcrtQueries::Batched) {
             // Every ray-exact test ran in the batched dispatches: no GL query, several rounds per trace.
@@ -355,6 +369,55 @@ TEST_F(RenderTest, RayBoundsShrunkBelowTheRoundingPadLoseHitsThatTheComparisonDe
     // Primary rays' cells come from the camera (camera_ray_bounds.h), padded the same way: shrunk, they lose hits too.
     EXPECT_EQ(shrunk.totalStats().boundsFromCamera, 3u);
     EXPECT_GT(differing[RayType::Primary], 0u);
+}
+
+// Forwards every trace to `inner` with the light sweep's box shrunk to its lower corner (the negative control below).
+class ShrunkLightSweep final : public Tracer {
+public:
+    explicit ShrunkLightSweep(Tracer& inner) : inner_(inner) {}
+    std::string name() const override { return inner_.name(); }
+    void trace(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width, int height,
+               TraceStats& stats) override {
+        TraceRequest shrunk = request;
+        if (shrunk.lightSweep) shrunk.lightSweep->lightMax = shrunk.lightSweep->lightMin;
+        inner_.trace(shrunk, rays, hits, width, height, stats);
+    }
+
+private:
+    Tracer& inner_;
+};
+
+TEST_F(RenderTest, SharedShadowListsSweptToTooSmallALightLoseHitsThatTheComparisonDetects) {
+    // Negative control of the shared shadow lists' exactness cases: lists made for segments that end at one corner of
+    // the light instead of anywhere on it must change hits of the sets that share them (the first set's too).
+    const RenderSettings settings = smallTraceSettings();
+    Renderer& renderer = makeProceduralRenderer("city:60k", settings);
+    for (ChcrtQueries queries : {ChcrtQueries::BoundsOnly, ChcrtQueries::BoundsGpu}) {
+        SCOPED_TRACE(toString(queries));
+        ChcrtOptions options;
+        options.partition.maxSubtreeHeight = 8;
+        options.pairs.minTileSize = 16;
+        options.adaptive = false;
+        options.queries = queries;
+        options.shareShadowLists = true;
+        ChcrtTracer chcrt(bvh_, options);
+        ShrunkLightSweep shrunk(chcrt);
+        const CameraPath path = proceduralNearPath(spec_);
+        size_t differing = 0;
+        FrameStats stats;
+        for (int frame = 0; frame < 3; ++frame) {
+            const Camera camera = path.cameraAtFrame(frame * 2);
+            renderer.renderGBuffer(camera, stats);
+            for (int sample = 0; sample < 4; ++sample) {
+                renderer.generateRayPass(camera, RayType::Shadow, sample, stats);
+                differing += traceAgainstPureBvh(renderer, shrunk, camera, RayType::Shadow, sample, stats).differing;
+            }
+        }
+        renderer.useTracer(nullptr);
+        EXPECT_EQ(chcrt.totalStats().sharedListsMade, 3u);
+        EXPECT_EQ(chcrt.totalStats().sharedListsReused, 9u);
+        EXPECT_GT(differing, 0u);
+    }
 }
 
 // Always culling with bounds-decided lists and hit hints, visited in the cell pass or (hintPass) in the hint pass: the
@@ -985,7 +1048,8 @@ std::string caseName(const ::testing::TestParamInfo<ExactnessCase>& info) {
            (info.param.boundsPreviousFront ? "_front" : "") + (info.param.adaptiveHeights.empty() ? "" : "_heights") +
            (info.param.cellListLimit ? "_limit" + std::to_string(info.param.cellListLimit) : "") +
            (info.param.hitHints ? "_hints" : "") + (info.param.computeCellPass ? "_compute" : "") +
-           (info.param.hintPass ? "_hintpass" : "") + (info.param.closestHitHints ? "_closest" : "");
+           (info.param.hintPass ? "_hintpass" : "") + (info.param.closestHitHints ? "_closest" : "") +
+           (info.param.shareShadowLists ? "_shared" : "");
 }
 
 // Subtree height 8, well below the BVH depth at 60k triangles, so that object-space splits happen; tiles small enough for
@@ -1092,6 +1156,24 @@ const ExactnessCase kExactnessCases[] = {
      .hitHints = true, .computeCellPass = true, .hintPass = true},
     {.scene = "interior:60k", .maxSubtreeHeight = 12, .minTileSize = 16, .queries = ChcrtQueries::BoundsGpu,
      .boundsCell = 4, .boundsPieces = 8, .cellListLimit = 3, .hitHints = true, .hintPass = true},
+    // a frame's shadow ray sets sharing one grid swept to the light and its lists: after the hint pass (fragment and
+    // compute), without hints (every active ray through the lists, a list limit), with the adaptive choice
+    {.scene = "city:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .queries = ChcrtQueries::BoundsOnly,
+     .hitHints = true, .hintPass = true, .shareShadowLists = true},
+    {.scene = "interior:60k", .maxSubtreeHeight = 12, .minTileSize = 16, .queries = ChcrtQueries::BoundsOnly,
+     .boundsCell = 4, .boundsPieces = 8, .cellListLimit = 12, .shareShadowLists = true},
+    {.scene = "plant:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .queries = ChcrtQueries::BoundsOnly,
+     .boundsCell = 16, .boundsPieces = 2, .hitHints = true, .computeCellPass = true, .hintPass = true,
+     .shareShadowLists = true},
+    {.scene = "city:60k", .maxSubtreeHeight = 12, .minTileSize = 16, .adaptive = true,
+     .queries = ChcrtQueries::BoundsOnly, .boundsCell = 16, .adaptiveHeights = {10}, .cellListLimit = 64,
+     .hitHints = true, .hintPass = true, .shareShadowLists = true},
+    // ... and lists decided on the GPU: after the hint pass in compute (as on GPUs), without hints in fragment passes
+    {.scene = "interior:60k", .maxSubtreeHeight = 12, .minTileSize = 16, .queries = ChcrtQueries::BoundsGpu,
+     .boundsCell = 16, .cellListLimit = 12, .hitHints = true, .computeCellPass = true, .hintPass = true,
+     .shareShadowLists = true},
+    {.scene = "city:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .queries = ChcrtQueries::BoundsGpu,
+     .boundsCell = 8, .boundsPieces = 2, .shareShadowLists = true},
 };
 
 INSTANTIATE_TEST_SUITE_P(ProceduralScenes, ChcrtExactnessTest, ::testing::ValuesIn(kExactnessCases), caseName);

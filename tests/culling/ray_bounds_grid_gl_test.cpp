@@ -172,6 +172,94 @@ TEST(RayBoundsGridGl, MarkedCellsAloneAreReducedAsWithoutMarks) {
     }
 }
 
+// Shadow rays of a light sweep (TraceRequest::lightSweep): cells around every surface point's segments to the whole
+// light box hold every segment from those points to any point of the light — of active rays and of inactive ones that
+// kept their origin (an all-zero direction texel), which another ray set of the frame may trace —, through the pieces
+// and the frustum alike; pixels without a surface point (sky) add nothing, a NaN origin makes its cell unbounded, and
+// nothing beyond the light or behind the points is reached.
+TEST(RayBoundsGridGl, LightSweepCellsHoldEverySegmentFromEverySurfacePointToTheLight) {
+    auto context = createHeadlessContext(GlBackend::Egl, true);
+    RaySet rays;
+    const glm::vec3 lightMin(-12.0f, 30.0f, -6.0f), lightMax(4.0f, 30.0f, 9.0f); // a flat light above the points
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f), spread(-20.0f, 20.0f);
+    const auto lightPoint = [&](float u, float v) {
+        return glm::vec3(lightMin.x + u * (lightMax.x - lightMin.x), lightMin.y, lightMin.z + v * (lightMax.z - lightMin.z));
+    };
+    enum Kind { Active, KeptOrigin, Sky };
+    std::vector<Kind> kinds(rays.origins.size());
+    for (size_t i = 0; i < rays.origins.size(); ++i) {
+        const glm::vec3 origin(spread(rng), spread(rng) * 0.25f, spread(rng));
+        const float pick = unit(rng);
+        kinds[i] = pick < 0.6f ? Active : pick < 0.9f ? KeptOrigin : Sky;
+        if (kinds[i] == Sky) {
+            rays.origins[i] = glm::vec4(0.0f);
+            rays.directions[i] = glm::vec4(0.0f, 0.0f, 1.0f, 0.0f);
+        } else if (kinds[i] == KeptOrigin) {
+            rays.origins[i] = glm::vec4(origin, 0.0f);
+            rays.directions[i] = glm::vec4(0.0f);
+        } else {
+            const glm::vec3 toLight = lightPoint(unit(rng), unit(rng)) - origin;
+            const float distance = glm::length(toLight);
+            rays.origins[i] = glm::vec4(origin, 0.0f);
+            rays.directions[i] = glm::vec4(toLight / distance, distance);
+        }
+    }
+    // Cell (1, 1): sky only. Cell (2, 2): one kept origin is NaN.
+    for (int y = kCell; y < 2 * kCell; ++y) {
+        for (int x = kCell; x < 2 * kCell; ++x) {
+            const size_t i = size_t(y) * kW + x;
+            kinds[i] = Sky;
+            rays.origins[i] = glm::vec4(0.0f);
+            rays.directions[i] = glm::vec4(0.0f, 0.0f, 1.0f, 0.0f);
+        }
+    }
+    const size_t nan = size_t(2 * kCell + 2) * kW + 2 * kCell + 2;
+    kinds[nan] = KeptOrigin;
+    rays.origins[nan] = glm::vec4(std::numeric_limits<float>::quiet_NaN(), 0.0f, 0.0f, 0.0f);
+    rays.directions[nan] = glm::vec4(0.0f);
+    glTextureSubImage2D(rays.origin.id(), 0, 0, 0, kW, kH, GL_RGBA, GL_FLOAT, rays.origins.data());
+    glTextureSubImage2D(rays.direction.id(), 0, 0, 0, kW, kH, GL_RGBA, GL_FLOAT, rays.directions.data());
+    for (bool frustum : {true, false}) {
+        SCOPED_TRACE(frustum);
+        RayBoundsOptions options{kCell, 4, 2};
+        options.frustum = frustum;
+        RayBoundsGrid grid(options);
+        grid.updateLightSweep(rays.origin.id(), rays.direction.id(), kW, kH, kSceneMin, kSceneMax, lightMin, lightMax);
+        EXPECT_EQ(grid.cell(1, 1).state, 0) << "sky only";
+        EXPECT_EQ(grid.cell(2, 2).state, 2) << "a NaN origin";
+        size_t checked = 0;
+        for (int y = 0; y < kH; ++y) {
+            for (int x = 0; x < kW; ++x) {
+                const size_t i = size_t(y) * kW + x;
+                if (kinds[i] == Sky || i == nan) continue;
+                ASSERT_EQ(grid.cell(x / kCell, y / kCell).state, (x / kCell == 2 && y / kCell == 2) ? 2 : 1);
+                const glm::vec3 o(rays.origins[i]);
+                for (int k = 0; k < 6; ++k) { // the light's corners, then random points on it
+                    const glm::vec3 target = k < 4 ? lightPoint(float(k & 1), float(k >> 1)) : lightPoint(unit(rng), unit(rng));
+                    for (int step = 0; step <= 16; ++step) {
+                        const glm::vec3 p = o + (target - o) * (float(step) / 16.0f);
+                        ASSERT_TRUE(grid.mayReach(Tile{x, y, 1, 1}, &p, &p, 1))
+                            << x << ", " << y << " light point " << k << " step " << step;
+                        ++checked;
+                    }
+                }
+            }
+        }
+        EXPECT_GT(checked, 20000u);
+        // Beyond the light and below every point: out of reach of every bounded cell.
+        const glm::vec3 above(-4.0f, 34.0f, 1.0f), aboveUpper(-3.0f, 35.0f, 2.0f);
+        const glm::vec3 below(-4.0f, -30.0f, 1.0f), belowUpper(-3.0f, -29.0f, 2.0f);
+        for (int cy = 0; cy < 3; ++cy) {
+            for (int cx = 0; cx < 3; ++cx) {
+                if (grid.cell(cx, cy).state != 1) continue;
+                EXPECT_FALSE(grid.cellMayReach(cx, cy, &above, &aboveUpper, 1)) << cx << ", " << cy;
+                EXPECT_FALSE(grid.cellMayReach(cx, cy, &below, &belowUpper, 1)) << cx << ", " << cy;
+            }
+        }
+    }
+}
+
 // The bounds made from the camera (camera_ray_bounds.h) hold what the GPU reduction makes of the renderer's own
 // primary rays (the ray generation shader's arithmetic, whatever the driver does with it): per cell, every end point
 // box, the direction box and the segment range, before the grid's padding, within a sixteenth of that padding. Near and
