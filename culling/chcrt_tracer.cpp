@@ -1005,7 +1005,7 @@ bool ChcrtTracer::traceOwn(const TraceRequest& request, const RayTextures& rays,
     bool warm = false;
     switch (options_.queries) {
     case ChcrtQueries::BoundsOnly:
-        warm = sharesLightSweep(request) ? traceSharedLists(request, rays, hits, width, height)
+        warm = sharesLightSweep(request, width, height) ? traceSharedLists(request, rays, hits, width, height)
                                          : traceBounded(request, rays, hits, width, height);
         break;
     case ChcrtQueries::BoundsGpu: warm = traceBoundedGpu(request, rays, hits, width, height); break;

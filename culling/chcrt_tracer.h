@@ -282,6 +282,8 @@ public:
     void resetVisibility() {
         states_.clear();
         sharedKey_.reset();
+        sweepSets_ = {};
+        lastSweepSets_ = 0;
         adaptive_.clear();
         for (auto& arm : heightArms_) if (arm) arm->resetVisibility();
     }
@@ -412,9 +414,10 @@ private:
     // Whether boundFromCamera applies to the request: the renderer's primary rays of the traced size.
     bool cameraBoundable(const TraceRequest& request, int width, int height) const;
     bool decideByBounds(int32_t pair, VisibilityState& state, std::vector<Scheduled>& out);
-    // Whether the request's ray set shares the lists of its light sweep (options_.shareShadowLists), and the trace
-    // that does so: the shared lists, made first when the sweep is new (chcrt_tracer_bounds.cpp).
-    bool sharesLightSweep(const TraceRequest& request) const;
+    // Whether the request's ray set traces the shared lists of its light sweep (options_.shareShadowLists; counts the
+    // sweep's sets, call once per trace), and the trace that does so: the shared lists, made first when the sweep is
+    // new (chcrt_tracer_bounds.cpp).
+    bool sharesLightSweep(const TraceRequest& request, int width, int height);
     bool traceSharedLists(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width,
                           int height);
     // Appends the resident scheduled subtrees to the lists of the cellsX × cellsY cells whose rays may reach them
@@ -532,6 +535,12 @@ private:
     };
     SharedListsKey sharedListsKey(const TraceRequest& request, int width, int height) const;
     std::optional<SharedListsKey> sharedKey_;
+    struct SweepSets {
+        SharedListsKey key;
+        uint32_t sets = 0;
+    };
+    SweepSets sweepSets_;         // the light sweep traced last and its sets so far
+    uint32_t lastSweepSets_ = 0;  // the sets of the sweep before it
     std::unique_ptr<GpuCellLists> sharedGpuLists_; // BoundsGpu: the shared lists, decided on the GPU
     uint64_t sharedEntries_ = 0;
     std::unique_ptr<GpuCellLists> gpuLists_;      // BoundsGpu's cell lists

@@ -100,7 +100,7 @@ bool ChcrtTracer::traceBoundedGpu(const TraceRequest& request, const RayTextures
     const int cell = rayExtent_->options().cellSize;
     const int cellsX = (width + cell - 1) / cell, cellsY = (height + cell - 1) / cell;
     // A shadow ray set of a light sweep traces the lists of the sweep (made by its first set; chcrt_tracer.h).
-    const bool shared = sharesLightSweep(request);
+    const bool shared = sharesLightSweep(request, width, height);
     GpuCellLists& lists = shared ? *sharedGpuLists_ : *gpuLists_;
     if (shared && sharedKey_ == sharedListsKey(request, width, height)) {
         lists.bind();
@@ -262,9 +262,21 @@ void ChcrtTracer::addToCellLists(CellTraversal& cells, int cellsX, int cellsY, c
     }
 }
 
-bool ChcrtTracer::sharesLightSweep(const TraceRequest& request) const {
-    return (sharedCells_ || sharedGpuLists_) && request.lightSweep && request.anyHit && !options_.boundsPreviousFront &&
-           debugKind_ == ChcrtDebugImage::None;
+bool ChcrtTracer::sharesLightSweep(const TraceRequest& request, int width, int height) {
+    if (!(sharedCells_ || sharedGpuLists_) || !request.lightSweep || !request.anyHit || options_.boundsPreviousFront ||
+        debugKind_ != ChcrtDebugImage::None) {
+        return false;
+    }
+    const SharedListsKey key = sharedListsKey(request, width, height);
+    if (sweepSets_.key != key) {
+        lastSweepSets_ = sweepSets_.sets;
+        sweepSets_ = {key, 0};
+    }
+    ++sweepSets_.sets;
+    // Shared lists pay from a sweep's second set on: its first set makes them where the last sweep had several sets
+    // (a frame of several samples), else its second does, so that one shadow set per G-buffer (the viewer at 1 spp)
+    // keeps the per-set lists, which the hint pass's marks make smaller.
+    return sweepSets_.sets >= 2 || lastSweepSets_ >= 2;
 }
 
 ChcrtTracer::SharedListsKey ChcrtTracer::sharedListsKey(const TraceRequest& request, int width, int height) const {
