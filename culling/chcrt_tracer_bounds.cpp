@@ -99,36 +99,32 @@ bool ChcrtTracer::traceBoundedGpu(const TraceRequest& request, const RayTextures
     const bool compacted = hintPass && anyHit;
     const int cell = rayExtent_->options().cellSize;
     const int cellsX = (width + cell - 1) / cell, cellsY = (height + cell - 1) / cell;
-    // A shadow ray set of a light sweep traces the lists of the sweep (made by its first set; chcrt_tracer.h).
+    // A shadow ray set of a light sweep traces the sweep's lists, made by its first set that shares them
+    // (chcrt_tracer.h, shareShadowLists); every other set reduces its own rays after the hint pass.
     const bool shared = sharesLightSweep(request, width, height);
     GpuCellLists& lists = shared ? *sharedGpuLists_ : *gpuLists_;
-    if (shared && sharedKey_ == sharedListsKey(request, width, height)) {
+    const std::optional<SharedListsKey> key =
+        shared ? std::optional(sharedListsKey(request, width, height)) : std::nullopt;
+    if (shared && sharedKey_ == key) {
         lists.bind();
         ++last_.sharedListsReused;
-    } else if (shared) {
-        sharedKey_.reset();
-        const TraceRequest::LightSweep& sweep = *request.lightSweep;
-        rayExtent_->reduceLightSweep(rays.origin.id(), rays.direction.id(), width, height, root.boxMin, root.boxMax,
-                                     sweep.lightMin, sweep.lightMax);
-        ++last_.boundsUpdates;
-        last_.boundsMs += millisecondsSince(boundsStart);
-        const auto listStart = Clock::now();
-        lists.build(rayExtent_->buffer(), cellsX, cellsY, options_.cellListLimit, options_.bounds.relativePad,
-                    options_.bounds.frustum);
-        last_.cellListMs += millisecondsSince(listStart);
-        sharedKey_ = sharedListsKey(request, width, height);
-        ++last_.sharedListsMade;
     } else {
-        const GLuint hitImage = hintPass ? hits.hit.id() : 0, marks = compacted ? hintPass_->cellMarks() : 0;
-        if (debugKind_ == ChcrtDebugImage::Bounds) { // the bounds image needs the grid on the CPU
-            rayExtent_->update(rays.origin.id(), rays.direction.id(), hitImage, anyHit, width, height, root.boxMin,
-                               root.boxMax, marks);
+        if (shared) {
+            sharedKey_.reset();
+            rayExtent_->reduceLightSweep(rays.origin.id(), rays.direction.id(), width, height, root.boxMin,
+                                         root.boxMax, request.lightSweep->lightMin, request.lightSweep->lightMax);
         } else {
-            rayExtent_->reduce(rays.origin.id(), rays.direction.id(), hitImage, anyHit, width, height, root.boxMin,
-                               root.boxMax, marks);
-        }
-        if (hitImage != 0) {
-            glBindImageTexture(CHCRT_CULLING_IMAGE_HIT, hitImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32UI);
+            const GLuint hitImage = hintPass ? hits.hit.id() : 0, marks = compacted ? hintPass_->cellMarks() : 0;
+            if (debugKind_ == ChcrtDebugImage::Bounds) { // the bounds image needs the grid on the CPU
+                rayExtent_->update(rays.origin.id(), rays.direction.id(), hitImage, anyHit, width, height,
+                                   root.boxMin, root.boxMax, marks);
+            } else {
+                rayExtent_->reduce(rays.origin.id(), rays.direction.id(), hitImage, anyHit, width, height,
+                                   root.boxMin, root.boxMax, marks);
+            }
+            if (hitImage != 0) {
+                glBindImageTexture(CHCRT_CULLING_IMAGE_HIT, hitImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32UI);
+            }
         }
         ++last_.boundsUpdates;
         last_.boundsMs += millisecondsSince(boundsStart);
@@ -136,6 +132,10 @@ bool ChcrtTracer::traceBoundedGpu(const TraceRequest& request, const RayTextures
         lists.build(rayExtent_->buffer(), cellsX, cellsY, options_.cellListLimit, options_.bounds.relativePad,
                     options_.bounds.frustum);
         last_.cellListMs += millisecondsSince(listStart);
+        if (shared) {
+            sharedKey_ = key;
+            ++last_.sharedListsMade;
+        }
     }
     last_.phase1Ms = millisecondsSince(start);
 
@@ -300,8 +300,8 @@ bool ChcrtTracer::traceSharedLists(const TraceRequest& request, const RayTexture
     const SharedListsKey key = sharedListsKey(request, width, height);
     // Where the hint pass finished every ray (views whose shadow rays all end at their previous occluders, e.g. the
     // interior's far path) there is nothing to list or trace: a read of its count (waiting for it, as the per-set
-    // reduction's read-back would) saves making the lists for no ray (interior far, 256², 16 spp: 0.69× → see
-    // culling/README.md "Shared shadow lists").
+    // reduction's read-back would) saves making the lists for no ray (interior far, 256², 16 spp, `chcrt-noadapt`:
+    // 0.69× of pure BVH with the lists made, 1.09× without; culling/README.md "Shared shadow lists").
     const bool nothingLeft = hintPass && hintPass_->raysLeft() == 0;
     if (nothingLeft) {
         finishTrace(width, height);
