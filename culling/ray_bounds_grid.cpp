@@ -36,10 +36,14 @@ void RayBoundsGrid::update(GLuint origins, GLuint directions, GLuint hitImage, b
     readBack(width, height);
 }
 
-void RayBoundsGrid::readBack(int width, int height) {
+size_t RayBoundsGrid::valueCount(int width, int height) const {
     const int cell = options_.cellSize;
-    const size_t values = size_t((width + cell - 1) / cell) * size_t((height + cell - 1) / cell) *
-                          size_t(CHCRT_CULLING_BOUNDS_STRIDE(options_.pieces));
+    return size_t((width + cell - 1) / cell) * size_t((height + cell - 1) / cell) *
+           size_t(CHCRT_CULLING_BOUNDS_STRIDE(options_.pieces));
+}
+
+void RayBoundsGrid::readBack(int width, int height) {
+    const size_t values = valueCount(width, height);
     readBack_.resize(values);
     glGetNamedBufferSubData(buffer_.id(), 0, GLsizeiptr(values * sizeof(glm::vec4)), readBack_.data());
     setCells(width, height, readBack_);
@@ -59,16 +63,20 @@ const ShaderProgram& RayBoundsGrid::reduction(int variant, bool cellMarks) {
     return *slot;
 }
 
-size_t RayBoundsGrid::prepareBuffer(int width, int height) {
-    const int cell = options_.cellSize;
-    const size_t values = size_t((width + cell - 1) / cell) * size_t((height + cell - 1) / cell) *
-                          size_t(CHCRT_CULLING_BOUNDS_STRIDE(options_.pieces));
-    const size_t bytes = values * sizeof(glm::vec4);
+size_t RayBoundsGrid::prepare(const ShaderProgram& program, GLuint origins, GLuint directions, int width, int height,
+                              glm::vec3 sceneMin, glm::vec3 sceneMax) {
+    const size_t bytes = valueCount(width, height) * sizeof(glm::vec4);
     if (bytes > bufferBytes_) {
         buffer_ = createBuffer(bytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
         bufferBytes_ = bytes;
     }
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, CHCRT_CULLING_BOUNDS_BUFFER, buffer_.id());
+    program.use();
+    program.set("raySize", glm::ivec2(width, height));
+    program.set("sceneMin", sceneMin);
+    program.set("sceneMax", sceneMax);
+    glBindTextureUnit(CHCRT_UNIT_RAY_ORIGIN, origins);
+    glBindTextureUnit(CHCRT_UNIT_RAY_DIRECTION, directions);
     return bytes;
 }
 
@@ -77,13 +85,7 @@ void RayBoundsGrid::reduce(GLuint origins, GLuint directions, GLuint hitImage, b
     const ShaderProgram& program = reduction(hitImage == 0 ? 0 : (anyHit ? 2 : 1), cellMarks != 0);
     const int cell = options_.cellSize;
     const int cellsX = (width + cell - 1) / cell, cellsY = (height + cell - 1) / cell;
-    const size_t bytes = prepareBuffer(width, height);
-    program.use();
-    program.set("raySize", glm::ivec2(width, height));
-    program.set("sceneMin", sceneMin);
-    program.set("sceneMax", sceneMax);
-    glBindTextureUnit(CHCRT_UNIT_RAY_ORIGIN, origins);
-    glBindTextureUnit(CHCRT_UNIT_RAY_DIRECTION, directions);
+    const size_t bytes = prepare(program, origins, directions, width, height, sceneMin, sceneMax);
     if (hitImage != 0) glBindImageTexture(CHCRT_CULLING_IMAGE_HIT, hitImage, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32UI);
     if (cellMarks != 0) {
         // An invocation per marked cell, from the command the hint pass counted; every other cell is empty (0).
@@ -109,19 +111,13 @@ void RayBoundsGrid::reduceLightSweep(GLuint origins, GLuint directions, int widt
     const ShaderProgram& program = reduction(3, false);
     const int cell = options_.cellSize;
     const int cellsX = (width + cell - 1) / cell, cellsY = (height + cell - 1) / cell;
-    prepareBuffer(width, height);
+    prepare(program, origins, directions, width, height, sceneMin, sceneMax);
     // The ray generator's points on the light (corner + u·edge + v·edge, in float) may lie outside the exact box by
     // their rounding: pad it as the cells' boxes are padded.
     const glm::vec3 magnitude = glm::max(glm::abs(lightMin), glm::abs(lightMax));
     const glm::vec3 pad(std::max({1.0f, magnitude.x, magnitude.y, magnitude.z}) * options_.relativePad);
-    program.use();
-    program.set("raySize", glm::ivec2(width, height));
-    program.set("sceneMin", sceneMin);
-    program.set("sceneMax", sceneMax);
     program.set("lightMin", lightMin - pad);
     program.set("lightMax", lightMax + pad);
-    glBindTextureUnit(CHCRT_UNIT_RAY_ORIGIN, origins);
-    glBindTextureUnit(CHCRT_UNIT_RAY_DIRECTION, directions);
     glDispatchCompute(GLuint((cellsX + 7) / 8), GLuint((cellsY + 7) / 8), 1);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
 }

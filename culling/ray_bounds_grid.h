@@ -130,8 +130,12 @@ public:
 private:
     // The reduction's program: `variant` 0 without hits, 1 with closest hits, 2 with any hits, 3 swept to a light.
     const ShaderProgram& reduction(int variant, bool cellMarks);
-    // The buffer sized for a width × height ray set; returns its bytes.
-    size_t prepareBuffer(int width, int height);
+    // vec4s of the buffer for a width × height ray set.
+    size_t valueCount(int width, int height) const;
+    // Sizes and binds the buffer, and makes `program` current with the ray textures and uniforms every variant
+    // reads; returns the buffer's bytes.
+    size_t prepare(const ShaderProgram& program, GLuint origins, GLuint directions, int width, int height,
+                   glm::vec3 sceneMin, glm::vec3 sceneMax);
     void readBack(int width, int height);
     bool overlaps(const CellBoxes& cell, const glm::vec3* lower, const glm::vec3* upper, int count) const;
     bool piecesOverlap(const CellBoxes& cell, const glm::vec3& lower, const glm::vec3& upper) const;
