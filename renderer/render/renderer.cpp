@@ -301,10 +301,9 @@ void Renderer::generateRays(const Camera& camera, int rayProgram, int sampleInde
     if (rayProgram == CHCRT_RAY_SHADOW) {
         const glm::vec3 corners[4] = {light_.corner, light_.corner + light_.edgeU, light_.corner + light_.edgeV,
                                       light_.corner + light_.edgeU + light_.edgeV};
-        TraceRequest::LightSweep& sweep = lightSweeps_[size_t(raySet)].emplace();
-        sweep.generation = originGeneration_;
-        sweep.lightMin = glm::min(glm::min(corners[0], corners[1]), glm::min(corners[2], corners[3]));
-        sweep.lightMax = glm::max(glm::max(corners[0], corners[1]), glm::max(corners[2], corners[3]));
+        const glm::vec3 lower = glm::min(glm::min(corners[0], corners[1]), glm::min(corners[2], corners[3]));
+        const glm::vec3 upper = glm::max(glm::max(corners[0], corners[1]), glm::max(corners[2], corners[3]));
+        lightSweeps_[size_t(raySet)] = TraceRequest::LightSweep{originGeneration_, lower, upper};
     }
     setLightUniforms(program, light_);
 
