@@ -1006,7 +1006,7 @@ bool ChcrtTracer::traceOwn(const TraceRequest& request, const RayTextures& rays,
     switch (options_.queries) {
     case ChcrtQueries::BoundsOnly:
         warm = sharesLightSweep(request, width, height) ? traceSharedLists(request, rays, hits, width, height)
-                                         : traceBounded(request, rays, hits, width, height);
+                                                        : traceBounded(request, rays, hits, width, height);
         break;
     case ChcrtQueries::BoundsGpu: warm = traceBoundedGpu(request, rays, hits, width, height); break;
     default: warm = traceCulled(request, rays, hits, width, height); break;

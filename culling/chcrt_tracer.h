@@ -415,8 +415,8 @@ private:
     bool cameraBoundable(const TraceRequest& request, int width, int height) const;
     bool decideByBounds(int32_t pair, VisibilityState& state, std::vector<Scheduled>& out);
     // Whether the request's ray set traces the shared lists of its light sweep (options_.shareShadowLists; counts the
-    // sweep's sets, call once per trace), and the trace that does so: the shared lists, made first when the sweep is
-    // new (chcrt_tracer_bounds.cpp).
+    // sweep's sets and keeps the request's key in sweepSets_, call once per trace), and the trace that does so: the
+    // shared lists, made first when the sweep is new (chcrt_tracer_bounds.cpp).
     bool sharesLightSweep(const TraceRequest& request, int width, int height);
     bool traceSharedLists(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width,
                           int height);
@@ -533,7 +533,6 @@ private:
         int width = 0, height = 0;
         bool operator==(const SharedListsKey&) const = default;
     };
-    SharedListsKey sharedListsKey(const TraceRequest& request, int width, int height) const;
     std::optional<SharedListsKey> sharedKey_;
     struct SweepSets {
         SharedListsKey key;

@@ -100,12 +100,11 @@ bool ChcrtTracer::traceBoundedGpu(const TraceRequest& request, const RayTextures
     const int cell = rayExtent_->options().cellSize;
     const int cellsX = (width + cell - 1) / cell, cellsY = (height + cell - 1) / cell;
     // A shadow ray set of a light sweep traces the sweep's lists, made by its first set that shares them
-    // (chcrt_tracer.h, shareShadowLists); every other set reduces its own rays after the hint pass.
+    // (chcrt_tracer.h, shareShadowLists; sharesLightSweep keeps the request's key in sweepSets_); every other set
+    // reduces its own rays after the hint pass.
     const bool shared = sharesLightSweep(request, width, height);
     GpuCellLists& lists = shared ? *sharedGpuLists_ : *gpuLists_;
-    const std::optional<SharedListsKey> key =
-        shared ? std::optional(sharedListsKey(request, width, height)) : std::nullopt;
-    if (shared && sharedKey_ == key) {
+    if (shared && sharedKey_ == sweepSets_.key) {
         lists.bind();
         ++last_.sharedListsReused;
     } else {
@@ -133,7 +132,7 @@ bool ChcrtTracer::traceBoundedGpu(const TraceRequest& request, const RayTextures
                     options_.bounds.frustum);
         last_.cellListMs += millisecondsSince(listStart);
         if (shared) {
-            sharedKey_ = key;
+            sharedKey_ = sweepSets_.key;
             ++last_.sharedListsMade;
         }
     }
@@ -267,7 +266,8 @@ bool ChcrtTracer::sharesLightSweep(const TraceRequest& request, int width, int h
         debugKind_ != ChcrtDebugImage::None) {
         return false;
     }
-    const SharedListsKey key = sharedListsKey(request, width, height);
+    const TraceRequest::LightSweep& sweep = *request.lightSweep;
+    const SharedListsKey key{sweep.generation, sweep.lightMin, sweep.lightMax, request.camera.eye, width, height};
     if (sweepSets_.key != key) {
         lastSweepSets_ = sweepSets_.sets;
         sweepSets_ = {key, 0};
@@ -277,11 +277,6 @@ bool ChcrtTracer::sharesLightSweep(const TraceRequest& request, int width, int h
     // (a frame of several samples), else its second does, so that one shadow set per G-buffer (the viewer at 1 spp)
     // keeps the per-set lists, which the hint pass's marks make smaller.
     return sweepSets_.sets >= 2 || lastSweepSets_ >= 2;
-}
-
-ChcrtTracer::SharedListsKey ChcrtTracer::sharedListsKey(const TraceRequest& request, int width, int height) const {
-    const TraceRequest::LightSweep& sweep = *request.lightSweep;
-    return {sweep.generation, sweep.lightMin, sweep.lightMax, request.camera.eye, width, height};
 }
 
 bool ChcrtTracer::traceSharedLists(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width,
@@ -297,7 +292,7 @@ bool ChcrtTracer::traceSharedLists(const TraceRequest& request, const RayTexture
     beginTrace(rays, hits, width, height, false);
     const bool hintPass = startHints(request, rays, width, height, warm);
     const TraceRequest::LightSweep& sweep = *request.lightSweep;
-    const SharedListsKey key = sharedListsKey(request, width, height);
+    const SharedListsKey& key = sweepSets_.key; // sharesLightSweep's, for this request
     // Where the hint pass finished every ray (views whose shadow rays all end at their previous occluders, e.g. the
     // interior's far path) there is nothing to list or trace: a read of its count (waiting for it, as the per-set
     // reduction's read-back would) saves making the lists for no ray (interior far, 256², 16 spp, `chcrt-noadapt`:

@@ -299,11 +299,8 @@ void Renderer::generateRays(const Camera& camera, int rayProgram, int sampleInde
     }
     lightSweeps_[size_t(raySet)] = std::nullopt;
     if (rayProgram == CHCRT_RAY_SHADOW) {
-        const glm::vec3 corners[4] = {light_.corner, light_.corner + light_.edgeU, light_.corner + light_.edgeV,
-                                      light_.corner + light_.edgeU + light_.edgeV};
-        const glm::vec3 lower = glm::min(glm::min(corners[0], corners[1]), glm::min(corners[2], corners[3]));
-        const glm::vec3 upper = glm::max(glm::max(corners[0], corners[1]), glm::max(corners[2], corners[3]));
-        lightSweeps_[size_t(raySet)] = TraceRequest::LightSweep{originGeneration_, lower, upper};
+        const Aabb light = light_.bounds();
+        lightSweeps_[size_t(raySet)] = TraceRequest::LightSweep{originGeneration_, light.lower, light.upper};
     }
     setLightUniforms(program, light_);
 

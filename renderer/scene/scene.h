@@ -51,6 +51,11 @@ struct AreaLight {
     glm::vec3 radiance{10.0f};         // linear RGB
     glm::vec3 normal() const { return glm::normalize(glm::cross(edgeU, edgeV)); }
     float area() const { return glm::length(glm::cross(edgeU, edgeV)); }
+    Aabb bounds() const {
+        Aabb box;
+        for (const glm::vec3& p : {corner, corner + edgeU, corner + edgeV, corner + edgeU + edgeV}) box.grow(p);
+        return box;
+    }
 };
 
 struct SceneStats {
