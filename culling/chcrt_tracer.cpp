@@ -1043,7 +1043,7 @@ bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& ra
     bool hintPass = false;
     if (hintsAvailable()) {
         bool unusedWarm = false; // no adaptive choice out of core
-        hintPass = startHints(request, rays, width, height, unusedWarm);
+        hintPass = startHints(request, rays, width, height, unusedWarm, anyHit);
         cells_->setHintsVisited(true);
     }
     // Where the rays can reach (culling/ray_bounds_grid.h), for skipping pairs out of reach in every phase. Primary

@@ -457,8 +457,10 @@ private:
     // The start of a BoundsOnly / BoundsGpu trace's hints (out of core: of a trace intersected by cells): binds the
     // ray set's hint image and runs the hint pass when it is due (options_.hintPass, hints from an earlier trace, the debug image allows it, and hintPassDue). Clears
     // `warm` for a trace that is no sample of culling's cost: its ray set had no hints yet, or it is this tracer's
-    // first hint pass (llvmpipe compiles a program's variants at their first use). Returns whether the pass ran.
-    bool startHints(const TraceRequest& request, const RayTextures& rays, int width, int height, bool& warm);
+    // first hint pass (llvmpipe compiles a program's variants at their first use). `markCells`: the pass marks the
+    // cells of the rays it leaves, for a reduction over those cells (HintPass::run). Returns whether the pass ran.
+    bool startHints(const TraceRequest& request, const RayTextures& rays, int width, int height, bool& warm,
+                    bool markCells);
     // Out of core, for the hint pass about to run: what it checks each hint's cache slot against (the slots replaced
     // since the image's hints were last validated); the pass validates them all, so the image's epoch moves on.
     HintSlots validateHints(const TraceRequest& request);

@@ -90,7 +90,11 @@ bool ChcrtTracer::traceBoundedGpu(const TraceRequest& request, const RayTextures
     bool warm = tracesRun_ > 1; // every trace is alike; the first compiles and fills caches
     auto start = Clock::now();
     beginTrace(rays, hits, width, height, false);
-    const bool hintPass = startHints(request, rays, width, height, warm);
+    // A shadow ray set of a light sweep traces the sweep's lists, made by its first set that shares them
+    // (chcrt_tracer.h, shareShadowLists; sharesLightSweep keeps the request's key in sweepSets_); every other set
+    // reduces its own rays after the hint pass, over the cells it marked.
+    const bool shared = sharesLightSweep(request, width, height);
+    const bool hintPass = startHints(request, rays, width, height, warm, anyHit && !shared);
     // The reduction and the lists are queued one after the other; the CPU waits for neither (the times below are
     // the CPU's, submitting them; the cell pass's GPU time is subtreePassMs).
     const auto boundsStart = Clock::now();
@@ -99,10 +103,6 @@ bool ChcrtTracer::traceBoundedGpu(const TraceRequest& request, const RayTextures
     const bool compacted = hintPass && anyHit;
     const int cell = rayExtent_->options().cellSize;
     const int cellsX = (width + cell - 1) / cell, cellsY = (height + cell - 1) / cell;
-    // A shadow ray set of a light sweep traces the sweep's lists, made by its first set that shares them
-    // (chcrt_tracer.h, shareShadowLists; sharesLightSweep keeps the request's key in sweepSets_); every other set
-    // reduces its own rays after the hint pass.
-    const bool shared = sharesLightSweep(request, width, height);
     GpuCellLists& lists = shared ? *sharedGpuLists_ : *gpuLists_;
     if (shared && sharedKey_ == sweepSets_.key) {
         lists.bind();
@@ -166,8 +166,8 @@ bool ChcrtTracer::traceBoundedGpu(const TraceRequest& request, const RayTextures
     return warm;
 }
 
-bool ChcrtTracer::startHints(const TraceRequest& request, const RayTextures& rays, int width, int height,
-                             bool& warm) {
+bool ChcrtTracer::startHints(const TraceRequest& request, const RayTextures& rays, int width, int height, bool& warm,
+                             bool markCells) {
     bool fresh = false;
     const GLuint hintImage = hintImageFor(request, width, height, fresh);
     if (hintImage == 0) return false;
@@ -186,7 +186,7 @@ bool ChcrtTracer::startHints(const TraceRequest& request, const RayTextures& ray
     beginPassTimer(true);
     source_->bind(); // out of core: the cache's buffers (the renderer bound the in-core scene's, if any)
     hintPass_->run(request.anyHit, width, height, maskFramebufferFor(rays.active.id()),
-                   debugKind_ == ChcrtDebugImage::Cost, validateHints(request));
+                   debugKind_ == ChcrtDebugImage::Cost, markCells, validateHints(request));
     endPassTimer();
     ++last_.shaderCalls;
     ++last_.hintPasses;
@@ -290,7 +290,7 @@ bool ChcrtTracer::traceSharedLists(const TraceRequest& request, const RayTexture
     bool warm = tracesRun_ > 1;
     auto start = Clock::now();
     beginTrace(rays, hits, width, height, false);
-    const bool hintPass = startHints(request, rays, width, height, warm);
+    const bool hintPass = startHints(request, rays, width, height, warm, false); // the lists come from the sweep
     const TraceRequest::LightSweep& sweep = *request.lightSweep;
     const SharedListsKey& key = sweepSets_.key; // sharesLightSweep's, for this request
     // Where the hint pass finished every ray (views whose shadow rays all end at their previous occluders, e.g. the
@@ -378,7 +378,7 @@ bool ChcrtTracer::traceBounded(const TraceRequest& request, const RayTextures& r
     beginTrace(rays, hits, width, height, false, !cellPassWritesAll);
     // Hit hints (any-hit ray sets): the cell passes first visit each ray's hinted leaf and record the leaves of new
     // hits there.
-    const bool hintPass = startHints(request, rays, width, height, warm);
+    const bool hintPass = startHints(request, rays, width, height, warm, anyHit);
     // Before any hit, a ray reaches its whole segment (clipped to the scene): bounded rays (shadow, AO) already
     // leave most of the scene out, and every cell's lists get their entry bounds. After the hint pass, any-hit rays
     // it finished are left out.

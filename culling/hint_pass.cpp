@@ -9,15 +9,17 @@ namespace chcrt {
 HintPass::HintPass(bool compute, int cellSize, std::vector<ShaderDefine> defines,
                    std::shared_ptr<ProgramCache> programs)
     : compute_(compute), defines_(std::move(defines)), programs_(std::move(programs)), cellSize_(cellSize) {
-    program(true, false);
-    program(false, false);
+    program(true, false, true);
+    program(true, false, false);
+    program(false, false, false); // closest-hit rays keep their cells (hint_pass.glsl): no marks
 }
 
-const ShaderProgram& HintPass::program(bool anyHit, bool debugCost) {
-    const ShaderProgram*& program = variants_[anyHit ? 1 : 0][debugCost ? 1 : 0];
+const ShaderProgram& HintPass::program(bool anyHit, bool debugCost, bool markCells) {
+    const ShaderProgram*& program = variants_[anyHit ? 1 : 0][debugCost ? 1 : 0][markCells ? 1 : 0];
     if (!program) {
         std::vector<ShaderDefine> defines = defines_;
         defines.push_back({"TRACE_ANY_HIT", anyHit ? "1" : "0"});
+        defines.push_back({"CHCRT_CULLING_HINT_MARKS", markCells ? "1" : "0"});
         if (debugCost) defines.push_back({"CHCRT_CULLING_DEBUG_COST", "1"});
         program = compute_ ? &programs_->get({{GL_COMPUTE_SHADER, "culling/chcrt_hints.comp.glsl"}}, defines)
                            : &programs_->get({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
@@ -27,7 +29,8 @@ const ShaderProgram& HintPass::program(bool anyHit, bool debugCost) {
     return *program;
 }
 
-void HintPass::run(bool anyHit, int width, int height, GLuint maskFramebuffer, bool debugCost, const HintSlots& slots) {
+void HintPass::run(bool anyHit, int width, int height, GLuint maskFramebuffer, bool debugCost, bool markCells,
+                   const HintSlots& slots) {
     const size_t rays = size_t(width) * size_t(height);
     if (rays > capacity_) {
         buffer_ = createBuffer((CHCRT_CULLING_COMPACT_HEADER + rays) * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -42,10 +45,14 @@ void HintPass::run(bool anyHit, int width, int height, GLuint maskFramebuffer, b
     // No rays listed yet: a dispatch of no work groups; no cell marked, none listed.
     const std::array<uint32_t, CHCRT_CULLING_COMPACT_HEADER> reset = {0u, 1u, 1u, 0u};
     glNamedBufferSubData(buffer_.id(), 0, sizeof(reset), reset.data());
-    const uint32_t zero = 0u;
-    glClearNamedBufferSubData(marks_.id(), GL_R32UI, 0, GLsizeiptr(cells * 4), GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-    glNamedBufferSubData(marks_.id(), GLintptr(CHCRT_CULLING_MARKED_HEADER(cells) * 4), sizeof(reset), reset.data());
-    const ShaderProgram& pass = program(anyHit, debugCost);
+    if (markCells) {
+        const uint32_t zero = 0u;
+        glClearNamedBufferSubData(marks_.id(), GL_R32UI, 0, GLsizeiptr(cells * 4), GL_RED_INTEGER, GL_UNSIGNED_INT,
+                                  &zero);
+        glNamedBufferSubData(marks_.id(), GLintptr(CHCRT_CULLING_MARKED_HEADER(cells) * 4), sizeof(reset),
+                             reset.data());
+    }
+    const ShaderProgram& pass = program(anyHit, debugCost, markCells);
     pass.use();
     pass.set("cellsX", cellsX);
     pass.set("cellCount", int(cells));

@@ -38,9 +38,11 @@ public:
     // to the cost debug image (bound at CHCRT_CULLING_IMAGE_DEBUG). Leaves the compaction buffer bound as the shader
     // storage buffer CHCRT_CULLING_COMPACT_BUFFER and as GL_DISPATCH_INDIRECT_BUFFER, ordered before later reads.
     // `anyHit`: the ray set's kind (shaders/culling/hint_pass.glsl: any-hit rays that hit are finished, closest-hit
-    // rays bounded). `slots`: out of core, what the hints are checked against.
-    void run(bool anyHit, int width, int height, GLuint maskFramebuffer, bool debugCost, const HintSlots& slots = {});
-    // The marks of the last run (a uint per ray bounds cell of `cellSize` pixels: nonzero where a ray was listed),
+    // rays bounded). `markCells`: mark and list the cells of the rays left (cellMarks()), for a reduction over those
+    // cells; without, the pass leaves out those atomics. `slots`: out of core, what the hints are checked against.
+    void run(bool anyHit, int width, int height, GLuint maskFramebuffer, bool debugCost, bool markCells,
+             const HintSlots& slots = {});
+    // The marks of the last run that marked cells (a uint per ray bounds cell of `cellSize` pixels: nonzero where a ray was listed),
     // for the reduction that follows it (RayBoundsGrid::update's `cellMarks`).
     GLuint cellMarks() const { return marks_.id(); }
     // Binds the compaction buffer as GL_DISPATCH_INDIRECT_BUFFER again (after a pass that bound another).
@@ -49,12 +51,13 @@ public:
     uint32_t raysLeft() const;
 
 private:
-    const ShaderProgram& program(bool anyHit, bool debugCost);
+    const ShaderProgram& program(bool anyHit, bool debugCost, bool markCells);
 
     bool compute_ = false;
     std::vector<ShaderDefine> defines_;
     std::shared_ptr<ProgramCache> programs_;
-    const ShaderProgram* variants_[2][2] = {}; // [anyHit][debugCost] of programs_; the debug ones made on first use
+    // [anyHit][debugCost][markCells] of programs_; the debug ones made on first use
+    const ShaderProgram* variants_[2][2][2] = {};
     int cellSize_ = 8;
     GlBuffer buffer_, marks_;
     size_t capacity_ = 0, markCapacity_ = 0; // rays the buffer can list, cells the marks hold

@@ -11,7 +11,9 @@
 //    its segment there — the "hit-bounded ray bounds" a primary ray otherwise gets only after its cell lists were
 //    traced — and the cell lists hold only the subtrees the shortened segments reach. Every ray is traced by the
 //    cell pass; the buffer only counts the rays whose hint missed (for the tracer's record of the pass).
-// Host defines: TRACE_ANY_HIT (0 | 1), CHCRT_CULLING_DEBUG_COST (add the hint visits' steps to the cost debug image).
+// Host defines: TRACE_ANY_HIT (0 | 1), CHCRT_CULLING_DEBUG_COST (add the hint visits' steps to the cost debug image),
+// CHCRT_CULLING_HINT_MARKS (0 | 1: mark and list the cells of the rays left, for a reduction over those cells; a
+// trace whose lists are made without that reduction, e.g. shared shadow lists, leaves the atomics out).
 #include "shared/render_layout.h"
 #include "shared/bvh_layout.h"
 #include "shared/culling_layout.h"
@@ -76,6 +78,7 @@ void visitHintOfPixel(ivec2 pixel) {
         atomicAdd(dispatchGroups, 1u);
     }
     pixels[slot] = uint(pixel.x) | (uint(pixel.y) << 16);
+#if CHCRT_CULLING_HINT_MARKS
     ivec2 cell = pixel / cellSize;
     uint index = uint(cell.y * cellsX + cell.x);
     if (atomicExchange(cellMarks[index], 1u) == 0u) { // the cell's first listed ray lists the cell
@@ -86,4 +89,5 @@ void visitHintOfPixel(ivec2 pixel) {
         }
         cellMarks[uint(CHCRT_CULLING_MARKED_LIST(cellCount)) + marked] = index;
     }
+#endif
 }
