@@ -473,6 +473,7 @@ ChcrtTracer::HintSnapshot ChcrtTracer::saveHints() const {
         if (image.texture.id() == 0) continue;
         HintImage& copy = snapshot.images[key];
         copyHintImage(image.texture, copy.texture);
+        copy.extent = image.extent;
         copy.epoch = image.epoch;
         copy.passed = image.passed;
         copy.droppedStale = image.droppedStale;
@@ -490,6 +491,7 @@ void ChcrtTracer::restoreHints(const HintSnapshot& snapshot) {
         }
         HintImage& image = it->second;
         copyHintImage(saved->second.texture, image.texture);
+        image.extent = saved->second.extent;
         image.epoch = saved->second.epoch;
         image.passed = saved->second.passed;
         image.droppedStale = saved->second.droppedStale;
@@ -510,7 +512,7 @@ RaySetHints ChcrtTracer::setHints(const TraceRequest& request, int width, int he
     const uint64_t kind = rayKind(request) << 32, own = hintKey(request, hintSetsAt(width, height));
     hints.set = false;
     for (auto it = hintStore_->lower_bound(kind); it != hintStore_->end() && (it->first >> 32) == (kind >> 32); ++it) {
-        if (textureExtent(it->second.texture.id()) != TextureExtent{width, height}) continue;
+        if (it->second.extent != TextureExtent{width, height}) continue;
         ++hints.ofKind;
         hints.set = hints.set || it->first == own;
     }
@@ -526,8 +528,10 @@ GLuint ChcrtTracer::hintImageFor(const TraceRequest& request, int width, int hei
     // Hints of slots replaced since are dropped by the hint pass (shaders/culling/hint_leaf.glsl), which compares
     // 32-bit epochs: an image that old is emptied.
     const uint64_t epoch = source_->contentEpoch();
-    if (textureExtent(hint.id()) != TextureExtent{width, height}) hint = createTexture2D(width, height, GL_R32UI);
-    else if (epoch - image.epoch < (uint64_t(1) << 31)) return hint.id();
+    if (image.extent != TextureExtent{width, height}) {
+        hint = createTexture2D(width, height, GL_R32UI);
+        image.extent = {width, height};
+    } else if (epoch - image.epoch < (uint64_t(1) << 31)) return hint.id();
     const GLuint none = CHCRT_NO_HIT_ID;
     glClearTexImage(hint.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);

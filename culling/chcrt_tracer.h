@@ -302,6 +302,7 @@ public:
     // A ray set's hints (hintKey: ray kind and sample index) and a ray kind's hint pass record (see hintPassRecords_).
     struct HintImage {
         GlTexture texture;
+        TextureExtent extent;  // the texture's, kept so that choosing a trace's arm asks GL nothing (setHints)
         uint64_t epoch = 0;  // the source's contentEpoch when its hints were last validated (by a hint pass)
         bool passed = false;       // a hint pass has run over them (the first does not count in HintPassRecord)
         bool droppedStale = false; // the last pass dropped hints of cache slots replaced since (validateHints)
