@@ -955,7 +955,10 @@ void ChcrtTracer::trace(const TraceRequest& request, const RayTextures& rays, Hi
     // debug image turns it off, so that the image shows the culling passes (for Cost: what culling costs per pixel,
     // also where the adaptive choice would trace with one pure pass).
     const bool canFallBack = options_.adaptive && fullTracer_ != nullptr && debugKind_ == ChcrtDebugImage::None;
-    const uint32_t arms = 2 + uint32_t(bvh_ ? heightArms_.size() : 0);
+    // A light sweep's shadow sets share lists made once per sweep, which a one-set probe of another height cannot
+    // weigh (ChcrtOptions::adaptiveHeights): pure pass or the configured height.
+    const bool sharesLists = request.lightSweep && options_.shareShadowLists;
+    const uint32_t arms = 2 + uint32_t(bvh_ && !sharesLists ? heightArms_.size() : 0);
     AdaptiveChoice& choice =
         adaptive_.try_emplace(adaptiveKey(request), arms, options_.adaptiveProbeInterval, options_.adaptiveProbeBudget)
             .first->second;

@@ -134,7 +134,10 @@ struct ChcrtOptions {
     // ran at about twice the budget (city far shadow, 16 spp: 5 % with a 3 % budget; culling/README.md).
     double adaptiveProbeBudget = AdaptiveChoice::kAllowedProbeCost / 2;
     // More culling arms of the adaptive choice (in core only): the same options at these termination heights,
-    // each with its own culling hierarchy, built on first use. Empty: the configured height only.
+    // each with its own culling hierarchy, built on first use. Empty: the configured height only. Not for the shadow
+    // rays of a light sweep with shareShadowLists: a probe of another height traces one ray set of a sweep, so it
+    // either makes that height's lists for the sweep alone or uses per-set lists, and measures neither what the
+    // height costs over a sweep nor what the running height costs (culling/README.md "Adaptive choice").
     std::vector<uint32_t> adaptiveHeights;
     // What the adaptive choice is told a trace of `arm` took (0 = the pure pass, 1 = this configuration, 2.. =
     // adaptiveHeights), given its measured wall time; empty = the wall time. Tests fix the times so that the
