@@ -2,12 +2,11 @@
 // Method: for every run, frame and sample the rays are generated once and every method traces those same rays
 // (ratios within one run: runs vary by ±40 % here), pure BVH first and the others in alternating order
 // (traceOrder); only tracing is timed (glFinish before and after). One untimed warm-up run compiles shaders and
-// fills caches. ms_median = median over runs of the mean tracing
-// time per frame (all samples of a frame). Mrays/s counts active rays (pixels without a surface shoot no
-// secondary rays). diff_pixels / psnr_db compare with pure BVH GLSL tracing (chcrt-lod's psnr_db: with exact
-// out-of-core CHC+RT, whose hits equal pure BVH's, through the same primary resolve): for embree, diff_pixels counts
-// hit-buffer pixels that differ beyond the stated tolerance (renderer/render/hit_comparison.h) and psnr_db is
-// null (it produces hits, not an image).
+// fills caches. ms_median = median over runs of the mean tracing time per frame (all samples of a frame). Mrays/s
+// counts active rays (pixels without a surface shoot no secondary rays). diff_pixels / psnr_db compare with pure BVH
+// GLSL tracing (chcrt-lod's psnr_db: with exact out-of-core CHC+RT, whose hits equal pure BVH's, through the same
+// primary resolve): for embree, diff_pixels counts hit-buffer pixels that differ beyond the stated tolerance
+// (renderer/render/hit_comparison.h) and psnr_db is null (it produces hits, not an image).
 #include "app/commands.h"
 #include "app/outofcore_report.h"
 #include "app/methods.h"
