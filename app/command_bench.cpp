@@ -1,7 +1,7 @@
 // `chcrt bench`: compares tracing methods on the same rays, per ray type, over frames of a walkthrough.
 // Method: for every run, frame and sample the rays are generated once and every method traces those same rays
 // (ratios within one run: runs vary by ±40 % here), pure BVH first and the others in alternating order
-// (traceOrder); only tracing is timed (glFinish before and after). One untimed warm-up run compiles shaders and
+// (benchTraceOrder); only tracing is timed (glFinish before and after). One untimed warm-up run compiles shaders and
 // fills caches. ms_median = median over runs of the mean tracing time per frame (all samples of a frame). Mrays/s
 // counts active rays (pixels without a surface shoot no secondary rays). diff_pixels / psnr_db compare with pure BVH
 // GLSL tracing (chcrt-lod's psnr_db: with exact out-of-core CHC+RT, whose hits equal pure BVH's, through the same
@@ -266,18 +266,6 @@ void addFrameTimes(const Bench& b, size_t frameIndex, const std::map<std::string
     }
 }
 
-// The order in which the GPU methods trace pass `passIndex`: pure BVH first (the reference the others' hits are
-// compared with), the others in the given order on even passes and reversed on odd ones. A method that traces the
-// same rays right after another culling method finds the caches warm with what both need (the hinted leaves and their
-// triangles, the ray and hit images): on the city's near shadow rays the method second of `chcrt,chcrt-noadapt` ran
-// 4-9 % faster than it did first (docs/benchmarks.md, 2026-12-07), so a fixed order favoured the later method.
-std::vector<std::string> traceOrder(const Bench& b, size_t passIndex) {
-    std::vector<std::string> order = b.gpuMethodNames;
-    const auto others = order.begin() + (!order.empty() && order.front() == kPureBvhMethod ? 1 : 0);
-    if (passIndex % 2 == 1) std::reverse(others, order.end());
-    return order;
-}
-
 // Every run, frame and sample of one ray type: the rays are generated once and each method traces those.
 std::map<std::string, MethodResult> benchRayType(Bench& b, RayType type, uint64_t& progressDone) {
     Renderer& renderer = b.renderer();
@@ -307,7 +295,9 @@ std::map<std::string, MethodResult> benchRayType(Bench& b, RayType type, uint64_
                 const bool comparing = pass.compare && b.session.sceneInCore && (b.embree || b.gpuMethodNames.size() > 1);
                 const size_t passIndex =
                     (size_t(run) * b.frames.size() + frameIndex) * size_t(samples) + size_t(pass.sample);
-                for (const std::string& m : traceOrder(b, passIndex)) tracePass(b, pass, m, runMs[m], results[m], comparing);
+                for (const std::string& m : benchTraceOrder(b.gpuMethodNames, passIndex)) {
+                    tracePass(b, pass, m, runMs[m], results[m], comparing);
+                }
                 renderer.useTracer(nullptr);
                 if (!pass.timed) continue;
                 const uint64_t active = countActive(pass.rays);

@@ -157,6 +157,13 @@ bool MethodInfo::reads(ParameterArea area) const {
     return std::find(areas.begin(), areas.end(), area) != areas.end();
 }
 
+std::vector<std::string> benchTraceOrder(const std::vector<std::string>& methods, size_t passIndex) {
+    std::vector<std::string> order = methods;
+    const auto others = order.begin() + (!order.empty() && order.front() == kPureBvhMethod ? 1 : 0);
+    if (passIndex % 2 == 1) std::reverse(others, order.end());
+    return order;
+}
+
 std::string describeNeeds(uint8_t needs) {
     std::string text;
     const auto add = [&](uint8_t bit, const char* what) {

@@ -18,6 +18,14 @@ namespace chcrt::app {
 // own tracer).
 inline constexpr const char* kPureBvhMethod = "bvh";
 
+// The order in which `bench` traces pass `passIndex` with `methods` (GPU methods, in the order given): pure BVH first
+// (the reference the others' hits are compared with), the others in the given order on even passes and reversed on
+// odd ones. A method that traces the same rays right after another culling method finds the caches warm with what
+// both need (the hinted leaves and their triangles, the ray and hit images): on the city's near shadow rays the method
+// second of `chcrt,chcrt-noadapt` ran 4-9 % faster than it did first (docs/benchmarks.md, 2026-12-07), so a fixed
+// order favoured the later method.
+std::vector<std::string> benchTraceOrder(const std::vector<std::string>& methods, size_t passIndex);
+
 // What a method needs beyond the scene's BVH on the GPU.
 enum MethodNeeds : uint8_t {
     kNeedsNothing = 0,

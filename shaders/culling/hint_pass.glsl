@@ -18,6 +18,9 @@
 #include "shared/bvh_layout.h"
 #include "shared/culling_layout.h"
 #include "render/bvh_nodes.glsl"
+#ifndef CHCRT_CULLING_HINT_MARKS
+#define CHCRT_CULLING_HINT_MARKS 1
+#endif
 
 layout(binding = CHCRT_UNIT_RAY_ORIGIN) uniform sampler2D rayOrigins;
 layout(binding = CHCRT_UNIT_RAY_DIRECTION) uniform sampler2D rayDirections;
