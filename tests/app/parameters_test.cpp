@@ -248,6 +248,20 @@ TEST(MethodRegistry, LineSpaceDefaultsAreTheRecommendedConfiguration) {
     EXPECT_EQ(modes.shadow, ls::LineSpaceMode::Off);
 }
 
+// bench traces pure BVH first and the other methods in an order reversed every pass, so that over a run each method
+// follows pure BVH and each other method equally often (benchTraceOrder; docs/benchmarks.md, 2026-12-07).
+TEST(MethodRegistry, BenchAlternatesTheOrderOfTheMethodsAfterPureBvh) {
+    using Order = std::vector<std::string>;
+    const Order methods = {kPureBvhMethod, "chcrt", "chcrt-noadapt", "chcrt-aggressive"};
+    EXPECT_EQ(benchTraceOrder(methods, 0), methods);
+    EXPECT_EQ(benchTraceOrder(methods, 1), (Order{kPureBvhMethod, "chcrt-aggressive", "chcrt-noadapt", "chcrt"}));
+    EXPECT_EQ(benchTraceOrder(methods, 2), methods);
+    EXPECT_EQ(benchTraceOrder(methods, 7), benchTraceOrder(methods, 1));
+    // Out of core there is no pure BVH: every method alternates.
+    EXPECT_EQ(benchTraceOrder(Order{"chcrt", "chcrt-lod"}, 1), (Order{"chcrt-lod", "chcrt"}));
+    EXPECT_TRUE(benchTraceOrder(Order{}, 1).empty());
+}
+
 std::string readDoc(const char* relative) {
     std::ifstream in(std::string(CHCRT_SOURCE_DIR) + "/" + relative);
     std::stringstream text;
