@@ -232,6 +232,7 @@ nlohmann::json chcrtStatsJson(const ChcrtStats& s, double frames) {
                            {"cell_list_ms", s.cellListMs},
                            {"subtree_pass_ms", s.subtreePassMs},
                            {"hint_pass_ms", s.hintPassMs},
+                           {"pass_timed_traces", s.passTimedTraces},
                            {"bounds_culled_pieces", s.boundsCulledPieces},
                            {"bounds_culled_frustum", s.boundsCulledFrustum},
                            {"bounds_reached", s.boundsReached},

@@ -243,6 +243,7 @@ ChcrtStats& ChcrtStats::operator+=(const ChcrtStats& o) {
     cellListMs += o.cellListMs;
     subtreePassMs += o.subtreePassMs;
     hintPassMs += o.hintPassMs;
+    passTimedTraces += o.passTimedTraces;
     pairsVisible += o.pairsVisible;
     pairsInvisible += o.pairsInvisible;
     pairsNewlyVisible += o.pairsNewlyVisible;
@@ -737,6 +738,7 @@ void ChcrtTracer::intersect(std::vector<Scheduled>& work, bool anyHit) {
 }
 
 void ChcrtTracer::beginPassTimer(bool hintPass) {
+    if (!timingPasses_) return;
     if (passTimersUsed_ == passTimers_.size()) passTimers_.push_back({std::make_unique<GpuTimer>()});
     PassTimer& pass = passTimers_[passTimersUsed_];
     pass.hintPass = hintPass;
@@ -744,12 +746,17 @@ void ChcrtTracer::beginPassTimer(bool hintPass) {
 }
 
 void ChcrtTracer::endPassTimer() {
+    if (!timingPasses_) return;
     passTimers_[passTimersUsed_++].timer->end();
 }
 
 void ChcrtTracer::readPassTimers() {
+    if (!timingPasses_) return;
+    // A timed trace stands for the passTimerInterval traces around it.
+    last_.passTimedTraces = 1;
+    const double scale = double(options_.passTimerInterval);
     for (size_t i = 0; i < passTimersUsed_; ++i) {
-        const double ms = passTimers_[i].timer->milliseconds();
+        const double ms = scale * passTimers_[i].timer->milliseconds();
         last_.subtreePassMs += ms;
         if (passTimers_[i].hintPass) last_.hintPassMs += ms;
     }
@@ -1008,6 +1015,8 @@ bool ChcrtTracer::traceOwn(const TraceRequest& request, const RayTextures& rays,
                            int height) {
     last_ = ChcrtStats{};
     ++tracesRun_;
+    const uint32_t timerInterval = options_.passTimerInterval;
+    timingPasses_ = timerInterval != 0 && (tracesRun_ - 1) % timerInterval == 0;
     if (rayExtent_) rayExtent_->resetDecisions();
     bool warm = false;
     switch (options_.queries) {

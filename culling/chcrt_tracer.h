@@ -91,6 +91,13 @@ struct ChcrtOptions {
     // recommended share is a half (app/methods.cpp).
     float hintPassMaxLeft = 0.25f;
     uint32_t hintPassRetryInterval = 16;
+    // The GL timer queries of the statistics' pass times (ChcrtStats::subtreePassMs, hintPassMs) run on one trace in
+    // this many (the first, then every passTimerInterval-th), and what they measure counts that many times: on
+    // llvmpipe a timer query around a pass costs about 0.06 ms, 5-7 % of a culled shadow trace (city near, 256², 16
+    // spp: 2.67-2.79x of pure BVH timed on every trace, 2.85-2.94x on none; culling/README.md "Statistics"), which
+    // pure BVH's passes do not pay. Prime, so that the timed traces rotate through the sample indices of a frame of
+    // 2^k samples. 1: every trace (exact sums); 0: none (the pass times stay 0).
+    uint32_t passTimerInterval = 7;
     // Hit hints: the GPU memory their images may take (4 bytes per ray, per sample index and ray kind; a quarter each for
     // shadow, AO, bounce shadow and closest-hit rays). Sample indices beyond what it holds share images (ray kind,
     // sample index modulo the sets that fit): 1 GiB keeps every set apart up to 32 samples at 1920×1080, 8 at 3840×2160.
@@ -215,6 +222,7 @@ struct ChcrtStats {
     // Of subtreePassMs, the hint passes' (hintPass): what is left is the traversal of the cell lists, so a reader sees
     // what the lists cost apart from the hint visits (culling/README.md, "The ceiling of the passes").
     double hintPassMs = 0;
+    uint64_t passTimedTraces = 0; // traces whose passes were timed (ChcrtOptions::passTimerInterval)
     uint64_t pairsVisible = 0;       // visible front after the trace
     uint64_t pairsInvisible = 0;     // invisible front after the trace
     uint64_t pairsNewlyVisible = 0;  // terminal pairs found visible in Phase 3
@@ -557,6 +565,7 @@ private:
     };
     std::vector<PassTimer> passTimers_; // the first passTimersUsed_ hold this trace's passes
     size_t passTimersUsed_ = 0;
+    bool timingPasses_ = true; // this trace's passes are timed (ChcrtOptions::passTimerInterval)
     size_t queriesInUse_ = 0;
     std::deque<PendingQuery> queue_;
     std::vector<int32_t> multiGroups_;

@@ -31,11 +31,11 @@ cp -r "$src" "$out/no-lists"
 python3 - "$out/no-lists/culling/cell_pixel.glsl" <<'PY'
 import sys
 path = sys.argv[1]
-old = "    traverseCellList(header.x, header.x + header.y,"
+old = "    traverseCellList(hintLeaf, header.x, header.x + header.y,"
 text = open(path).read()
 if text.count(old) != 1:
     sys.exit(f"{path}: expected one '{old.strip()}' (the shader changed: update this script)")
-open(path, "w").write(text.replace(old, "    if (header.y == 0xFFFFFFFFu) traverseCellList(header.x, header.x + header.y,"))
+open(path, "w").write(text.replace(old, "    if (header.y == 0xFFFFFFFFu) traverseCellList(hintLeaf, header.x, header.x + header.y,"))
 PY
 
 for ((r = 1; r <= rounds; ++r)); do
@@ -44,7 +44,7 @@ for ((r = 1; r <= rounds; ++r)); do
       for v in built no-lists; do
         CHCRT_SHADER_DIR="$out/$v" "$build/bin/chcrt" bench --scene "$scene" --camera-path near --ray-type "${ray%:*}" \
           --spp "${ray#*:}" --method bvh,chcrt-noadapt --frames "$frames" --runs "$runs" --warmup 1 --width "$size" \
-          --height "$size" -q --json "$out/${scene}_${ray%:*}_${v}_$r.json" >/dev/null
+          --height "$size" --chcrt-pass-timer-interval 1 -q --json "$out/${scene}_${ray%:*}_${v}_$r.json" >/dev/null
       done
     done
   done

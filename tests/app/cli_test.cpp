@@ -178,7 +178,7 @@ TEST_F(CliTest, BenchWritesTheDocumentedJsonSchema) {
 TEST_F(CliTest, BenchStepsOfOneSubtreeChcrtEqualPureBvhSteps) {
     const std::string common = "bench --scene city:30k --ray-type primary,shadow --method bvh,chcrt-noadapt --frames 0,2 "
                                "--runs 1 --warmup 0 --width 64 --height 48 --chcrt-height 64 --chcrt-tighter-bounds off "
-                               "--chcrt-min-tile 16 --chcrt-hints off -q ";
+                               "--chcrt-min-tile 16 --chcrt-hints off --chcrt-pass-timer-interval 1 -q ";
     const Result r = run(common + "--steps --json s.json");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("steps/ray"), std::string::npos);

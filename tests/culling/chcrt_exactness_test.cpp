@@ -73,6 +73,7 @@ ChcrtOptions optionsOf(const ExactnessCase& c, const int& frame) {
     options.adaptiveHeights = c.adaptiveHeights;
     options.cellListLimit = c.cellListLimit;
     options.hitHints = c.hitHints;
+    options.passTimerInterval = 1; // every trace's pass times, which the hint-pass case below compares
     options.computeCellPass = c.computeCellPass;
     options.hintPass = c.hintPass;
     options.closestHitHints = c.closestHitHints;
@@ -314,6 +315,37 @@ TEST_P(ChcrtExactnessTest, ShadedFrameEqualsPureBvhFrame) {
                               reference.pixels.size() * sizeof(reference.pixels[0])),
                   0)
             << "frame " << frame;
+    }
+}
+
+TEST_F(RenderTest, PassTimersRunOnOneTraceInTheirIntervalAndCountForIt) {
+    // ChcrtOptions::passTimerInterval: the statistics' pass times come from the first trace and every interval-th
+    // after it, each standing for the interval's traces; 0 times none.
+    const RenderSettings settings = smallTraceSettings();
+    Renderer& renderer = makeProceduralRenderer("city:60k", settings);
+    const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
+    FrameStats stats;
+    renderer.renderGBuffer(camera, stats);
+    renderer.generateRayPass(camera, RayType::Primary, 0, stats);
+    for (const uint32_t interval : {3u, 0u}) {
+        ChcrtOptions options = recommendedChcrtOptions(RendererTraits{.software = true});
+        options.adaptive = false;
+        options.passTimerInterval = interval;
+        ChcrtTracer chcrt(bvh_, options);
+        std::vector<double> timed;
+        for (int trace = 0; trace < 7; ++trace) {
+            EXPECT_EQ(traceAgainstPureBvh(renderer, chcrt, camera, RayType::Primary, 0, stats).differing, 0u);
+            timed.push_back(chcrt.lastStats().subtreePassMs);
+            EXPECT_EQ(chcrt.lastStats().passTimedTraces, interval != 0 && trace % 3 == 0 ? 1u : 0u) << trace;
+        }
+        for (int trace = 0; trace < 7; ++trace) {
+            if (interval != 0 && trace % 3 == 0) {
+                EXPECT_GT(timed[size_t(trace)], 0.0) << trace;
+            } else {
+                EXPECT_EQ(timed[size_t(trace)], 0.0) << trace;
+            }
+        }
+        EXPECT_EQ(chcrt.totalStats().passTimedTraces, interval == 0 ? 0u : 3u);
     }
 }
 
