@@ -436,7 +436,8 @@ void addRows(Bench& b, RayType type, const std::string& m, const MethodResult& r
     const double rowMsPerStep = m == kPureBvhMethod ? msPerStep(b, r, ms) : 0.0;
     const bool allCulled = r.chcrt.traces > 0 && r.chcrt.fallbackTraces == 0;
     const double subtreeMsPerStep =
-        allCulled ? msPerStep(b, r, r.chcrt.subtreePassMs / (double(b.options.runs) * frames)) : 0.0;
+        allCulled ? msPerStep(b, r, r.chcrt.estimatedPassMs(r.chcrt.subtreePassMs) / (double(b.options.runs) * frames))
+                  : 0.0;
     const double stepCost = subtreeMsPerStep > 0 && bvhMsPerStep > 0 ? subtreeMsPerStep / bvhMsPerStep : 0.0;
     if (b.options.steps) {
         table.rows.back().push_back(stepsCounted ? formatFixed(stepsPerRay, 1) : "-");

@@ -509,8 +509,8 @@ std::vector<Parameter> describeChcrt() {
             .defaults("0.25; out of core 0.5")
             .number(FIELD(chcrt.hintPassMaxLeft), 0.0, 1.0),
         Describe(Area::Chcrt, "--chcrt-pass-timer-interval", "",
-                 "CHC+RT: time the passes (subtree_pass_ms, hint_pass_ms) on one trace in this many, counted that "
-                 "many times (1 = every trace, 0 = none)")
+                 "CHC+RT: time the passes (subtree_pass_ms, hint_pass_ms) on one trace in this many and estimate "
+                 "them for all from those (1 = every trace, 0 = none)")
             .integer<uint32_t>(FIELD(chcrt.passTimerInterval), 0),
         Describe(Area::Chcrt, "--chcrt-hint-memory-mb", "",
                  "CHC+RT with hit hints: GPU memory for the hint images (4 bytes per ray per sample index and ray kind); "

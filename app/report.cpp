@@ -230,8 +230,6 @@ nlohmann::json chcrtStatsJson(const ChcrtStats& s, double frames) {
                            {"bounds_ms", s.boundsMs},
                            {"decide_ms", s.decideMs},
                            {"cell_list_ms", s.cellListMs},
-                           {"subtree_pass_ms", s.subtreePassMs},
-                           {"hint_pass_ms", s.hintPassMs},
                            {"pass_timed_traces", s.passTimedTraces},
                            {"bounds_culled_pieces", s.boundsCulledPieces},
                            {"bounds_culled_frustum", s.boundsCulledFrustum},
@@ -249,6 +247,12 @@ nlohmann::json chcrtStatsJson(const ChcrtStats& s, double frames) {
                            {"phase2_ms", s.phase2Ms},
                            {"phase3_ms", s.phase3Ms},
                            {"fallback_ms", s.fallbackMs}};
+    // Pass times only where some trace's passes were timed (ChcrtOptions::passTimerInterval): estimated for all
+    // culled traces from those.
+    if (s.passTimedTraces > 0) {
+        sums["subtree_pass_ms"] = s.estimatedPassMs(s.subtreePassMs);
+        sums["hint_pass_ms"] = s.estimatedPassMs(s.hintPassMs);
+    }
     nlohmann::json perFrame = nlohmann::json::object();
     for (auto it = sums.begin(); it != sums.end(); ++it) perFrame[it.key()] = it.value().get<double>() / f;
     const double ms = s.totalMs();

@@ -752,11 +752,9 @@ void ChcrtTracer::endPassTimer() {
 
 void ChcrtTracer::readPassTimers() {
     if (!timingPasses_) return;
-    // A timed trace stands for the passTimerInterval traces around it.
     last_.passTimedTraces = 1;
-    const double scale = double(options_.passTimerInterval);
     for (size_t i = 0; i < passTimersUsed_; ++i) {
-        const double ms = scale * passTimers_[i].timer->milliseconds();
+        const double ms = passTimers_[i].timer->milliseconds();
         last_.subtreePassMs += ms;
         if (passTimers_[i].hintPass) last_.hintPassMs += ms;
     }

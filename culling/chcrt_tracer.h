@@ -92,7 +92,7 @@ struct ChcrtOptions {
     float hintPassMaxLeft = 0.25f;
     uint32_t hintPassRetryInterval = 16;
     // The GL timer queries of the statistics' pass times (ChcrtStats::subtreePassMs, hintPassMs) run on one trace in
-    // this many (the first, then every passTimerInterval-th), and what they measure counts that many times: on
+    // this many (the first, then every passTimerInterval-th; ChcrtStats::estimatedPassMs scales them up): on
     // llvmpipe a timer query around a pass costs about 0.06 ms, 5-7 % of a culled shadow trace (city near, 256², 16
     // spp: 2.67-2.79x of pure BVH timed on every trace, 2.85-2.94x on none; culling/README.md "Statistics"), which
     // pure BVH's passes do not pay. Prime, so that the timed traces rotate through the sample indices of a frame of
@@ -217,12 +217,13 @@ struct ChcrtStats {
     double cellListMs = 0;             // BoundsOnly: CPU time building and uploading cell lists (inside the phases)
     // GPU time of the subtree passes (per-tile batches or cell-list draws, with their masks) and of the hint pass (GL
     // timer queries), for the cost of a traversal step in a subtree pass against one in a pure pass (chcrt bench
-    // --steps, which counts the hint visits' steps too).
+    // --steps, which counts the hint visits' steps too). Summed over the passTimedTraces traces whose passes were
+    // timed (ChcrtOptions::passTimerInterval): estimatedPassMs gives them for every culled trace.
     double subtreePassMs = 0;
     // Of subtreePassMs, the hint passes' (hintPass): what is left is the traversal of the cell lists, so a reader sees
     // what the lists cost apart from the hint visits (culling/README.md, "The ceiling of the passes").
     double hintPassMs = 0;
-    uint64_t passTimedTraces = 0; // traces whose passes were timed (ChcrtOptions::passTimerInterval)
+    uint64_t passTimedTraces = 0;
     uint64_t pairsVisible = 0;       // visible front after the trace
     uint64_t pairsInvisible = 0;     // invisible front after the trace
     uint64_t pairsNewlyVisible = 0;  // terminal pairs found visible in Phase 3
@@ -241,6 +242,11 @@ struct ChcrtStats {
     // Share of the traces that culled (0 without traces) and their mean termination height (0 without any).
     double culledShare() const { return traces ? double(culledTraces()) / double(traces) : 0.0; }
     double meanHeight() const { return culledTraces() ? double(heightSum) / double(culledTraces()) : 0.0; }
+    // A pass time summed over the timed traces (subtreePassMs, hintPassMs), for all culled traces: their mean times
+    // the culled traces (0 where none was timed).
+    double estimatedPassMs(double timedMs) const {
+        return passTimedTraces ? timedMs * double(culledTraces()) / double(passTimedTraces) : 0.0;
+    }
     ChcrtStats& operator+=(const ChcrtStats& o);
 };
 

@@ -320,7 +320,7 @@ TEST_P(ChcrtExactnessTest, ShadedFrameEqualsPureBvhFrame) {
 
 TEST_F(RenderTest, PassTimersRunOnOneTraceInTheirIntervalAndCountForIt) {
     // ChcrtOptions::passTimerInterval: the statistics' pass times come from the first trace and every interval-th
-    // after it, each standing for the interval's traces; 0 times none.
+    // after it, and are estimated for every culled trace from those; 0 times none.
     const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer("city:60k", settings);
     const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
@@ -345,7 +345,11 @@ TEST_F(RenderTest, PassTimersRunOnOneTraceInTheirIntervalAndCountForIt) {
                 EXPECT_EQ(timed[size_t(trace)], 0.0) << trace;
             }
         }
-        EXPECT_EQ(chcrt.totalStats().passTimedTraces, interval == 0 ? 0u : 3u);
+        const ChcrtStats& total = chcrt.totalStats();
+        EXPECT_EQ(total.passTimedTraces, interval == 0 ? 0u : 3u);
+        const double timedSum = timed[0] + timed[3] + timed[6];
+        EXPECT_DOUBLE_EQ(total.subtreePassMs, timedSum);
+        EXPECT_DOUBLE_EQ(total.estimatedPassMs(total.subtreePassMs), interval == 0 ? 0.0 : timedSum * 7.0 / 3.0);
     }
 }
 
