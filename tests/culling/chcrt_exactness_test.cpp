@@ -318,7 +318,7 @@ TEST_P(ChcrtExactnessTest, ShadedFrameEqualsPureBvhFrame) {
     }
 }
 
-TEST_F(RenderTest, PassTimersRunOnOneTraceInTheirIntervalAndCountForIt) {
+TEST_F(RenderTest, PassTimersRunOnOneTraceInTheirIntervalAndAreEstimatedForAll) {
     // ChcrtOptions::passTimerInterval: the statistics' pass times come from the first trace and every interval-th
     // after it, and are estimated for every culled trace from those; 0 times none.
     const RenderSettings settings = smallTraceSettings();
