@@ -105,10 +105,8 @@ TEST_F(ChcrtCostImageTest, DebugTracesDoNotFeedTheAdaptiveChoice) {
     ChcrtOptions options;
     options.adaptive = true;
     ChcrtTracer chcrt(bvh_, options);
-    const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
     FrameStats stats;
-    renderer.renderGBuffer(camera, stats);
-    renderer.generateRayPass(camera, RayType::Primary, 0, stats);
+    const Camera camera = raysAtNearPathStart(renderer, RayType::Primary, stats);
     renderer.useTracer(&chcrt);
     chcrt.setDebugImage(ChcrtDebugImage::Cost);
     for (int i = 0; i < 4; ++i) { // one cold trace, three warm ones
@@ -200,10 +198,8 @@ TEST_F(ChcrtCostImageTest, CountSaturatesBelowTheCappedBit) {
     ChcrtTracer chcrt(bvh_, options);
     ASSERT_EQ(chcrt.hierarchy().subtrees.size(), 1u);
     chcrt.setDebugImage(ChcrtDebugImage::Cost);
-    const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
     FrameStats stats;
-    renderer.renderGBuffer(camera, stats);
-    renderer.generateRayPass(camera, RayType::Primary, 0, stats);
+    const Camera camera = raysAtNearPathStart(renderer, RayType::Primary, stats);
     renderer.traceRayPass(camera, RayType::Primary, 0, stats);
     const std::vector<glm::uvec4> pureCost = readCostTarget(renderer);
     renderer.useTracer(&chcrt);
@@ -244,10 +240,8 @@ TEST_F(ChcrtCostImageTest, CappedPassesSetTheFlagAndTheCountStaysBelowIt) {
     ChcrtTracer chcrt(bvh_, options);
     ASSERT_EQ(chcrt.hierarchy().subtrees.size(), 1u);
     chcrt.setDebugImage(ChcrtDebugImage::Cost);
-    const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
     FrameStats stats;
-    renderer.renderGBuffer(camera, stats);
-    renderer.generateRayPass(camera, RayType::Primary, 0, stats);
+    const Camera camera = raysAtNearPathStart(renderer, RayType::Primary, stats);
     renderer.useTracer(&chcrt);
     chcrt.clearDebugImage();
     FrameStats traceStats;
@@ -285,10 +279,8 @@ TEST_F(ChcrtCostImageTest, TheBoundsImageHoldsEachCellsExtentInEitherBoundsMode)
     settings.width = 64;
     settings.height = 48;
     Renderer& renderer = makeProceduralRenderer("city:30k", settings);
-    const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
     FrameStats stats;
-    renderer.renderGBuffer(camera, stats);
-    renderer.generateRayPass(camera, RayType::Shadow, 0, stats);
+    const Camera camera = raysAtNearPathStart(renderer, RayType::Shadow, stats);
     const std::vector<Ray> rays = renderer.readRays(0);
     std::vector<std::vector<uint32_t>> images;
     for (ChcrtQueries queries : {ChcrtQueries::BoundsOnly, ChcrtQueries::BoundsGpu}) {

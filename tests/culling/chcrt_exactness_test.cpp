@@ -323,10 +323,8 @@ TEST_F(RenderTest, PassTimersRunOnOneTraceInTheirIntervalAndAreEstimatedForAll) 
     // after it, and are estimated for every culled trace from those; 0 times none.
     const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer("city:60k", settings);
-    const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
     FrameStats stats;
-    renderer.renderGBuffer(camera, stats);
-    renderer.generateRayPass(camera, RayType::Primary, 0, stats);
+    const Camera camera = raysAtNearPathStart(renderer, RayType::Primary, stats);
     for (const uint32_t interval : {3u, 0u}) {
         ChcrtOptions options = recommendedChcrtOptions(RendererTraits{.software = true});
         options.adaptive = false;
@@ -364,10 +362,8 @@ TEST_F(RenderTest, AggressiveCullingLosesHitsThatTheComparisonDetects) {
     options.visibleThreshold = 40;
     options.adaptive = false;
     ChcrtTracer aggressive(bvh_, options, "chcrt-aggressive");
-    const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
     FrameStats stats;
-    renderer.renderGBuffer(camera, stats);
-    renderer.generateRayPass(camera, RayType::Primary, 0, stats);
+    const Camera camera = raysAtNearPathStart(renderer, RayType::Primary, stats);
     const OracleComparison traced = traceAgainstPureBvh(renderer, aggressive, camera, RayType::Primary, 0, stats);
     for (size_t i = 0; i < traced.reference.size(); ++i) {
         // Culling only removes candidates: a differing pixel is a miss or a farther hit, never a nearer one.
@@ -554,10 +550,8 @@ TEST_F(RenderTest, HintsNamingInnerNodesAreNotEntered) {
     const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer("city:60k", settings);
     ASSERT_GT(bvh_.nodes.size(), 1u); // node 0, the root, is an inner node
-    const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
     FrameStats stats;
-    renderer.renderGBuffer(camera, stats);
-    renderer.generateRayPass(camera, RayType::Shadow, 0, stats);
+    const Camera camera = raysAtNearPathStart(renderer, RayType::Shadow, stats);
     renderer.useTracer(nullptr);
     renderer.traceRayPass(camera, RayType::Shadow, 0, stats);
     const std::vector<Hit> reference = renderer.readHits(0);
@@ -601,10 +595,8 @@ TEST_F(RenderTest, HintsNamingInnerNodesAreNotEntered) {
 TEST_F(RenderTest, HitsFoundInTheHintedLeafShowNoSubtree) {
     const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer("city:60k", settings);
-    const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
     FrameStats stats;
-    renderer.renderGBuffer(camera, stats);
-    renderer.generateRayPass(camera, RayType::Shadow, 0, stats);
+    const Camera camera = raysAtNearPathStart(renderer, RayType::Shadow, stats);
     ChcrtTracer chcrt(bvh_, hintedCullingOptions(false));
     chcrt.setDebugImage(ChcrtDebugImage::Subtrees);
     renderer.useTracer(&chcrt);
@@ -645,10 +637,8 @@ TEST_F(RenderTest, HitsFoundInTheHintedLeafShowNoSubtree) {
 TEST_F(RenderTest, HintPassStopsWhereItLeavesTooManyRaysAndRetries) {
     const RenderSettings settings = smallTraceSettings();
     Renderer& renderer = makeProceduralRenderer("city:60k", settings);
-    const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
     FrameStats stats;
-    renderer.renderGBuffer(camera, stats);
-    renderer.generateRayPass(camera, RayType::Shadow, 0, stats);
+    const Camera camera = raysAtNearPathStart(renderer, RayType::Shadow, stats);
     renderer.useTracer(nullptr);
     renderer.traceRayPass(camera, RayType::Shadow, 0, stats);
     const std::vector<Hit> reference = renderer.readHits(0);

@@ -46,6 +46,15 @@ protected:
         return makeRenderer(generateProceduralScene(spec), proceduralAreaLight(spec), settings);
     }
 
+    // The first camera of the procedural scene's near path, with its G-buffer rendered and sample 0 of `type`'s rays
+    // generated: the set-up of the tests that trace one ray set.
+    Camera raysAtNearPathStart(Renderer& renderer, RayType type, FrameStats& stats) const {
+        const Camera camera = proceduralNearPath(spec_).cameraAtFrame(0);
+        renderer.renderGBuffer(camera, stats);
+        renderer.generateRayPass(camera, type, 0, stats);
+        return camera;
+    }
+
     // Reads texel (x, y) (GL convention: y from the bottom) of an RGBA32F texture.
     static glm::vec4 readTexel(GLuint texture, int x, int y) {
         glm::vec4 value(0.0f);
