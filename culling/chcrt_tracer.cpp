@@ -962,8 +962,7 @@ void ChcrtTracer::trace(const TraceRequest& request, const RayTextures& rays, Hi
     const bool canFallBack = options_.adaptive && fullTracer_ != nullptr && debugKind_ == ChcrtDebugImage::None;
     // A light sweep's shadow sets share lists made once per sweep, which a one-set probe of another height cannot
     // weigh (ChcrtOptions::adaptiveHeights): pure pass or the configured height.
-    const bool sharesLists = request.lightSweep && (sharedCells_ || sharedGpuLists_); // as sharesLightSweep tests
-    const uint32_t arms = 2 + uint32_t(bvh_ && !sharesLists ? heightArms_.size() : 0);
+    const uint32_t arms = 2 + uint32_t(bvh_ && !sweepListsFor(request) ? heightArms_.size() : 0);
     AdaptiveChoice& choice =
         adaptive_.try_emplace(adaptiveKey(request), arms, options_.adaptiveProbeInterval, options_.adaptiveProbeBudget)
             .first->second;

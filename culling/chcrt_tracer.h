@@ -432,6 +432,11 @@ private:
     // Whether boundFromCamera applies to the request: the renderer's primary rays of the traced size.
     bool cameraBoundable(const TraceRequest& request, int width, int height) const;
     bool decideByBounds(int32_t pair, VisibilityState& state, std::vector<Scheduled>& out);
+    // Whether the request's rays belong to a light sweep and this tracer makes shared lists for sweeps (the first
+    // test of sharesLightSweep, which also needs any-hit rays and no debug image or previous front).
+    bool sweepListsFor(const TraceRequest& request) const {
+        return request.lightSweep && (sharedCells_ || sharedGpuLists_);
+    }
     // Whether the request's ray set traces the shared lists of its light sweep (options_.shareShadowLists; counts the
     // sweep's sets and keeps the request's key in sweepSets_, call once per trace), and the trace that does so: the
     // shared lists, made first when the sweep is new (chcrt_tracer_bounds.cpp).

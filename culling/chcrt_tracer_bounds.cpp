@@ -262,7 +262,7 @@ void ChcrtTracer::addToCellLists(CellTraversal& cells, int cellsX, int cellsY, c
 }
 
 bool ChcrtTracer::sharesLightSweep(const TraceRequest& request, int width, int height) {
-    if (!(sharedCells_ || sharedGpuLists_) || !request.lightSweep || !request.anyHit || options_.boundsPreviousFront ||
+    if (!sweepListsFor(request) || !request.anyHit || options_.boundsPreviousFront ||
         debugKind_ != ChcrtDebugImage::None) {
         return false;
     }
