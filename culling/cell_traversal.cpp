@@ -1,5 +1,6 @@
 #include "culling/cell_traversal.h"
 
+#include "renderer/core/timing.h"
 #include "shaders/shared/culling_layout.h"
 #include "shaders/shared/render_layout.h"
 
@@ -120,6 +121,7 @@ void CellTraversal::dispatchCompacted(bool anyHit, const std::string& debugDefin
 }
 
 uint32_t CellTraversal::uploadLists(const std::string& debugDefine, bool everyCell) {
+    const auto start = std::chrono::steady_clock::now();
     // Counting sort by cell (stable: a cell's entries keep the order of add() among equal bounds).
     const size_t cells = size_t(cellsX_) * size_t(cellsY_);
     counts_.assign(cells + 1, 0u);
@@ -170,6 +172,7 @@ uint32_t CellTraversal::uploadLists(const std::string& debugDefine, bool everyCe
     upload(b.drawCells, drawCells_.data(), drawCells_.size() * 4, GL_R32UI);
     bindLists(b, withIds);
     entries_.clear();
+    listUploadMs_ = millisecondsSince(start);
     return withWork;
 }
 

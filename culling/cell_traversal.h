@@ -53,6 +53,9 @@ public:
         listLimit_ = limit;
     }
     uint32_t wholeTreeCells() const { return wholeTreeCells_; } // cells that did so in the last draw
+    // Wall time of the last draw's or keep's sorting and upload of the lists (ms). Not the pass it issued: llvmpipe
+    // runs a compute dispatch (the compacted one, compute cell passes) before the call returns.
+    double listUploadMs() const { return listUploadMs_; }
     // Whether the hint pass visited every ray's hint in this trace: the passes then run a variant without the visit
     // (shaders/culling/cell_pixel.glsl, CHCRT_CULLING_HINTS_VISITED). The compacted dispatch always follows the pass.
     void setHintsVisited(bool visited) { hintsVisited_ = visited; }
@@ -126,6 +129,7 @@ private:
     int kept_ = -1;              // the buffers keep() filled, -1 = none (or replaced since)
     uint32_t keptWithWork_ = 0;  // their cells with work
     uint32_t wholeTreeRoot_ = 0, listLimit_ = 0, wholeTreeCells_ = 0;
+    double listUploadMs_ = 0.0;
     bool hintsVisited_ = false;
 };
 

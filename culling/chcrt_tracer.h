@@ -214,7 +214,7 @@ struct ChcrtStats {
     uint64_t boundsCulledPieces = 0, boundsCulledFrustum = 0, boundsReached = 0;
     double boundsMs = 0;               // time of the ray bounds reductions (inside the phases' times)
     double decideMs = 0;               // BoundsOnly: CPU time deciding pairs against the grid (inside the phases)
-    double cellListMs = 0;             // BoundsOnly: CPU time building and uploading cell lists (inside the phases)
+    double cellListMs = 0;             // BoundsOnly: CPU time building, sorting and uploading cell lists (not the passes)
     // GPU time of the subtree passes (per-tile batches or cell-list draws, with their masks) and of the hint pass (GL
     // timer queries), for the cost of a traversal step in a subtree pass against one in a pure pass (chcrt bench
     // --steps, which counts the hint visits' steps too). Summed over the passTimedTraces traces whose passes were
