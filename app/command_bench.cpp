@@ -406,9 +406,23 @@ double msPerStep(const Bench& b, const MethodResult& r, double msPerFrame) {
     return msPerFrame / (double(r.steps) / double(r.stepRays) * raysPerFrame);
 }
 
-// The table row and JSON row of one method and ray type. `bvhMsPerStep`: pure BVH's (0 without --steps).
-void addRows(Bench& b, RayType type, const std::string& m, const MethodResult& r, double bvhMs, double bvhMsPerStep,
-             Table& table, nlohmann::json& rowsJson) {
+// Speedup over pure BVH: the median over the timed runs of pure BVH's time over the method's in the same run; 0
+// without pure BVH's runs. Within a run every method traces each pass right after the others (benchTraceOrder), so a
+// run's ratio is taken under one state of the machine; the ratio of the two medians mixes runs, and on a machine whose
+// speed changed during a process (pure BVH at 11.5 ms a frame for four runs of the castle's primary rays, then 15.8)
+// it fell outside the spread of the runs' own ratios (1.03 against 1.12-1.19 but for the run of the change).
+double pairedSpeedup(const std::vector<double>& bvhRunMs, const std::vector<double>& runMs) {
+    std::vector<double> ratios;
+    for (size_t i = 0; i < std::min(bvhRunMs.size(), runMs.size()); ++i) {
+        if (bvhRunMs[i] > 0 && runMs[i] > 0) ratios.push_back(bvhRunMs[i] / runMs[i]);
+    }
+    return median(ratios);
+}
+
+// The table row and JSON row of one method and ray type. `bvhRunMs`: pure BVH's time per frame in each timed run
+// (empty where it did not run); `bvhMsPerStep`: its ms per step (0 without --steps).
+void addRows(Bench& b, RayType type, const std::string& m, const MethodResult& r,
+             const std::vector<double>& bvhRunMs, double bvhMsPerStep, Table& table, nlohmann::json& rowsJson) {
     const RenderSettings& settings = b.settings;
     const SceneSession& session = b.session;
     const double frames = double(b.frames.size());
@@ -416,7 +430,8 @@ void addRows(Bench& b, RayType type, const std::string& m, const MethodResult& r
     const double raysPerFrame = double(r.activeRays) / double(b.options.runs) / frames;
     const double mrays = ms > 0 ? raysPerFrame / (ms * 1000.0) : 0.0;
     // Without pure BVH (a prepared scene not loaded in core) there is nothing to compare with.
-    const double speedup = ms > 0 && bvhMs > 0 ? bvhMs / ms : 0.0;
+    const double speedup = pairedSpeedup(bvhRunMs, r.runMs);
+    const double bvhMs = median(bvhRunMs);
     const uint64_t diff = m == kPureBvhMethod ? 0 : r.comparison.differing; // bvh is the reference itself
     const auto imageError = b.imageErrors.find(m);
     // Rows traced through the GPU subtree cache are marked: beside in-core rows of the same method name they are
@@ -465,6 +480,8 @@ void addRows(Bench& b, RayType type, const std::string& m, const MethodResult& r
                           {"mrays_per_s", mrays},
                           {"active_rays_per_frame", raysPerFrame},
                           {"speedup_vs_bvh", speedup > 0 ? nlohmann::json(speedup) : nlohmann::json(nullptr)},
+                          {"speedup_of_medians",
+                           ms > 0 && bvhMs > 0 ? nlohmann::json(bvhMs / ms) : nlohmann::json(nullptr)},
                           {"diff_pixels", session.sceneInCore ? nlohmann::json(diff) : nlohmann::json(nullptr)},
                           {"edge_cases", m == kPureBvhMethod ? 0 : r.comparison.edgeCases},
                           {"psnr_db", nullptr},
@@ -580,9 +597,9 @@ int runBench(const BenchOptions& options) {
     uint64_t progressDone = 0;
     for (RayType type : rayTypes) {
         std::map<std::string, MethodResult> results = benchRayType(b, type, progressDone);
-        const double bvhMs = median(results[kPureBvhMethod].runMs);
-        const double bvhMsPerStep = msPerStep(b, results[kPureBvhMethod], bvhMs);
-        for (const std::string& m : methods) addRows(b, type, m, results[m], bvhMs, bvhMsPerStep, table, rowsJson);
+        const MethodResult& bvh = results[kPureBvhMethod];
+        const double bvhMsPerStep = msPerStep(b, bvh, median(bvh.runMs));
+        for (const std::string& m : methods) addRows(b, type, m, results[m], bvh.runMs, bvhMsPerStep, table, rowsJson);
     }
     b.session.progress->end();
     writeOutputs(b, table, rowsJson);
