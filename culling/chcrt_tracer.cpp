@@ -554,7 +554,8 @@ HintSlots ChcrtTracer::validateHints(const TraceRequest& request) {
 bool ChcrtTracer::hintPassDue(const TraceRequest& request) {
     HintPassRecord& record = (*hintPassRecords_)[adaptiveKey(request)];
     if (record.misses < kHintPassMisses) return true;
-    return ++record.skipped >= options_.hintPassRetryInterval;
+    const uint32_t doublings = std::min(record.misses - kHintPassMisses, kHintPassRetryDoublings);
+    return ++record.skipped >= (uint64_t(options_.hintPassRetryInterval) << doublings);
 }
 
 void ChcrtTracer::finishHintPass(const TraceRequest& request, int width, int height) {

@@ -86,7 +86,9 @@ struct ChcrtOptions {
     // the near paths) the pass over all rays costs more than the compaction saves (Table 2's settings, 20 spp, frames
     // 0-7: chcrt-noadapt city AO 1.20x with it against 1.38x without, interior 1.18x either way, plant 0.77x against
     // 1.09x). A ray kind whose hint passes left more than this share of the pixels twice in a row visits its hints in
-    // the cell pass instead, and tries the hint pass again every hintPassRetryInterval traces. Out of core the cell
+    // the cell pass instead, and tries the hint pass again after hintPassRetryInterval traces, twice as many after
+    // each retry that left too many again (at most kHintPassRetryDoublings times: a retry of a losing pass costs
+    // the trace 15-40 % on the near AO rays, 1-3 % of all traces at one retry in 16). Out of core the cell
     // passes visit no hints (a slot may change within a trace), so stopping the pass stops the hints; there the
     // recommended share is a half (app/methods.cpp).
     float hintPassMaxLeft = 0.25f;
@@ -534,9 +536,10 @@ private:
     // Per ray kind (adaptiveKey: whether hints finish most rays depends on the kind of ray in the scene, not on the
     // sample or the height; shared with the adaptiveHeights tracers as the hints are): its hint passes in a row that
     // left too many rays, and its traces since the last one. From kHintPassMisses such passes on (one may come from
-    // hints of an unrepresentative trace) the kind visits its hints in the cell pass, retrying every
-    // hintPassRetryInterval traces.
+    // hints of an unrepresentative trace) the kind visits its hints in the cell pass, retrying after
+    // hintPassRetryInterval traces, doubled per further miss up to kHintPassRetryDoublings times.
     static constexpr uint32_t kHintPassMisses = 2;
+    static constexpr uint32_t kHintPassRetryDoublings = 4;
     std::map<uint64_t, HintPassRecord> ownHintPassRecords_;
     std::map<uint64_t, HintPassRecord>* hintPassRecords_ = &ownHintPassRecords_;
     bool hintPassRan_ = false; // this tracer ran the hint pass before

@@ -331,12 +331,12 @@ TEST_F(RenderTest, PassTimersRunOnOneTraceInTheirIntervalAndAreEstimatedForAll) 
         options.passTimerInterval = interval;
         ChcrtTracer chcrt(bvh_, options);
         std::vector<double> timed;
-        for (int trace = 0; trace < 7; ++trace) {
+        for (int trace = 0; trace < 13; ++trace) {
             EXPECT_EQ(traceAgainstPureBvh(renderer, chcrt, camera, RayType::Primary, 0, stats).differing, 0u);
             timed.push_back(chcrt.lastStats().subtreePassMs);
             EXPECT_EQ(chcrt.lastStats().passTimedTraces, interval != 0 && trace % 3 == 0 ? 1u : 0u) << trace;
         }
-        for (int trace = 0; trace < 7; ++trace) {
+        for (int trace = 0; trace < 13; ++trace) {
             if (interval != 0 && trace % 3 == 0) {
                 EXPECT_GT(timed[size_t(trace)], 0.0) << trace;
             } else {
@@ -655,7 +655,7 @@ TEST_F(RenderTest, HintPassStopsWhereItLeavesTooManyRaysAndRetries) {
         renderer.useTracer(&chcrt);
         std::vector<uint64_t> passes;
         size_t differing = 0;
-        for (int trace = 0; trace < 7; ++trace) {
+        for (int trace = 0; trace < 13; ++trace) {
             renderer.traceRayPass(camera, RayType::Shadow, 0, stats);
             passes.push_back(chcrt.lastStats().hintPasses);
             const std::vector<Hit> culled = renderer.readHits(0);
@@ -663,8 +663,10 @@ TEST_F(RenderTest, HintPassStopsWhereItLeavesTooManyRaysAndRetries) {
         }
         const std::vector<uint64_t> expected =
             // No hints in the first trace; the first pass over them does not count; two passes that left too many
-            // stop it; a retry after hintPassRetryInterval traces.
-            maxLeft == 0.0 ? std::vector<uint64_t>{0, 1, 1, 1, 0, 0, 1} : std::vector<uint64_t>{0, 1, 1, 1, 1, 1, 1};
+            // stop it; a retry after hintPassRetryInterval traces, and after twice as many once the retry left too
+            // many again.
+            maxLeft == 0.0 ? std::vector<uint64_t>{0, 1, 1, 1, 0, 0, 1, 0, 0, 0, 0, 0, 1}
+                           : std::vector<uint64_t>{0, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
         EXPECT_EQ(passes, expected) << "hintPassMaxLeft " << maxLeft;
         EXPECT_EQ(differing, 0u) << "hintPassMaxLeft " << maxLeft;
     }
