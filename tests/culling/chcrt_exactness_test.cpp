@@ -331,12 +331,12 @@ TEST_F(RenderTest, PassTimersRunOnOneTraceInTheirIntervalAndAreEstimatedForAll) 
         options.passTimerInterval = interval;
         ChcrtTracer chcrt(bvh_, options);
         std::vector<double> timed;
-        for (int trace = 0; trace < 13; ++trace) {
+        for (int trace = 0; trace < 7; ++trace) {
             EXPECT_EQ(traceAgainstPureBvh(renderer, chcrt, camera, RayType::Primary, 0, stats).differing, 0u);
             timed.push_back(chcrt.lastStats().subtreePassMs);
             EXPECT_EQ(chcrt.lastStats().passTimedTraces, interval != 0 && trace % 3 == 0 ? 1u : 0u) << trace;
         }
-        for (int trace = 0; trace < 13; ++trace) {
+        for (int trace = 0; trace < 7; ++trace) {
             if (interval != 0 && trace % 3 == 0) {
                 EXPECT_GT(timed[size_t(trace)], 0.0) << trace;
             } else {
