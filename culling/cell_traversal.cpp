@@ -14,6 +14,7 @@ void CellTraversal::begin(int cellsX, int cellsY, int cellSize) {
     cellsY_ = cellsY;
     cellSize_ = cellSize;
     entries_.clear();
+    listUploadMs_ = 0.0; // a draw of no lists uploads none
     kept_ = -1; // the kept lists were for another grid, or are to be replaced
 }
 

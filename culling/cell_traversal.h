@@ -53,8 +53,9 @@ public:
         listLimit_ = limit;
     }
     uint32_t wholeTreeCells() const { return wholeTreeCells_; } // cells that did so in the last draw
-    // Wall time of the last draw's or keep's sorting and upload of the lists (ms). Not the pass it issued: llvmpipe
-    // runs a compute dispatch (the compacted one, compute cell passes) before the call returns.
+    // Wall time of the sorting and upload of the lists since begin() (ms; 0 when a draw had none to upload). Not
+    // the pass it issued: llvmpipe runs a compute dispatch (the compacted one, compute cell passes) before the call
+    // returns.
     double listUploadMs() const { return listUploadMs_; }
     // Whether the hint pass visited every ray's hint in this trace: the passes then run a variant without the visit
     // (shaders/culling/cell_pixel.glsl, CHCRT_CULLING_HINTS_VISITED). The compacted dispatch always follows the pass.

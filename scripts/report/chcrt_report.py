@@ -382,8 +382,8 @@ def figure_speedup(rep):
     fig.tight_layout()
     rep.save(fig, "speedup", title,
              "Median over the timed runs of pure BVH's time over the method's in the same run (speedup_vs_bvh) per "
-             "scene, path and ray type; the whiskers span those per-run speedups (pure BVH's time of a run over the method's time of the same run, "
-             "ms_runs), i.e. the spread over the timed runs. Dashed: as fast as pure BVH.",
+             "scene, path and ray type; the whiskers span those per-run speedups (from ms_runs), i.e. the spread "
+             "over the timed runs. Dashed: as fast as pure BVH.",
              ["scene", "path", "ray_type", "spp", "method", "speedup_vs_bvh", "speedup_min", "speedup_max",
               "ms_median", "diff_pixels", "psnr_db"], csv_rows)
 
