@@ -572,6 +572,7 @@ void ChcrtTracer::finishHintPass(const TraceRequest& request, int width, int hei
     }
     const bool tooMany = double(last_.hintRaysLeft) > options_.hintPassMaxLeft * double(width) * double(height);
     record.misses = tooMany ? record.misses + 1 : 0;
+    hintPassLeftTooMany_ = tooMany;
 }
 
 GLuint ChcrtTracer::maskFramebufferFor(GLuint depthTexture) {
@@ -974,7 +975,11 @@ void ChcrtTracer::trace(const TraceRequest& request, const RayTextures& rays, Hi
     const auto start = Clock::now();
     if (arm != AdaptiveChoice::kPureArm) {
         ChcrtTracer& tracer = armTracer(arm);
-        const bool warm = tracer.traceOwn(request, rays, hits, width, height);
+        // A trace whose hint pass left too many rays is not counted either: the rule stops that pass (hintPassDue), so
+        // such a trace is no sample of what the arm costs from then on, and counted it kept out a culling that wins
+        // (the plant's near AO rays: two such traces at 1.45 / 1.09x of the pure pass, then ~170 pure traces;
+        // docs/benchmarks.md, 2026-12-07).
+        const bool warm = tracer.traceOwn(request, rays, hits, width, height) && !tracer.hintPassLeftTooMany_;
         if (&tracer != this) last_ = tracer.last_;
         last_.traces = 1;
         last_.raysTraced = uint64_t(width) * uint64_t(height);
@@ -1012,6 +1017,7 @@ ChcrtTracer& ChcrtTracer::armTracer(uint32_t arm) {
 bool ChcrtTracer::traceOwn(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width,
                            int height) {
     last_ = ChcrtStats{};
+    hintPassLeftTooMany_ = false;
     ++tracesRun_;
     const uint32_t timerInterval = options_.passTimerInterval;
     timingPasses_ = timerInterval != 0 && (tracesRun_ - 1) % timerInterval == 0;

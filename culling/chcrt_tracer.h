@@ -543,6 +543,7 @@ private:
     std::map<uint64_t, HintPassRecord> ownHintPassRecords_;
     std::map<uint64_t, HintPassRecord>* hintPassRecords_ = &ownHintPassRecords_;
     bool hintPassRan_ = false; // this tracer ran the hint pass before
+    bool hintPassLeftTooMany_ = false; // the last trace's hint pass counted as a miss (finishHintPass)
     // bounds-only primary rays (every ray of the set active, nothing stored before the cell pass): the trace's next
     // cell pass draws every cell and stores every ray's hit, a miss too, so the hit image was not cleared; a trace
     // that ends with it still set (nothing to intersect) clears it then.

@@ -672,6 +672,44 @@ TEST_F(RenderTest, HintPassStopsWhereItLeavesTooManyRaysAndRetries) {
     }
 }
 
+// The adaptive choice does not count a culling trace whose hint pass left too many rays: the rule stops that pass, so
+// the trace is no sample of what culling costs from then on. Culling is told it takes 1.5x the pure pass in traces
+// that ran the hint pass and 0.9x in the others: where every hint pass leaves too many rays (share 0) culling must win
+// once the rule has stopped the pass; where none does (share 1) the passes are counted and culling loses.
+TEST_F(RenderTest, TracesWhoseHintPassLeftTooManyRaysAreNotCountedByTheAdaptiveChoice) {
+    const RenderSettings settings = smallTraceSettings();
+    Renderer& renderer = makeProceduralRenderer("city:60k", settings);
+    FrameStats stats;
+    const Camera camera = raysAtNearPathStart(renderer, RayType::Shadow, stats);
+    for (double maxLeft : {0.0, 1.0}) {
+        ChcrtOptions options;
+        options.partition.maxSubtreeHeight = 8;
+        options.queries = ChcrtQueries::BoundsOnly;
+        options.hitHints = true;
+        options.hintPass = true;
+        options.hintPassMaxLeft = maxLeft;
+        const ChcrtTracer* tracer = nullptr; // the trace's statistics are the tracer's when the choice is told
+        options.adaptiveTiming = [&tracer](uint32_t arm, double) {
+            if (arm == AdaptiveChoice::kPureArm) return 10.0;
+            return tracer->lastStats().hintPasses != 0 ? 15.0 : 9.0;
+        };
+        ChcrtTracer chcrt(bvh_, options);
+        tracer = &chcrt;
+        renderer.useTracer(&chcrt);
+        int culled = 0;
+        for (int trace = 0; trace < 24; ++trace) {
+            renderer.traceRayPass(camera, RayType::Shadow, 0, stats);
+            culled += chcrt.lastStats().fallbackTraces == 0;
+        }
+        renderer.useTracer(nullptr);
+        if (maxLeft == 0.0) {
+            EXPECT_GE(culled, 16) << "culling kept out by the traces of a hint pass its rule stops";
+        } else {
+            EXPECT_LE(culled, 8) << "the hint passes that finish enough rays are what culling costs";
+        }
+    }
+}
+
 // Hit hints are kept per sample index: the shadow rays of two samples aim at different points of the area light, so
 // tracing sample 1 must leave sample 0's hints as sample 0's trace wrote them (one image per ray kind would hold
 // sample 1's hits), and each sample's hints name leaves only where its own rays hit.
