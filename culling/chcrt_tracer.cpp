@@ -975,11 +975,7 @@ void ChcrtTracer::trace(const TraceRequest& request, const RayTextures& rays, Hi
     const auto start = Clock::now();
     if (arm != AdaptiveChoice::kPureArm) {
         ChcrtTracer& tracer = armTracer(arm);
-        // A trace whose hint pass left too many rays is not counted either: the rule stops that pass (hintPassDue), so
-        // such a trace is no sample of what the arm costs from then on, and counted it kept out a culling that wins
-        // (the plant's near AO rays: two such traces at 1.45 / 1.09x of the pure pass, then ~170 pure traces;
-        // docs/benchmarks.md, 2026-12-07).
-        const bool warm = tracer.traceOwn(request, rays, hits, width, height) && !tracer.hintPassLeftTooMany_;
+        const bool warm = tracer.traceOwn(request, rays, hits, width, height);
         if (&tracer != this) last_ = tracer.last_;
         last_.traces = 1;
         last_.raysTraced = uint64_t(width) * uint64_t(height);
@@ -1037,7 +1033,11 @@ bool ChcrtTracer::traceOwn(const TraceRequest& request, const RayTextures& rays,
         last_.boundsCulledFrustum = d.frustum;
         last_.boundsReached = d.reached;
     }
-    return warm;
+    // A trace whose hint pass left too many rays is no sample either: the rule stops that pass (hintPassDue), so it
+    // is not what this configuration costs from then on, and counted it kept out a culling that wins (the plant's
+    // near AO rays: two such traces at 1.45 / 1.09x of the pure pass, then ~170 pure traces; docs/benchmarks.md,
+    // 2026-12-07).
+    return warm && !hintPassLeftTooMany_;
 }
 
 bool ChcrtTracer::traceCulled(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width,

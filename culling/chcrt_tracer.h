@@ -501,6 +501,8 @@ private:
     void writeBoundsImage(int width, int height);
     // The culling tracer of adaptive arm `arm` (>= 1): this one for arm 1, else one at adaptiveHeights[arm - 2].
     ChcrtTracer& armTracer(uint32_t arm);
+    // Traces with this tracer's own options; returns whether the trace is a sample of what they cost, for the
+    // adaptive choice (not from cold fronts or hints, not with a hint pass that left too many rays).
     bool traceOwn(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width, int height);
 
     std::string name_;
