@@ -503,6 +503,11 @@ std::vector<Parameter> describeChcrt() {
                  "swept to the light) and one set of cell lists")
             .checkbox("shared shadow lists")
             .onOff(FIELD(chcrt.shareShadowLists)),
+        Describe(Area::Chcrt, "--chcrt-hemisphere-bounds", "chcrtHemisphereBounds",
+                 "CHC+RT bounds-only: the AO ray sets of one G-buffer are bounded from one reduction of their surface "
+                 "points and normals instead of a reduction per set")
+            .checkbox("AO bounds from surface frames")
+            .onOff(FIELD(chcrt.hemisphereBounds)),
         Describe(Area::Chcrt, "--chcrt-hint-pass-max-left", "chcrtHintPassMaxLeft",
                  "CHC+RT with the hint pass: a ray kind whose passes leave more than this share of the pixels to "
                  "trace twice in a row stops the pass, retrying every 16 traces")

@@ -220,6 +220,7 @@ nlohmann::json chcrtStatsJson(const ChcrtStats& s, double frames) {
                            {"batched_rounds", s.batchedRounds},
                            {"bounds_updates", s.boundsUpdates},
                            {"bounds_from_camera", s.boundsFromCamera},
+                           {"bounds_from_hemisphere", s.boundsFromHemisphere},
                            {"cells_drawn", s.cellsDrawn},
                            {"cell_entries", s.cellEntries},
                            {"cells_whole_tree", s.cellsWholeTree},

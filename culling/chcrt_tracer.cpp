@@ -101,6 +101,7 @@ ChcrtOptions recommendedChcrtOptions(const RendererTraits& renderer) {
     options.hitHints = true;
     options.hintPass = true;
     options.shareShadowLists = true;
+    options.hemisphereBounds = true; // where the lists are decided on the CPU (bounds-only)
     // The renderer's part (chcrt_tracer.h says why): lists decided on the GPU and traced in compute dispatches on
     // GPUs, decided on the CPU and traced in fragment passes on software rasterisers.
     options.queries = renderer.software ? ChcrtQueries::BoundsOnly : ChcrtQueries::BoundsGpu;
@@ -228,6 +229,7 @@ ChcrtStats& ChcrtStats::operator+=(const ChcrtStats& o) {
     batchedRounds += o.batchedRounds;
     boundsUpdates += o.boundsUpdates;
     boundsFromCamera += o.boundsFromCamera;
+    boundsFromHemisphere += o.boundsFromHemisphere;
     cellsDrawn += o.cellsDrawn;
     cellEntries += o.cellEntries;
     cellsWholeTree += o.cellsWholeTree;

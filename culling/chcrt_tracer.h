@@ -109,6 +109,12 @@ struct ChcrtOptions {
     // decisions and its cell lists, made by the first such set and traced by the rest (culling/README.md "Shared
     // shadow lists"). Same hits; off: every set reduces, decides and lists its own rays.
     bool shareShadowLists = false;
+    // BoundsOnly in core: AO ray sets of one G-buffer (TraceRequest::hemisphereRays: the renderer's AO rays) are
+    // bounded before any hit from one reduction of their surface points and tangent frames per G-buffer and each
+    // set's sample, on the CPU (hemisphere_ray_bounds.h), instead of a reduction and its read-back per set
+    // (culling/README.md "AO cells from the surface frames"). Not where the hint pass runs (its hits end segments).
+    // Same hits; off: every set reduces its own rays.
+    bool hemisphereBounds = false;
     // BoundsOnly and BoundsGpu: trace the cell lists in compute dispatches (a work group per cell) instead of fragment
     // passes; for GPUs whose fragment work runs on few units (docs/architecture.md). Same hits.
     bool computeCellPass = false;
@@ -203,6 +209,7 @@ struct ChcrtStats {
     uint64_t batchedRounds = 0;        // Batched: dispatches with their read-back (rounds of Phase 3)
     uint64_t boundsUpdates = 0;        // ray bounds reductions (a compute pass and a read-back each)
     uint64_t boundsFromCamera = 0;     // ray bounds of primary rays made from the camera instead (no reduction)
+    uint64_t boundsFromHemisphere = 0; // hemisphereBounds: AO ray sets bounded from their surface frames instead
     uint64_t cellsDrawn = 0;           // BoundsOnly: cells drawn by the intersection rounds
     uint64_t cellEntries = 0;          // BoundsOnly: (cell, subtree) list entries traversed
     uint64_t cellsWholeTree = 0;       // BoundsOnly: cells over cellListLimit that traversed the whole BVH
@@ -301,6 +308,7 @@ public:
     void resetVisibility() {
         states_.clear();
         sharedKey_.reset();
+        framesKey_.reset();
         sweepSets_ = {};
         lastSweepSets_ = 0;
         adaptive_.clear();
@@ -433,6 +441,10 @@ private:
     bool boundFromCamera(const TraceRequest& request, int width, int height);
     // Whether boundFromCamera applies to the request: the renderer's primary rays of the traced size.
     bool cameraBoundable(const TraceRequest& request, int width, int height) const;
+    // Sets the ray bounds grid of the renderer's AO rays before any hit from the surface frames of their G-buffer
+    // (TraceRequest::hemisphereRays, hemisphere_ray_bounds.h; reduced by the first such set of the G-buffer) when the
+    // request has them and options_.hemisphereBounds allows; false: nothing done.
+    bool boundFromHemisphere(const TraceRequest& request, const RayTextures& rays, int width, int height);
     bool decideByBounds(int32_t pair, VisibilityState& state, std::vector<Scheduled>& out);
     // Whether the request's rays belong to a light sweep and this tracer makes shared lists for sweeps (the first
     // test of sharesLightSweep, which also needs any-hit rays and no debug image or previous front).
@@ -565,6 +577,14 @@ private:
         bool operator==(const SharedListsKey&) const = default;
     };
     std::optional<SharedListsKey> sharedKey_;
+    // hemisphereBounds: the G-buffer whose surface frames the grid holds.
+    struct SurfaceFramesKey {
+        uint64_t generation = 0;
+        glm::vec3 eye{0.0f};
+        int width = 0, height = 0;
+        bool operator==(const SurfaceFramesKey&) const = default;
+    };
+    std::optional<SurfaceFramesKey> framesKey_;
     struct SweepSets {
         SharedListsKey key;
         uint32_t sets = 0;

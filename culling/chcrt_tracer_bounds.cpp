@@ -53,6 +53,25 @@ bool ChcrtTracer::boundFromCamera(const TraceRequest& request, int width, int he
     return true;
 }
 
+bool ChcrtTracer::boundFromHemisphere(const TraceRequest& request, const RayTextures& rays, int width, int height) {
+    if (!options_.hemisphereBounds || !request.hemisphereRays || !request.anyHit) return false;
+    const auto start = Clock::now();
+    const TraceRequest::HemisphereRays& set = *request.hemisphereRays;
+    const SurfaceFramesKey key{set.generation, request.camera.eye, width, height};
+    if (framesKey_ != key || !rayExtent_->surfaceFramesKnown()) {
+        rayExtent_->updateSurfaceFrames(rays.origin.id(), rays.direction.id(), set.shadingNormals, width, height);
+        mode_ = Mode::None; // the reduction's program and bindings replaced the passes'
+        framesKey_ = key;
+        ++last_.boundsUpdates;
+    }
+    const CullingHierarchy::Node& root = hierarchy_.nodes[0];
+    rayExtent_->setHemisphereCells(HemisphereSample{set.sample, set.maxRotation, set.length}, root.boxMin,
+                                   root.boxMax);
+    ++last_.boundsFromHemisphere;
+    last_.boundsMs += millisecondsSince(start);
+    return true;
+}
+
 bool ChcrtTracer::decideByBounds(int32_t first, VisibilityState& state, std::vector<Scheduled>& out) {
     // Pairs that turn visible are traversed down at once (Phase 3 without waiting for query results): the grid
     // answers immediately.
@@ -387,8 +406,9 @@ bool ChcrtTracer::traceBounded(const TraceRequest& request, const RayTextures& r
     // it finished are left out.
     // Closest-hit rays it bounded end their segments at those hits (every cell keeps its rays: no marks).
     const bool compacted = hintPass && anyHit;
-    // The renderer's primary rays before any hit are bounded from its camera, with no reduction and no read-back.
-    if (hintPass || !boundFromCamera(request, width, height)) {
+    // The renderer's primary rays before any hit are bounded from its camera, with no reduction and no read-back,
+    // its AO rays from their G-buffer's surface frames, with one reduction per G-buffer.
+    if (hintPass || (!boundFromCamera(request, width, height) && !boundFromHemisphere(request, rays, width, height))) {
         updateBounds(rays, hintPass ? hits.hit.id() : 0, anyHit, width, height, compacted ? hintPass_->cellMarks() : 0);
     }
     cells_->setHintsVisited(hintPass);

@@ -122,6 +122,40 @@ void RayBoundsGrid::reduceLightSweep(GLuint origins, GLuint directions, int widt
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
 }
 
+void RayBoundsGrid::updateSurfaceFrames(GLuint origins, GLuint directions, GLuint shadingNormals, int width,
+                                        int height) {
+    if (!surfaceFrames_) {
+        surfaceFrames_ = &programs_->get({{GL_COMPUTE_SHADER, "culling/surface_frames.comp.glsl"}},
+                                         {{"CHCRT_BOUNDS_CELL", std::to_string(options_.cellSize)}});
+    }
+    const int cell = options_.cellSize;
+    const int cellsX = (width + cell - 1) / cell, cellsY = (height + cell - 1) / cell;
+    const size_t values = size_t(cellsX) * size_t(cellsY) * CHCRT_CULLING_FRAMES_STRIDE;
+    if (values * sizeof(glm::vec4) > framesBufferBytes_) {
+        framesBufferBytes_ = values * sizeof(glm::vec4);
+        framesBuffer_ = createBuffer(framesBufferBytes_, nullptr, GL_DYNAMIC_STORAGE_BIT);
+    }
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, CHCRT_CULLING_BOUNDS_BUFFER, framesBuffer_.id());
+    surfaceFrames_->use();
+    surfaceFrames_->set("raySize", glm::ivec2(width, height));
+    glBindTextureUnit(CHCRT_UNIT_RAY_ORIGIN, origins);
+    glBindTextureUnit(CHCRT_UNIT_RAY_DIRECTION, directions);
+    glBindTextureUnit(CHCRT_UNIT_GBUFFER_NORMAL, shadingNormals);
+    glDispatchCompute(GLuint((cellsX + 7) / 8), GLuint((cellsY + 7) / 8), 1); // an invocation per cell
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    frames_.resize(values);
+    glGetNamedBufferSubData(framesBuffer_.id(), 0, GLsizeiptr(values * sizeof(glm::vec4)), frames_.data());
+    framesWidth_ = width;
+    framesHeight_ = height;
+}
+
+void RayBoundsGrid::setHemisphereCells(const HemisphereSample& set, glm::vec3 sceneMin, glm::vec3 sceneMax) {
+    const int cell = options_.cellSize;
+    const int cellsX = (framesWidth_ + cell - 1) / cell, cellsY = (framesHeight_ + cell - 1) / cell;
+    setCells(framesWidth_, framesHeight_,
+             hemisphereRayBounds(frames_, cellsX, cellsY, options_.pieces, set, sceneMin, sceneMax));
+}
+
 void RayBoundsGrid::setCameraCells(const PrimaryRayBasis& basis, glm::vec3 sceneMin, glm::vec3 sceneMax) {
     setCells(basis.width, basis.height, cameraRayBounds(basis, options_.cellSize, options_.pieces, sceneMin, sceneMax));
 }

@@ -107,6 +107,7 @@ void Renderer::setSettings(const RenderSettings& settings) {
         targets_ = std::make_unique<FrameTargets>(settings.width, settings.height);
         cameraRays_.fill(std::nullopt); // new ray textures hold no rays yet
         lightSweeps_.fill(std::nullopt);
+        hemisphereRays_.fill(std::nullopt);
     }
     settings_ = settings;
     ++originGeneration_; // the origin offset may have changed
@@ -278,13 +279,16 @@ void Renderer::generateRays(const Camera& camera, int rayProgram, int sampleInde
     const ShaderProgram& program = pixelNormals ? pixelNormalRaygenPrograms_[rayProgram] : raygenPrograms_[rayProgram];
     program.use();
     // Halton index 0 is (0, 0): start at 1. The bounce shadow rays use a later, independent part of the sequence.
-    program.set("haltonSample", halton2D(uint32_t(sampleIndex) + 1u));
+    const glm::vec2 haltonSample = halton2D(uint32_t(sampleIndex) + 1u);
+    program.set("haltonSample", haltonSample);
     program.set("bounceHaltonSample", halton2D(uint32_t(sampleIndex) + 7920u));
     program.set("seed", settings_.seed);
-    program.set("maxRotation", glm::radians(settings_.rotationDegrees));
+    const float maxRotation = glm::radians(settings_.rotationDegrees);
+    program.set("maxRotation", maxRotation);
     const float lengthFraction =
         rayProgram == CHCRT_RAY_AO ? settings_.aoLengthFraction : settings_.diffuseLengthFraction;
-    program.set("rayLength", lengthFraction * sceneDiagonal_);
+    const float rayLength = lengthFraction * sceneDiagonal_;
+    program.set("rayLength", rayLength);
     program.set("offsetScale", settings_.originOffset);
     const PrimaryRayBasis basis = primaryRayBasis(frame, t.width, t.height);
     program.set("cameraPosition", basis.eye);
@@ -301,6 +305,11 @@ void Renderer::generateRays(const Camera& camera, int rayProgram, int sampleInde
     if (rayProgram == CHCRT_RAY_SHADOW) {
         const Aabb light = light_.bounds();
         lightSweeps_[size_t(raySet)] = TraceRequest::LightSweep{originGeneration_, light.lower, light.upper};
+    }
+    hemisphereRays_[size_t(raySet)] = std::nullopt;
+    if (rayProgram == CHCRT_RAY_AO) {
+        hemisphereRays_[size_t(raySet)] =
+            TraceRequest::HemisphereRays{originGeneration_, t.gbufferNormal.id(), haltonSample, maxRotation, rayLength};
     }
     setLightUniforms(program, light_);
 
@@ -338,6 +347,7 @@ void Renderer::trace(const Camera& camera, RayType type, bool bounceShadow, int 
     request.camera = camera;
     if (type == RayType::Primary && !bounceShadow) request.cameraRays = cameraRays_[size_t(raySet)];
     if (type == RayType::Shadow && !bounceShadow) request.lightSweep = lightSweeps_[size_t(raySet)];
+    if (type == RayType::Ao) request.hemisphereRays = hemisphereRays_[size_t(raySet)];
     sceneGpu_->bindForTracing();
     glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, CHCRT_ATOMIC_BINDING_CAPPED_RAYS, cappedRayCounter_.id());
     glFinish();

@@ -133,6 +133,9 @@ private:
     // Per ray set: the light sweep of the shadow rays it holds (generateRays), for TraceRequest::lightSweep; and the
     // generation of the surface points they start from, advanced by every G-buffer, settings change and camera move.
     std::array<std::optional<TraceRequest::LightSweep>, std::extent_v<decltype(FrameTargets::rays)>> lightSweeps_;
+    // Per ray set: what bounds the AO rays it holds (generateRays), for TraceRequest::hemisphereRays.
+    std::array<std::optional<TraceRequest::HemisphereRays>, std::extent_v<decltype(FrameTargets::rays)>>
+        hemisphereRays_;
     uint64_t originGeneration_ = 0;
     glm::vec3 originEye_{0.0f}; // the eye the ray generator offset the points for last
     ShaderProgram accumulateShadow_, accumulateAo_, accumulateDiffuse_;

@@ -32,6 +32,20 @@ struct TraceRequest {
         glm::vec3 lightMin{0.0f}, lightMax{0.0f};
     };
     std::optional<LightSweep> lightSweep;
+    // Set by the renderer for AO rays from its G-buffer. Every such ray set with the same `generation` starts at the
+    // same surface points (an inactive ray keeps its origin, as above), and a set's active ray from a pixel runs
+    // from t = 0 to `length` along normalize(l.x T + l.y B + l.z n): n the shading normal in `shadingNormals` (the
+    // G-buffer's normal texture, xyz), T and B its tangent frame (buildTangentFrame, shaders/render/sampling.glsl),
+    // l = cosineHemisphere(sample, rotation) with the pixel's rotation in [0, maxRotation]. A tracer may bound every
+    // set from the surface points, the normals and these values (CHC+RT: one reduction per G-buffer).
+    struct HemisphereRays {
+        uint64_t generation = 0;
+        unsigned shadingNormals = 0; // GL texture name
+        glm::vec2 sample{0.0f};
+        float maxRotation = 0.0f; // radians
+        float length = 0.0f;
+    };
+    std::optional<HemisphereRays> hemisphereRays;
 };
 
 struct TraceStats {

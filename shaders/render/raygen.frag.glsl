@@ -44,9 +44,9 @@ void emitInactive() {
     outDirection = vec4(0.0f, 0.0f, 1.0f, 0.0f);
 }
 
-// An inactive shadow ray that keeps its surface point (shared/render_layout.h): another shadow ray set of the frame
-// may have an active ray there, and a tracer that bounds every set of the frame at once needs all the points
-// (TraceRequest::lightSweep).
+// An inactive ray that keeps its surface point (shared/render_layout.h): another shadow, AO or diffuse ray set of the
+// frame may have an active ray there, and a tracer that bounds every set of the frame at once needs all the points
+// (TraceRequest::lightSweep, TraceRequest::hemisphereRays).
 void emitInactiveAt(vec3 origin) {
     outOrigin = vec4(origin, 0.0f);
     outDirection = vec4(0.0f);
@@ -127,7 +127,7 @@ void generateRay() {
     vec3 local = cosineHemisphere(haltonSample, rotation);
     vec3 direction = normalize(local.x * tangent + local.y * bitangent + local.z * shadingNormal);
     if (dot(direction, geometricNormal) <= 0.0f) {
-        emitInactive(); // below the geometric surface: counts as occluded
+        emitInactiveAt(origin); // below the geometric surface: counts as occluded; other sets may start here
         return;
     }
     outOrigin = vec4(origin, 0.0f);

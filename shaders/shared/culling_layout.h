@@ -48,6 +48,17 @@
 #define CHCRT_CULLING_CELL_BOUNDED 1.0   // every active ray's segment is inside the union of the piece boxes
 #define CHCRT_CULLING_CELL_UNBOUNDED 2.0 // some active ray has a NaN or infinite value: nothing is assumed
 #define CHCRT_CULLING_BOUNDS_BUFFER 0    // shader storage binding of the grid's buffer
+// The surface frames of hemisphere rays (AO; culling/hemisphere_ray_bounds.h, shaders/culling/surface_frames.comp.glsl):
+// per cell of the grid, over the pixels with a surface point (active rays and inactive ones that kept their origin),
+// a header (state as above, smallest and largest length of the shading normal, 0), then per class of normals (the
+// axis of the normal's largest component and its sign: +x, -x, +y, -y, +z, -z) (lower.xyz, w) and (upper.xyz, 0) of
+// the ray origins (w: 1 if the class has a point, else 0), the shading normals n, and the tangents and bitangents
+// the ray generator builds from them (render/sampling.glsl). Classes keep a cell where a wall meets the ground from
+// bounding one frame box around both. CHCRT_CULLING_FRAMES_STRIDE vec4s per cell; bound at
+// CHCRT_CULLING_BOUNDS_BUFFER.
+#define CHCRT_CULLING_FRAME_CLASSES 6
+#define CHCRT_CULLING_FRAME_BOXES 4 // origins, normals, tangents, bitangents
+#define CHCRT_CULLING_FRAMES_STRIDE (1 + 2 * CHCRT_CULLING_FRAME_BOXES * CHCRT_CULLING_FRAME_CLASSES)
 
 // Cell lists (culling/cell_traversal.h): the termination subtrees each screen cell's rays traverse in one draw of
 // the cells that have work (CHC+RT §5.2 batches, one per cell). Texture units of the RG32UI / R32UI texture

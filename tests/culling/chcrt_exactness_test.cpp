@@ -42,6 +42,7 @@ struct ExactnessCase {
     bool hintPass = false;      // hints visited in a pass of their own, the rays left traced compacted
     bool closestHitHints = false; // closest-hit ray sets (primary, diffuse) keep hints too
     bool shareShadowLists = false; // BoundsOnly: a frame's shadow ray sets share one swept grid and its lists
+    bool hemisphereBounds = false; // BoundsOnly: AO ray sets bounded from their G-buffer's surface frames
 };
 
 class ChcrtExactnessTest : public RenderTest, public ::testing::WithParamInterface<ExactnessCase> {};
@@ -78,6 +79,7 @@ ChcrtOptions optionsOf(const ExactnessCase& c, const int& frame) {
     options.hintPass = c.hintPass;
     options.closestHitHints = c.closestHitHints;
     options.shareShadowLists = c.shareShadowLists;
+    options.hemisphereBounds = c.hemisphereBounds;
     if (c.adaptive) {
         options.adaptiveTiming = fixedAdaptiveTiming(frame);
         options.adaptiveProbeInterval = 1;
@@ -223,6 +225,14 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
                 }
             } else {
                 EXPECT_EQ(total.sharedListsMade + total.sharedListsReused, 0u);
+            }
+            // AO cells from the surface frames: every AO trace that culled without a hint pass (the first of each
+            // sample index has no hints, so it has none); one reduction of frames per G-buffer and culling height.
+            if (c.hemisphereBounds && c.queries == ChcrtQueries::BoundsOnly) {
+                EXPECT_GT(total.boundsFromHemisphere, 0u);
+                if (!c.hintPass) EXPECT_EQ(total.boundsFromHemisphere, 12u);
+            } else {
+                EXPECT_EQ(total.boundsFromHemisphere, 0u);
             }
         } else if (c.queries == ChcrtQueries::Batched) {
             // Every ray-exact test ran in the batched dispatches: no GL query, several rounds per trace.
@@ -453,6 +463,56 @@ TEST_F(RenderTest, SharedShadowListsSweptToTooSmallALightLoseHitsThatTheComparis
         EXPECT_EQ(chcrt.totalStats().sharedListsMade, 3u);
         EXPECT_EQ(chcrt.totalStats().sharedListsReused, 8u); // the first frame's first set had its own lists
         EXPECT_GT(differing, 0u);
+    }
+}
+
+// Shortens the AO rays a tracer is told of (TraceRequest::hemisphereRays) to a quarter of their length.
+class ShortenedHemisphereRays final : public Tracer {
+public:
+    explicit ShortenedHemisphereRays(Tracer& inner) : inner_(inner) {}
+    std::string name() const override { return inner_.name(); }
+    void trace(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width, int height,
+               TraceStats& stats) override {
+        TraceRequest shortened = request;
+        if (shortened.hemisphereRays) shortened.hemisphereRays->length *= 0.25f;
+        inner_.trace(shortened, rays, hits, width, height, stats);
+    }
+
+private:
+    Tracer& inner_;
+};
+
+TEST_F(RenderTest, AoCellsBoundedForShorterRaysLoseHitsThatTheComparisonDetects) {
+    // Negative control of the hemisphere cases: cells bounded from the surface frames for rays a quarter of the AO
+    // rays' length must change hits (and with the option off the same wrapper changes nothing).
+    const RenderSettings settings = smallTraceSettings();
+    Renderer& renderer = makeProceduralRenderer("city:60k", settings);
+    for (const bool hemisphereBounds : {true, false}) {
+        SCOPED_TRACE(hemisphereBounds);
+        ChcrtOptions options;
+        options.partition.maxSubtreeHeight = 8;
+        options.pairs.minTileSize = 16;
+        options.adaptive = false;
+        options.queries = ChcrtQueries::BoundsOnly;
+        options.hemisphereBounds = hemisphereBounds;
+        ChcrtTracer chcrt(bvh_, options);
+        ShortenedHemisphereRays shortened(chcrt);
+        const CameraPath path = proceduralNearPath(spec_);
+        size_t differing = 0;
+        FrameStats stats;
+        for (int frame = 0; frame < 2; ++frame) {
+            const Camera camera = path.cameraAtFrame(frame * 2);
+            renderer.renderGBuffer(camera, stats);
+            for (int sample = 0; sample < 3; ++sample) {
+                renderer.generateRayPass(camera, RayType::Ao, sample, stats);
+                differing += traceAgainstPureBvh(renderer, shortened, camera, RayType::Ao, sample, stats).differing;
+            }
+        }
+        renderer.useTracer(nullptr);
+        EXPECT_EQ(chcrt.totalStats().boundsFromHemisphere, hemisphereBounds ? 6u : 0u);
+        EXPECT_EQ(chcrt.totalStats().boundsUpdates, hemisphereBounds ? 2u : 6u); // one reduction per G-buffer
+        if (hemisphereBounds) EXPECT_GT(differing, 0u);
+        else EXPECT_EQ(differing, 0u);
     }
 }
 
@@ -1146,7 +1206,7 @@ std::string caseName(const ::testing::TestParamInfo<ExactnessCase>& info) {
            (info.param.cellListLimit ? "_limit" + std::to_string(info.param.cellListLimit) : "") +
            (info.param.hitHints ? "_hints" : "") + (info.param.computeCellPass ? "_compute" : "") +
            (info.param.hintPass ? "_hintpass" : "") + (info.param.closestHitHints ? "_closest" : "") +
-           (info.param.shareShadowLists ? "_shared" : "");
+           (info.param.shareShadowLists ? "_shared" : "") + (info.param.hemisphereBounds ? "_hemisphere" : "");
 }
 
 // Subtree height 8, well below the BVH depth at 60k triangles, so that object-space splits happen; tiles small enough for
@@ -1271,6 +1331,13 @@ const ExactnessCase kExactnessCases[] = {
      .shareShadowLists = true},
     {.scene = "city:60k", .maxSubtreeHeight = 8, .minTileSize = 16, .queries = ChcrtQueries::BoundsGpu,
      .boundsCell = 8, .boundsPieces = 2, .shareShadowLists = true},
+    // AO ray sets bounded from their G-buffer's surface frames: with hints in the cell pass (fragment, small cells, a
+    // list limit), and in the recommended configuration (the hint pass, shared shadow lists, the adaptive choice)
+    {.scene = "interior:60k", .maxSubtreeHeight = 12, .minTileSize = 16, .queries = ChcrtQueries::BoundsOnly,
+     .boundsCell = 4, .boundsPieces = 8, .cellListLimit = 12, .hitHints = true, .hemisphereBounds = true},
+    {.scene = "plant:60k", .maxSubtreeHeight = 12, .minTileSize = 16, .adaptive = true,
+     .queries = ChcrtQueries::BoundsOnly, .boundsCell = 16, .adaptiveHeights = {10}, .cellListLimit = 64,
+     .hitHints = true, .hintPass = true, .shareShadowLists = true, .hemisphereBounds = true},
 };
 
 INSTANTIATE_TEST_SUITE_P(ProceduralScenes, ChcrtExactnessTest, ::testing::ValuesIn(kExactnessCases), caseName);

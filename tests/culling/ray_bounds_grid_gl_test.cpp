@@ -55,8 +55,8 @@ struct RaySet {
     }
 };
 
-bool insideScene(glm::vec3 p) {
-    return glm::all(glm::greaterThanEqual(p, kSceneMin)) && glm::all(glm::lessThanEqual(p, kSceneMax));
+bool insideScene(glm::vec3 p, glm::vec3 lower = kSceneMin, glm::vec3 upper = kSceneMax) {
+    return glm::all(glm::greaterThanEqual(p, lower)) && glm::all(glm::lessThanEqual(p, upper));
 }
 
 // Every point of every ray's (shortened) segment inside the scene's box must be reachable from its pixel.
@@ -320,6 +320,89 @@ TEST_F(CameraRayBoundsGl, HoldTheReductionOfTheRenderersPrimaryRays) {
         }
     }
     EXPECT_GT(bounded, 500u);
+}
+
+// The bounds of AO rays from their G-buffer's surface frames (hemisphere_ray_bounds.h) hold the renderer's own AO
+// rays (the ray generation shader's arithmetic, whatever the driver does with it): every point of every active ray's
+// segment inside the scene's box is within reach of its pixel's cell, with a padding far below the grid's, for near and
+// far views, several samples, rotation ranges and cell sizes; the frames reduced once from the first set's rays. The
+// negative control bounds the same rays as if no pixel rotated its sample and must find points out of reach.
+class RequestProbe final : public Tracer {
+public:
+    std::string name() const override { return "probe"; }
+    void trace(const TraceRequest& request, const RayTextures&, HitTargets&, int, int, TraceStats&) override {
+        last = request;
+    }
+    TraceRequest last;
+};
+
+using HemisphereRayBoundsGl = test::RenderTest;
+
+TEST_F(HemisphereRayBoundsGl, CellsHoldEveryAoSegmentOfTheRenderersRaySets) {
+    RenderSettings settings;
+    settings.width = 75;
+    settings.height = 53;
+    Renderer& renderer = makeProceduralRenderer("city:20k", settings);
+    const glm::vec3 boxMin(bvh_.nodes[0].boundsMin), boxMax(bvh_.nodes[0].boundsMax);
+    RequestProbe probe;
+    size_t checked = 0, outsideUnrotated = 0;
+    for (const float rotationDegrees : {36.0f, 360.0f}) {
+        settings.rotationDegrees = rotationDegrees;
+        renderer.setSettings(settings);
+        for (const CameraPath& path : {proceduralNearPath(spec_), proceduralFarPath(spec_)}) {
+            const Camera camera = path.cameraAtFrame(3);
+            FrameStats stats;
+            renderer.renderGBuffer(camera, stats);
+            for (auto [cellSize, pieces] : {std::pair{16, 4}, std::pair{8, 3}, std::pair{4, 8}}) {
+                SCOPED_TRACE(path.name + " rotation " + std::to_string(rotationDegrees) + " cell " +
+                             std::to_string(cellSize));
+                RayBoundsOptions options{cellSize, pieces, 2};
+                options.relativePad = 1e-6f;
+                RayBoundsGrid grid(options), unrotated(options);
+                for (int sample = 0; sample < 4; ++sample) {
+                    renderer.generateRayPass(camera, RayType::Ao, sample, stats);
+                    renderer.useTracer(&probe);
+                    renderer.traceRayPass(camera, RayType::Ao, sample, stats);
+                    renderer.useTracer(nullptr);
+                    ASSERT_TRUE(probe.last.hemisphereRays.has_value());
+                    const TraceRequest::HemisphereRays set = *probe.last.hemisphereRays;
+                    EXPECT_EQ(set.maxRotation, glm::radians(rotationDegrees));
+                    const RayTextures& rays = renderer.targets().rays[0];
+                    if (sample == 0) { // the frames are every set's: reduced from the first
+                        grid.updateSurfaceFrames(rays.origin.id(), rays.direction.id(), set.shadingNormals,
+                                                 settings.width, settings.height);
+                        unrotated.updateSurfaceFrames(rays.origin.id(), rays.direction.id(), set.shadingNormals,
+                                                      settings.width, settings.height);
+                    }
+                    grid.setHemisphereCells({set.sample, set.maxRotation, set.length}, boxMin, boxMax);
+                    unrotated.setHemisphereCells({set.sample, 0.0f, set.length}, boxMin, boxMax);
+                    std::vector<glm::vec4> origins(size_t(settings.width) * settings.height), directions(origins.size());
+                    glGetTextureImage(rays.origin.id(), 0, GL_RGBA, GL_FLOAT, GLsizei(origins.size() * 16),
+                                      origins.data());
+                    glGetTextureImage(rays.direction.id(), 0, GL_RGBA, GL_FLOAT, GLsizei(directions.size() * 16),
+                                      directions.data());
+                    for (int y = 0; y < settings.height; ++y) {
+                        for (int x = 0; x < settings.width; ++x) {
+                            const size_t i = size_t(y) * settings.width + x;
+                            if (!(directions[i].w > origins[i].w)) continue;
+                            ASSERT_EQ(directions[i].w, set.length);
+                            const glm::vec3 o(origins[i]), d(directions[i]);
+                            for (int step = 0; step <= 16; ++step) {
+                                const glm::vec3 p = o + d * (set.length * float(step) / 16.0f);
+                                if (!insideScene(p, boxMin, boxMax)) continue;
+                                ASSERT_TRUE(grid.mayReach(Tile{x, y, 1, 1}, &p, &p, 1))
+                                    << "pixel " << x << ", " << y << " sample " << sample << " step " << step;
+                                outsideUnrotated += !unrotated.mayReach(Tile{x, y, 1, 1}, &p, &p, 1);
+                                ++checked;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    EXPECT_GT(checked, 50000u);
+    EXPECT_GT(outsideUnrotated, checked / 100);
 }
 
 } // namespace
