@@ -12,8 +12,9 @@
 #define CHCRT_UNIT_BASE_COLOR 4      // sampler2DArray, SRGB8_ALPHA8: one layer per scene texture
 #define CHCRT_UNIT_RAY_ORIGIN 5      // sampler2D RGBA32F: origin.xyz, tmin
 #define CHCRT_UNIT_RAY_DIRECTION 6   // sampler2D RGBA32F: direction.xyz, tmax (tmax <= tmin: inactive ray)
-// An inactive shadow, AO or diffuse ray whose surface point another ray set of its kind in the frame may use writes its
-// origin and a direction texel of all zeros (raygen.frag.glsl), the others an origin of zeros and direction (0, 0, 1, 0).
+// An inactive shadow, AO or diffuse ray whose surface point another ray set of its kind in the frame may use writes
+// its origin and a direction texel of all zeros (raygen.frag.glsl), the others an origin of zeros and direction
+// (0, 0, 1, 0).
 #define CHCRT_UNIT_HIT 7             // usampler2D RGBA32UI: bits of t, triangle id, bits of u, bits of v
 #define CHCRT_UNIT_GBUFFER_POSITION 8 // sampler2D RGBA32F: world position, 1 = covered / 0 = background
 #define CHCRT_UNIT_GBUFFER_NORMAL 9   // sampler2D RGBA32F: world normal facing the camera, linear depth

@@ -230,7 +230,9 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
             // sample index has no hints, so it has none); one reduction of frames per G-buffer and culling height.
             if (c.hemisphereBounds && c.queries == ChcrtQueries::BoundsOnly) {
                 EXPECT_GT(total.boundsFromHemisphere, 0u);
-                if (!c.hintPass) EXPECT_EQ(total.boundsFromHemisphere, 12u);
+                if (!c.hintPass) {
+                    EXPECT_EQ(total.boundsFromHemisphere, 12u);
+                }
             } else {
                 EXPECT_EQ(total.boundsFromHemisphere, 0u);
             }
@@ -417,21 +419,42 @@ TEST_F(RenderTest, RayBoundsShrunkBelowTheRoundingPadLoseHitsThatTheComparisonDe
     EXPECT_GT(differing[RayType::Primary], 0u);
 }
 
-// Forwards every trace to `inner` with the light sweep's box shrunk to its lower corner (the negative control below).
-class ShrunkLightSweep final : public Tracer {
+// Forwards every trace to `inner` with the request as `rewrite` leaves it (the negative controls below: what the
+// renderer tells a tracer about its rays made smaller than the rays are).
+class RewrittenRequests final : public Tracer {
 public:
-    explicit ShrunkLightSweep(Tracer& inner) : inner_(inner) {}
+    RewrittenRequests(Tracer& inner, std::function<void(TraceRequest&)> rewrite)
+        : inner_(inner), rewrite_(std::move(rewrite)) {}
     std::string name() const override { return inner_.name(); }
     void trace(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width, int height,
                TraceStats& stats) override {
-        TraceRequest shrunk = request;
-        if (shrunk.lightSweep) shrunk.lightSweep->lightMax = shrunk.lightSweep->lightMin;
-        inner_.trace(shrunk, rays, hits, width, height, stats);
+        TraceRequest rewritten = request;
+        rewrite_(rewritten);
+        inner_.trace(rewritten, rays, hits, width, height, stats);
     }
 
 private:
     Tracer& inner_;
+    std::function<void(TraceRequest&)> rewrite_;
 };
+
+// The pixels whose hits differ between pure BVH and `tracer` over `frames` G-buffers of the near path (every second
+// frame) with `samples` ray sets of `type` each.
+size_t differingOverNearPath(Renderer& renderer, Tracer& tracer, const CameraPath& path, RayType type, int frames,
+                             int samples) {
+    size_t differing = 0;
+    FrameStats stats;
+    for (int frame = 0; frame < frames; ++frame) {
+        const Camera camera = path.cameraAtFrame(frame * 2);
+        renderer.renderGBuffer(camera, stats);
+        for (int sample = 0; sample < samples; ++sample) {
+            renderer.generateRayPass(camera, type, sample, stats);
+            differing += traceAgainstPureBvh(renderer, tracer, camera, type, sample, stats).differing;
+        }
+    }
+    renderer.useTracer(nullptr);
+    return differing;
+}
 
 TEST_F(RenderTest, SharedShadowListsSweptToTooSmallALightLoseHitsThatTheComparisonDetects) {
     // Negative control of the shared shadow lists' exactness cases: lists made for segments that end at one corner of
@@ -447,40 +470,17 @@ TEST_F(RenderTest, SharedShadowListsSweptToTooSmallALightLoseHitsThatTheComparis
         options.queries = queries;
         options.shareShadowLists = true;
         ChcrtTracer chcrt(bvh_, options);
-        ShrunkLightSweep shrunk(chcrt);
-        const CameraPath path = proceduralNearPath(spec_);
-        size_t differing = 0;
-        FrameStats stats;
-        for (int frame = 0; frame < 3; ++frame) {
-            const Camera camera = path.cameraAtFrame(frame * 2);
-            renderer.renderGBuffer(camera, stats);
-            for (int sample = 0; sample < 4; ++sample) {
-                renderer.generateRayPass(camera, RayType::Shadow, sample, stats);
-                differing += traceAgainstPureBvh(renderer, shrunk, camera, RayType::Shadow, sample, stats).differing;
-            }
-        }
-        renderer.useTracer(nullptr);
+        // The light sweep's box shrunk to its lower corner.
+        RewrittenRequests shrunk(chcrt, [](TraceRequest& r) {
+            if (r.lightSweep) r.lightSweep->lightMax = r.lightSweep->lightMin;
+        });
+        const size_t differing =
+            differingOverNearPath(renderer, shrunk, proceduralNearPath(spec_), RayType::Shadow, 3, 4);
         EXPECT_EQ(chcrt.totalStats().sharedListsMade, 3u);
         EXPECT_EQ(chcrt.totalStats().sharedListsReused, 8u); // the first frame's first set had its own lists
         EXPECT_GT(differing, 0u);
     }
 }
-
-// Shortens the AO rays a tracer is told of (TraceRequest::hemisphereRays) to a quarter of their length.
-class ShortenedHemisphereRays final : public Tracer {
-public:
-    explicit ShortenedHemisphereRays(Tracer& inner) : inner_(inner) {}
-    std::string name() const override { return inner_.name(); }
-    void trace(const TraceRequest& request, const RayTextures& rays, HitTargets& hits, int width, int height,
-               TraceStats& stats) override {
-        TraceRequest shortened = request;
-        if (shortened.hemisphereRays) shortened.hemisphereRays->length *= 0.25f;
-        inner_.trace(shortened, rays, hits, width, height, stats);
-    }
-
-private:
-    Tracer& inner_;
-};
 
 TEST_F(RenderTest, AoCellsBoundedForShorterRaysLoseHitsThatTheComparisonDetects) {
     // Negative control of the hemisphere cases: cells bounded from the surface frames for rays a quarter of the AO
@@ -496,23 +496,19 @@ TEST_F(RenderTest, AoCellsBoundedForShorterRaysLoseHitsThatTheComparisonDetects)
         options.queries = ChcrtQueries::BoundsOnly;
         options.hemisphereBounds = hemisphereBounds;
         ChcrtTracer chcrt(bvh_, options);
-        ShortenedHemisphereRays shortened(chcrt);
-        const CameraPath path = proceduralNearPath(spec_);
-        size_t differing = 0;
-        FrameStats stats;
-        for (int frame = 0; frame < 2; ++frame) {
-            const Camera camera = path.cameraAtFrame(frame * 2);
-            renderer.renderGBuffer(camera, stats);
-            for (int sample = 0; sample < 3; ++sample) {
-                renderer.generateRayPass(camera, RayType::Ao, sample, stats);
-                differing += traceAgainstPureBvh(renderer, shortened, camera, RayType::Ao, sample, stats).differing;
-            }
-        }
-        renderer.useTracer(nullptr);
+        // The AO rays a quarter of their length.
+        RewrittenRequests shortened(chcrt, [](TraceRequest& r) {
+            if (r.hemisphereRays) r.hemisphereRays->length *= 0.25f;
+        });
+        const size_t differing =
+            differingOverNearPath(renderer, shortened, proceduralNearPath(spec_), RayType::Ao, 2, 3);
         EXPECT_EQ(chcrt.totalStats().boundsFromHemisphere, hemisphereBounds ? 6u : 0u);
         EXPECT_EQ(chcrt.totalStats().boundsUpdates, hemisphereBounds ? 2u : 6u); // one reduction per G-buffer
-        if (hemisphereBounds) EXPECT_GT(differing, 0u);
-        else EXPECT_EQ(differing, 0u);
+        if (hemisphereBounds) {
+            EXPECT_GT(differing, 0u);
+        } else {
+            EXPECT_EQ(differing, 0u);
+        }
     }
 }
 

@@ -60,7 +60,8 @@ std::vector<glm::vec4> reduceFrames(const std::vector<SurfacePoint>& points) {
         shortest = std::min(shortest, glm::length(p.normal));
         longest = std::max(longest, glm::length(p.normal));
     }
-    frames[0] = glm::vec4(points.empty() ? CHCRT_CULLING_CELL_EMPTY : CHCRT_CULLING_CELL_BOUNDED, shortest, longest, 0.0f);
+    const float state = points.empty() ? CHCRT_CULLING_CELL_EMPTY : CHCRT_CULLING_CELL_BOUNDED;
+    frames[0] = glm::vec4(state, shortest, longest, 0.0f);
     for (size_t j = 0; j < lower.size(); ++j) {
         const bool used = j % CHCRT_CULLING_FRAME_BOXES == 0 && lower[j].x <= upper[j].x;
         frames[1 + 2 * j] = glm::vec4(lower[j], used ? 1.0f : 0.0f);
@@ -175,7 +176,8 @@ TEST(HemisphereRayBounds, CellsWithoutUsableFramesCullNothingOrEverything) {
     }
     // End points are clipped to the scene's box.
     const HemisphereSample longRays{set.sample, set.maxRotation, 100.0f};
-    const std::vector<glm::vec4> clipped = hemisphereRayBounds(reduceFrames(points), 1, 1, 4, longRays, sceneMin, sceneMax);
+    const std::vector<glm::vec4> clipped =
+        hemisphereRayBounds(reduceFrames(points), 1, 1, 4, longRays, sceneMin, sceneMax);
     EXPECT_EQ(clipped[0].x, CHCRT_CULLING_CELL_BOUNDED);
     EXPECT_LE(clipped[4 + 2 * 4].z, sceneMax.z);
 }

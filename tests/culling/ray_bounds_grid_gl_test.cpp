@@ -376,7 +376,8 @@ TEST_F(HemisphereRayBoundsGl, CellsHoldEveryAoSegmentOfTheRenderersRaySets) {
                     }
                     grid.setHemisphereCells({set.sample, set.maxRotation, set.length}, boxMin, boxMax);
                     unrotated.setHemisphereCells({set.sample, 0.0f, set.length}, boxMin, boxMax);
-                    std::vector<glm::vec4> origins(size_t(settings.width) * settings.height), directions(origins.size());
+                    std::vector<glm::vec4> origins(size_t(settings.width) * settings.height);
+                    std::vector<glm::vec4> directions(origins.size());
                     glGetTextureImage(rays.origin.id(), 0, GL_RGBA, GL_FLOAT, GLsizei(origins.size() * 16),
                                       origins.data());
                     glGetTextureImage(rays.direction.id(), 0, GL_RGBA, GL_FLOAT, GLsizei(directions.size() * 16),
