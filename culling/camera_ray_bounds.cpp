@@ -1,5 +1,6 @@
 #include "culling/camera_ray_bounds.h"
 
+#include "culling/interval.h"
 #include "shaders/shared/bvh_layout.h"
 #include "shaders/shared/culling_layout.h"
 
@@ -18,19 +19,9 @@ constexpr double kDirectionRounding = 1e-5;
 constexpr double kRelativeRounding = 1e-4; // for distances: the slab test's divisions and the points' products
 constexpr int kMaxPoints = CHCRT_CULLING_BOUNDS_MAX_PIECES + 1; // a piece's end points p_0 .. p_P
 
-struct Interval {
-    double lo, hi;
-};
-
 // Rounded outwards by kRelativeRounding of each end's magnitude.
 Interval widened(Interval a) {
     return {a.lo - std::fabs(a.lo) * kRelativeRounding, a.hi + std::fabs(a.hi) * kRelativeRounding};
-}
-
-// [a] · [s] for finite intervals with s.lo >= 0 (distances along the ray).
-Interval times(Interval a, Interval s) {
-    const double p[4] = {a.lo * s.lo, a.lo * s.hi, a.hi * s.lo, a.hi * s.hi};
-    return {*std::min_element(p, p + 4), *std::max_element(p, p + 4)};
 }
 
 // The smallest |F + aR + bU| over the rectangle [a0, a1] × [b0, b1]: the squared length is a convex quadratic, so

@@ -1,30 +1,24 @@
 #include "culling/hemisphere_ray_bounds.h"
 
+#include "culling/interval.h"
 #include "shaders/shared/culling_layout.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 
+#include <glm/gtc/constants.hpp>
+
 namespace chcrt {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = glm::pi<double>();
 // Widening of the sample's cosine and sine for the shaders' sin and cos (their error is far smaller, also for the
 // arguments up to 4π the rotation reaches) and of the directions for the normalisation and the products.
 constexpr double kTrigRounding = 1e-3;
 constexpr double kDirectionRounding = 2e-3;
 constexpr double kNormalLengthTolerance = 1e-3;
 constexpr int kMaxPoints = CHCRT_CULLING_BOUNDS_MAX_PIECES + 1; // a piece's end points p_0 .. p_P
-
-struct Interval {
-    double lo, hi;
-};
-
-Interval times(Interval a, Interval b) {
-    const double p[4] = {a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi};
-    return {*std::min_element(p, p + 4), *std::max_element(p, p + 4)};
-}
 
 // cos over the angles [a, b] (b >= a): the ends, and ±1 where a multiple of π lies inside.
 Interval cosineOver(double a, double b) {

@@ -48,7 +48,7 @@
 #define CHCRT_CULLING_CELL_BOUNDED 1.0   // every active ray's segment is inside the union of the piece boxes
 #define CHCRT_CULLING_CELL_UNBOUNDED 2.0 // some active ray has a NaN or infinite value: nothing is assumed
 #define CHCRT_CULLING_BOUNDS_BUFFER 0    // shader storage binding of the grid's buffer
-// The surface frames of hemisphere rays (AO; culling/hemisphere_ray_bounds.h, culling/surface_frames.comp.glsl):
+// The surface frames of hemisphere rays (AO; culling/hemisphere_ray_bounds.h, surface_frames.comp.glsl in shaders/):
 // per cell of the grid, over the pixels with a surface point (active rays and inactive ones that kept their origin),
 // a header (state as above, smallest and largest length of the shading normal, 0), then per class of normals (the
 // axis of the normal's largest component and its sign: +x, -x, +y, -y, +z, -z) (lower.xyz, w) and (upper.xyz, 0) of
