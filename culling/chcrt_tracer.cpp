@@ -1008,6 +1008,7 @@ ChcrtTracer& ChcrtTracer::armTracer(uint32_t arm) {
         tracer.reset(new ChcrtTracer(*bvh_, options, name_, programCache_)); // a private constructor
         tracer->hintStore_ = hintStore_;
         tracer->hintPassRecords_ = hintPassRecords_;
+        tracer->surfaceFrames_ = surfaceFrames_;
     }
     return *tracer;
 }

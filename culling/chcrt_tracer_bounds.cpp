@@ -58,15 +58,17 @@ bool ChcrtTracer::boundFromHemisphere(const TraceRequest& request, const RayText
     const auto start = Clock::now();
     const TraceRequest::HemisphereRays& set = *request.hemisphereRays;
     const SurfaceFramesKey key{set.generation, request.camera.eye, width, height};
-    if (framesKey_ != key || !rayExtent_->surfaceFramesKnown()) {
-        rayExtent_->updateSurfaceFrames(rays.origin.id(), rays.direction.id(), set.shadingNormals, width, height);
+    KeyedSurfaceFrames& frames = *surfaceFrames_;
+    if (frames.key != key) {
+        frames.frames =
+            rayExtent_->reduceSurfaceFrames(rays.origin.id(), rays.direction.id(), set.shadingNormals, width, height);
         mode_ = Mode::None; // the reduction's program and bindings replaced the passes'
-        framesKey_ = key;
+        frames.key = key;
         ++last_.boundsUpdates;
     }
     const CullingHierarchy::Node& root = hierarchy_.nodes[0];
-    rayExtent_->setHemisphereCells(HemisphereSample{set.sample, set.maxRotation, set.length}, root.boxMin,
-                                   root.boxMax);
+    rayExtent_->setHemisphereCells(frames.frames, HemisphereSample{set.sample, set.maxRotation, set.length},
+                                   root.boxMin, root.boxMax);
     ++last_.boundsFromHemisphere;
     last_.boundsMs += millisecondsSince(start);
     return true;

@@ -20,6 +20,13 @@
 
 namespace chcrt {
 
+// The surface frames of one G-buffer (RayBoundsGrid::reduceSurfaceFrames): for ray sets of width × height, cells in
+// the CHCRT_CULLING_FRAMES_STRIDE layout surface_frames.comp.glsl writes. Empty: none reduced.
+struct SurfaceFrames {
+    std::vector<glm::vec4> values;
+    int width = 0, height = 0;
+};
+
 // What one AO ray set adds to the frames it shares with the G-buffer's other sets (TraceRequest::HemisphereRays).
 struct HemisphereSample {
     glm::vec2 sample{0.0f}; // the set's Halton point (cosineHemisphere's u)

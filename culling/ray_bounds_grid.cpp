@@ -6,6 +6,7 @@
 #include "shaders/shared/render_layout.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 namespace chcrt {
@@ -122,8 +123,8 @@ void RayBoundsGrid::reduceLightSweep(GLuint origins, GLuint directions, int widt
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
 }
 
-void RayBoundsGrid::updateSurfaceFrames(GLuint origins, GLuint directions, GLuint shadingNormals, int width,
-                                        int height) {
+SurfaceFrames RayBoundsGrid::reduceSurfaceFrames(GLuint origins, GLuint directions, GLuint shadingNormals, int width,
+                                                int height) {
     if (!surfaceFrames_) {
         surfaceFrames_ = &programs_->get({{GL_COMPUTE_SHADER, "culling/surface_frames.comp.glsl"}},
                                          {{"CHCRT_BOUNDS_CELL", std::to_string(options_.cellSize)}});
@@ -143,17 +144,18 @@ void RayBoundsGrid::updateSurfaceFrames(GLuint origins, GLuint directions, GLuin
     glBindTextureUnit(CHCRT_UNIT_GBUFFER_NORMAL, shadingNormals);
     glDispatchCompute(GLuint((cellsX + 7) / 8), GLuint((cellsY + 7) / 8), 1); // an invocation per cell
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    frames_.resize(values);
-    glGetNamedBufferSubData(framesBuffer_.id(), 0, GLsizeiptr(values * sizeof(glm::vec4)), frames_.data());
-    framesWidth_ = width;
-    framesHeight_ = height;
+    SurfaceFrames frames{std::vector<glm::vec4>(values), width, height};
+    glGetNamedBufferSubData(framesBuffer_.id(), 0, GLsizeiptr(values * sizeof(glm::vec4)), frames.values.data());
+    return frames;
 }
 
-void RayBoundsGrid::setHemisphereCells(const HemisphereSample& set, glm::vec3 sceneMin, glm::vec3 sceneMax) {
+void RayBoundsGrid::setHemisphereCells(const SurfaceFrames& frames, const HemisphereSample& set, glm::vec3 sceneMin,
+                                       glm::vec3 sceneMax) {
     const int cell = options_.cellSize;
-    const int cellsX = (framesWidth_ + cell - 1) / cell, cellsY = (framesHeight_ + cell - 1) / cell;
-    setCells(framesWidth_, framesHeight_,
-             hemisphereRayBounds(frames_, cellsX, cellsY, options_.pieces, set, sceneMin, sceneMax));
+    const int cellsX = (frames.width + cell - 1) / cell, cellsY = (frames.height + cell - 1) / cell;
+    assert(frames.values.size() == size_t(cellsX) * size_t(cellsY) * CHCRT_CULLING_FRAMES_STRIDE);
+    setCells(frames.width, frames.height,
+             hemisphereRayBounds(frames.values, cellsX, cellsY, options_.pieces, set, sceneMin, sceneMax));
 }
 
 void RayBoundsGrid::setCameraCells(const PrimaryRayBasis& basis, glm::vec3 sceneMin, glm::vec3 sceneMax) {

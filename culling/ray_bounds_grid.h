@@ -80,13 +80,15 @@ public:
     // The cells of a camera's primary rays before any hit, bounded from the camera (camera_ray_bounds.h): boxes that
     // hold those update() would reduce from the rays, with nothing read from the GPU.
     void setCameraCells(const PrimaryRayBasis& basis, glm::vec3 sceneMin, glm::vec3 sceneMax);
-    // Hemisphere rays (AO, TraceRequest::HemisphereRays; hemisphere_ray_bounds.h): updateSurfaceFrames reduces the
+    // Hemisphere rays (AO, TraceRequest::HemisphereRays; hemisphere_ray_bounds.h): reduceSurfaceFrames reduces the
     // surface frames every set of a G-buffer shares — the origins of a width × height ray set of it (its active rays
     // and the inactive ones that kept their origin) and the shading normals' texture — and reads them back (waits for
-    // the GPU); setHemisphereCells then bounds the cells of one set from them on the CPU, before any hit.
-    void updateSurfaceFrames(GLuint origins, GLuint directions, GLuint shadingNormals, int width, int height);
-    void setHemisphereCells(const HemisphereSample& set, glm::vec3 sceneMin, glm::vec3 sceneMax);
-    bool surfaceFramesKnown() const { return !frames_.empty(); }
+    // the GPU); setHemisphereCells then bounds the cells of one set from them on the CPU, before any hit, in this
+    // grid or any other of the same cell size.
+    SurfaceFrames reduceSurfaceFrames(GLuint origins, GLuint directions, GLuint shadingNormals, int width,
+                                      int height);
+    void setHemisphereCells(const SurfaceFrames& frames, const HemisphereSample& set, glm::vec3 sceneMin,
+                            glm::vec3 sceneMax);
 
     // True when some ray of `tile`'s pixels may meet one of the `count` boxes (lower[i], upper[i]) before its hit;
     // false means no ray of the tile can hit anything inside them. Tiles are in pixels of the ray set, GL
@@ -157,8 +159,6 @@ private:
     const ShaderProgram* surfaceFrames_ = nullptr; // of programs_
     GlBuffer framesBuffer_;
     size_t framesBufferBytes_ = 0;
-    std::vector<glm::vec4> frames_; // updateSurfaceFrames' (CHCRT_CULLING_FRAMES_STRIDE per cell)
-    int framesWidth_ = 0, framesHeight_ = 0;
     GlBuffer buffer_;
     size_t bufferBytes_ = 0;
     int cellsX_ = 0, cellsY_ = 0;

@@ -227,7 +227,7 @@ TEST_P(ChcrtExactnessTest, HitsEqualPureBvhOverConsecutiveFrames) {
                 EXPECT_EQ(total.sharedListsMade + total.sharedListsReused, 0u);
             }
             // AO cells from the surface frames: every AO trace that culled without a hint pass (the first of each
-            // sample index has no hints, so it has none); one reduction of frames per G-buffer and culling height.
+            // sample index has no hints, so it has none).
             if (c.hemisphereBounds && c.queries == ChcrtQueries::BoundsOnly) {
                 EXPECT_GT(total.boundsFromHemisphere, 0u);
                 if (!c.hintPass) {
@@ -990,6 +990,49 @@ TEST_F(RenderTest, TheAdaptiveHeightsTracersShareTheirPassPrograms) {
         EXPECT_GT(aloneLinked, 0);
         EXPECT_EQ(probingLinked, aloneLinked) << "the heights' tracers linked passes of their own";
     }
+}
+
+// The AO sets of one G-buffer share one reduction of its surface frames whichever heights of the adaptive choice trace
+// them: the further heights' tracers bound their cells from the frames the first culled set reduced. Four G-buffers of
+// six sets each, culling winning on fixed times so that every height traces.
+TEST_F(RenderTest, TheAdaptiveHeightsShareOneSurfaceFramesReductionPerGBuffer) {
+    RenderSettings settings;
+    settings.width = 64;
+    settings.height = 48;
+    Renderer& renderer = makeProceduralRenderer("city:60k", settings);
+    ChcrtOptions options = recommendedChcrtOptions(RendererTraits{.software = true});
+    ASSERT_TRUE(options.hemisphereBounds);
+    options.hintPass = false; // AO sets whose hints go through a hint pass are bounded from their rays instead
+    options.partition.maxSubtreeHeight = 8;
+    options.adaptiveHeights = {6, 10};
+    options.adaptiveTiming = [](uint32_t arm, double) { return arm == 0 ? 10.0 : 9.0; }; // culling wins: explore
+    options.adaptiveProbeInterval = 1;
+    options.adaptiveProbeBudget = 1.0;
+    ChcrtTracer chcrt(bvh_, options);
+    renderer.useTracer(&chcrt);
+    const CameraPath path = proceduralNearPath(spec_);
+    FrameStats stats;
+    std::set<uint64_t> heights;
+    uint64_t culledGBuffers = 0, culledTraces = 0;
+    for (int frame = 0; frame < 4; ++frame) {
+        const Camera camera = path.cameraAtFrame(frame);
+        renderer.renderGBuffer(camera, stats);
+        bool culled = false;
+        for (int sample = 0; sample < 6; ++sample) {
+            renderer.generateRayPass(camera, RayType::Ao, sample, stats);
+            renderer.traceRayPass(camera, RayType::Ao, sample, stats);
+            if (chcrt.lastStats().fallbackTraces != 0) continue;
+            heights.insert(chcrt.lastStats().heightSum);
+            culled = true;
+            ++culledTraces;
+        }
+        culledGBuffers += culled ? 1 : 0;
+    }
+    renderer.useTracer(nullptr);
+    EXPECT_EQ(heights, (std::set<uint64_t>{6, 8, 10})) << "every height traced";
+    EXPECT_GE(culledGBuffers, 2u);
+    EXPECT_EQ(chcrt.totalStats().boundsFromHemisphere, culledTraces);
+    EXPECT_EQ(chcrt.totalStats().boundsUpdates, culledGBuffers) << "one reduction of the frames per G-buffer";
 }
 
 // The adaptive choice is told which shadow ray sets have hit hints: where culling loses, only AdaptiveChoice::kSeedSets

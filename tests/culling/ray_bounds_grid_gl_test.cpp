@@ -359,6 +359,7 @@ TEST_F(HemisphereRayBoundsGl, CellsHoldEveryAoSegmentOfTheRenderersRaySets) {
                 RayBoundsOptions options{cellSize, pieces, 2};
                 options.relativePad = 1e-6f;
                 RayBoundsGrid grid(options), unrotated(options);
+                SurfaceFrames frames;
                 for (int sample = 0; sample < 4; ++sample) {
                     renderer.generateRayPass(camera, RayType::Ao, sample, stats);
                     renderer.useTracer(&probe);
@@ -368,14 +369,12 @@ TEST_F(HemisphereRayBoundsGl, CellsHoldEveryAoSegmentOfTheRenderersRaySets) {
                     const TraceRequest::HemisphereRays set = *probe.last.hemisphereRays;
                     EXPECT_EQ(set.maxRotation, glm::radians(rotationDegrees));
                     const RayTextures& rays = renderer.targets().rays[0];
-                    if (sample == 0) { // the frames are every set's: reduced from the first
-                        grid.updateSurfaceFrames(rays.origin.id(), rays.direction.id(), set.shadingNormals,
-                                                 settings.width, settings.height);
-                        unrotated.updateSurfaceFrames(rays.origin.id(), rays.direction.id(), set.shadingNormals,
-                                                      settings.width, settings.height);
+                    if (sample == 0) { // the frames are every set's, and both grids': reduced once, from the first
+                        frames = grid.reduceSurfaceFrames(rays.origin.id(), rays.direction.id(), set.shadingNormals,
+                                                          settings.width, settings.height);
                     }
-                    grid.setHemisphereCells({set.sample, set.maxRotation, set.length}, boxMin, boxMax);
-                    unrotated.setHemisphereCells({set.sample, 0.0f, set.length}, boxMin, boxMax);
+                    grid.setHemisphereCells(frames, {set.sample, set.maxRotation, set.length}, boxMin, boxMax);
+                    unrotated.setHemisphereCells(frames, {set.sample, 0.0f, set.length}, boxMin, boxMax);
                     std::vector<glm::vec4> origins(size_t(settings.width) * settings.height);
                     std::vector<glm::vec4> directions(origins.size());
                     glGetTextureImage(rays.origin.id(), 0, GL_RGBA, GL_FLOAT, GLsizei(origins.size() * 16),
