@@ -28,6 +28,7 @@
 #include <cstdio>
 #include <map>
 #include <optional>
+#include <thread>
 
 namespace chcrt::app {
 namespace {
@@ -526,10 +527,11 @@ void writeOutputs(const Bench& b, const Table& table, const nlohmann::json& rows
     const MachineSnapshot finished = takeMachineSnapshot();
     const GlInfo info = queryGlInfo();
     const SceneSession& session = b.session;
-    std::printf("bench: %s (%s triangles%s), %zu frame(s) of %s, median of %d run(s) after %d warm-up, %s\n",
+    std::printf("bench: %s (%s triangles%s), %zu frame(s) of %s, median of %d run(s) after %d warm-up, %s on %s, "
+                "%u cores\n",
                 session.scene.name.c_str(), formatCount(sceneTriangles(session)).c_str(),
                 session.sceneInCore ? "" : ", not in core", b.frames.size(), session.path.name.c_str(), b.options.runs,
-                b.options.warmupRuns, info.renderer.c_str());
+                b.options.warmupRuns, info.renderer.c_str(), cpuModel().c_str(), std::thread::hardware_concurrency());
     std::fputs(table.toText().c_str(), stdout);
     // The two error columns measure different things, and a row's PSNR repeats on each of its ray types' rows.
     if (!b.imageErrors.empty()) std::printf("diff_px: pixels whose hits of that ray type differ from pure BVH's; frame PSNR: the whole shaded "

@@ -159,8 +159,6 @@ MachineSnapshot takeMachineSnapshot() {
     return s;
 }
 
-namespace {
-
 std::string cpuModel() {
     std::ifstream cpuinfo("/proc/cpuinfo");
     std::string line;
@@ -171,8 +169,6 @@ std::string cpuModel() {
     }
     return "unknown";
 }
-
-} // namespace
 
 nlohmann::json machineJson(const MachineSnapshot& before, const MachineSnapshot& after) {
     return {{"cpu", cpuModel()},

@@ -41,6 +41,8 @@ struct MachineSnapshot {
     std::vector<double> loadAverage; // 1, 5, 15 minutes (/proc/loadavg; empty where unreadable)
 };
 MachineSnapshot takeMachineSnapshot();
+// The CPU's model name (/proc/cpuinfo; "unknown" where it has none): what a timing on a software renderer ran on.
+std::string cpuModel();
 // {cpu, cores, commit, started_utc, finished_utc, load_before, load_after}.
 nlohmann::json machineJson(const MachineSnapshot& before, const MachineSnapshot& after);
 // The GL implementation a measurement ran on, the fields every JSON of bench, render and verify carries at its top
