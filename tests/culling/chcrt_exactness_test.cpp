@@ -942,6 +942,18 @@ TEST_F(RenderTest, RecommendedConfigurationsOfSoftwareAndHardwareRenderersEqualP
     }
 }
 
+// A recommended configuration at height 8 whose adaptive choice has the further heights 6 and 10 and, on fixed times
+// where culling wins, explores them at once: every height traces within a few traces.
+ChcrtOptions exploringEveryHeight(bool software) {
+    ChcrtOptions options = recommendedChcrtOptions(RendererTraits{.software = software});
+    options.partition.maxSubtreeHeight = 8;
+    options.adaptiveHeights = {6, 10};
+    options.adaptiveTiming = [](uint32_t arm, double) { return arm == 0 ? 10.0 : 9.0; };
+    options.adaptiveProbeInterval = 1;
+    options.adaptiveProbeBudget = 1.0;
+    return options;
+}
+
 // The tracers of the adaptive choice's further heights link no pass of their own while they trace: they take the
 // passes the tracer that made them linked (whose defines do not depend on the height where cells over the list limit
 // traverse the whole tree), so a height's first trace does not compile them again (llvmpipe: ~3 ms each). Both
@@ -956,12 +968,7 @@ TEST_F(RenderTest, TheAdaptiveHeightsTracersShareTheirPassPrograms) {
     renderer.renderGBuffer(camera, stats);
     for (bool software : {true, false}) {
         SCOPED_TRACE(software ? "software configuration" : "hardware configuration");
-        ChcrtOptions options = recommendedChcrtOptions(RendererTraits{.software = software});
-        options.partition.maxSubtreeHeight = 8;
-        options.adaptiveHeights = {6, 10};
-        options.adaptiveTiming = [](uint32_t arm, double) { return arm == 0 ? 10.0 : 9.0; }; // culling wins: explore
-        options.adaptiveProbeInterval = 1;
-        options.adaptiveProbeBudget = 1.0;
+        const ChcrtOptions options = exploringEveryHeight(software);
         ChcrtTracer probing(bvh_, options);
         ChcrtOptions single = options;
         single.adaptive = false;
@@ -1000,14 +1007,9 @@ TEST_F(RenderTest, TheAdaptiveHeightsShareOneSurfaceFramesReductionPerGBuffer) {
     settings.width = 64;
     settings.height = 48;
     Renderer& renderer = makeProceduralRenderer("city:60k", settings);
-    ChcrtOptions options = recommendedChcrtOptions(RendererTraits{.software = true});
+    ChcrtOptions options = exploringEveryHeight(true);
     ASSERT_TRUE(options.hemisphereBounds);
     options.hintPass = false; // AO sets whose hints go through a hint pass are bounded from their rays instead
-    options.partition.maxSubtreeHeight = 8;
-    options.adaptiveHeights = {6, 10};
-    options.adaptiveTiming = [](uint32_t arm, double) { return arm == 0 ? 10.0 : 9.0; }; // culling wins: explore
-    options.adaptiveProbeInterval = 1;
-    options.adaptiveProbeBudget = 1.0;
     ChcrtTracer chcrt(bvh_, options);
     renderer.useTracer(&chcrt);
     const CameraPath path = proceduralNearPath(spec_);
