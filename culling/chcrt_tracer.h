@@ -590,8 +590,8 @@ private:
     };
     // The surface frames of the G-buffer whose AO sets were bounded last (boundFromHemisphere). Shared with the
     // tracers of adaptiveHeights, whose grids have this one's cells, as the hints are: a G-buffer's frames are reduced
-    // once, whichever heights trace its sets (interior near AO, 20 sets a frame: a probe of a further height reduced
-    // them again, 3.4 ms a frame).
+    // once, whichever heights trace its sets (interior near AO, 20 sets a frame: the further heights' probes reduced
+    // them again, 3–4 ms a frame; docs/benchmarks.md, 2026-12-08).
     std::shared_ptr<KeyedSurfaceFrames> surfaceFrames_ = std::make_shared<KeyedSurfaceFrames>();
     struct SweepSets {
         SharedListsKey key;
