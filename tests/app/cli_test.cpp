@@ -143,6 +143,10 @@ TEST_F(CliTest, BenchWritesTheDocumentedJsonSchema) {
                          "--warmup 1 --width 48 --height 32 -q --json b.json --csv b.csv");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     const nlohmann::json j = readJson("b.json");
+    // The header line names the machine the JSON records.
+    const std::string machine = " on " + j["machine"]["cpu"].get<std::string>() + ", " +
+                                std::to_string(j["machine"]["cores"].get<unsigned>()) + " cores\n";
+    EXPECT_NE(r.output.find(machine), std::string::npos) << r.output;
     ASSERT_EQ(j["rows"].size(), 4u);
     for (const auto& row : j["rows"]) {
         for (const char* field : {"scene", "path", "ray_type", "method", "width", "height", "spp", "ms_median",
